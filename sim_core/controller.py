@@ -1,0 +1,181 @@
+"""The pattern-formation layer: phases -> tip targets -> joint targets, and touch -> resets.
+
+The controller runs once per control period h (= k physics steps) for every simulation of a
+batch, compiled with numba so that a single simulation is not dominated by Python overhead:
+
+1. `plan_block` advances the oscillators over h (eq. 1 without resetting), computes joint
+   targets at the start and the end of the period from the leg kinematics and inverse
+   kinematics, and writes one control row per physics substep, interpolated linearly, with the
+   desired velocity folded into the PD set-point (ctrl = q* + (kd/kp) dq*/dt; MuJoCo's actuator
+   then applies kp (q* - q) + kd (dq*/dt - dq/dt), its damping part implicit in time).
+2. MuJoCo runs the k substeps (`Batch.rollout`), recording the foot touch sensors each substep.
+3. `apply_events` finds each swing leg's first touch in the period that passes the scuff rule,
+   switches it to stance and resets its phase (eq. 4) *at the touchdown instant*: the phase is
+   set to phi_AEP plus the advance since the touchdown substep, so the reset does not depend on
+   the control period. Stance legs that reach 2 pi lift off. Delta31 is sampled after leg 1's
+   touchdown.
+
+Rules (documented in docs/MODEL.md):
+- scuff: a touch while s = phi/phi_AEP < scuff_fraction (just after lift-off) is ignored;
+- late landing: a swing leg past the AEP keeps moving along the AEP->PEP line; if it reaches
+  the PEP (phi = 2 pi) untouched, the phase wraps and a new swing begins (a missed step).
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from sim_core.cpg import advance_phases
+from sim_core.legs import inverse_kinematics, stance_point, swing_point
+
+TWO_PI = 2.0 * math.pi
+
+
+@njit(cache=True)
+def _leg_target(
+    geo: np.ndarray,
+    leg: int,
+    phi: float,
+    in_stance: bool,
+    phi_td: float,
+    phi_aep: float,
+    lp: np.ndarray,
+    tip: np.ndarray,
+    q: np.ndarray,
+) -> None:
+    if in_stance:
+        stance_point(geo, leg, phi, phi_td, lp, tip)
+    else:
+        swing_point(geo, leg, phi, phi_aep, tip)
+    inverse_kinematics(geo, leg, tip, q)
+
+
+@njit(cache=True)
+def plan_block(
+    ids: np.ndarray,
+    phi: np.ndarray,
+    stance: np.ndarray,
+    lp: np.ndarray,
+    phi_td: np.ndarray,
+    omega: np.ndarray,
+    phi_aep: np.ndarray,
+    k_contra: float,
+    k_ipsi: float,
+    h: float,
+    geo: np.ndarray,
+    ff_ratio: np.ndarray,
+    ctrl: np.ndarray,
+    phi_next: np.ndarray,
+) -> None:
+    """Fill ctrl (len(ids), k, 18) and phi_next (n, 6) for the simulations in ids."""
+    nsub = ctrl.shape[1]
+    scratch = np.empty((2, 6))
+    tip = np.empty(3)
+    q0 = np.empty(3)
+    q1 = np.empty(3)
+    for r in range(ids.shape[0]):
+        s = ids[r]
+        advance_phases(phi[s], omega[s], k_contra, k_ipsi, h, phi_next[s], scratch)
+        for leg in range(6):
+            st = stance[s, leg] != 0
+            _leg_target(geo, leg, phi[s, leg], st, phi_td[s, leg], phi_aep[s], lp[s, leg], tip, q0)
+            _leg_target(
+                geo, leg, phi_next[s, leg], st, phi_td[s, leg], phi_aep[s], lp[s, leg], tip, q1
+            )
+            for m in range(3):
+                a = 3 * leg + m
+                dq = q1[m] - q0[m]
+                ff = ff_ratio[a] * dq / h
+                for j in range(nsub):
+                    ctrl[r, j, a] = q0[m] + dq * (j / nsub) + ff
+
+
+@njit(cache=True)
+def apply_events(
+    ids: np.ndarray,
+    touch: np.ndarray,
+    phi: np.ndarray,
+    phi_next: np.ndarray,
+    stance: np.ndarray,
+    lp: np.ndarray,
+    phi_td: np.ndarray,
+    phi_aep: np.ndarray,
+    reset: np.ndarray,
+    threshold: float,
+    scuff_fraction: float,
+    t0: float,
+    dt: float,
+    geo: np.ndarray,
+    td_time: np.ndarray,
+    lo_time: np.ndarray,
+    d31: np.ndarray,
+) -> None:
+    """Advance phi to phi_next, applying touchdowns (with eq. 4) and lift-offs found in touch.
+
+    touch: (len(ids), k, 6) touch-sensor forces per substep. Outputs td_time, lo_time (n, 6)
+    and d31 (n,) are NaN where nothing happened.
+    """
+    nsub = touch.shape[1]
+    h = nsub * dt
+    tip = np.empty(3)
+    for r in range(ids.shape[0]):
+        s = ids[r]
+        d31[s] = np.nan
+        for leg in range(6):
+            td_time[s, leg] = np.nan
+            lo_time[s, leg] = np.nan
+            p0 = phi[s, leg]
+            p1 = phi_next[s, leg]
+            if stance[s, leg] == 0:
+                for j in range(nsub):
+                    if touch[r, j, leg] <= threshold:
+                        continue
+                    ph = p0 + (p1 - p0) * ((j + 1) / nsub)
+                    ph_w = ph - TWO_PI if ph >= TWO_PI else ph
+                    if ph_w < scuff_fraction * phi_aep[s]:
+                        continue  # scuff just after lift-off (or after a missed step)
+                    swing_point(geo, leg, ph_w, phi_aep[s], tip)
+                    for m in range(3):
+                        lp[s, leg, m] = tip[m]
+                    stance[s, leg] = 1
+                    td_time[s, leg] = t0 + (j + 1) * dt
+                    advance = p1 - ph
+                    if reset[s]:
+                        phi_td[s, leg] = phi_aep[s]
+                    else:
+                        phi_td[s, leg] = ph_w
+                    p1 = phi_td[s, leg] + advance
+                    break
+                if stance[s, leg] == 0 and p1 >= TWO_PI:
+                    p1 -= TWO_PI  # missed step: the PEP was reached untouched, swing again
+            elif p1 >= TWO_PI:
+                lo_time[s, leg] = t0 + h * (TWO_PI - p0) / (p1 - p0)
+                stance[s, leg] = 0
+                p1 -= TWO_PI
+            phi[s, leg] = p1 % TWO_PI
+        if not math.isnan(td_time[s, 0]):
+            d31[s] = (phi[s, 2] - phi[s, 0]) % TWO_PI
+
+
+@njit(cache=True)
+def initial_targets(
+    phi: np.ndarray,
+    stance: np.ndarray,
+    lp: np.ndarray,
+    phi_td: np.ndarray,
+    phi_aep: float,
+    geo: np.ndarray,
+    q: np.ndarray,
+    tips: np.ndarray,
+) -> None:
+    """Joint angles q (18,) and tip targets (6, 3) of one simulation's current phases."""
+    qq = np.empty(3)
+    for leg in range(6):
+        _leg_target(
+            geo, leg, phi[leg], stance[leg] != 0, phi_td[leg], phi_aep, lp[leg], tips[leg], qq
+        )
+        for m in range(3):
+            q[3 * leg + m] = qq[m]

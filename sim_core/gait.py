@@ -1,0 +1,106 @@
+"""Gait measures: Delta31 statistics, gait names, speed, duty factor, footfall data.
+
+The paper reads the gait from one number, Delta31 = phi3 - phi1 at leg-1 touchdown: pi for the
+tripod, 2 pi / 3 for the metachronal gait (Sec. II B 5), with the model's branches at 2.9 and
+1.9 rad (Fig. 5). The classifier's windows sit around those ideal values and meet nowhere.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+TWO_PI = 2.0 * math.pi
+TRIPOD = math.pi
+METACHRONAL = 2.0 * math.pi / 3.0
+# Half-widths of the classification windows (rad). Tripod covers [2.54, 3.74] (the paper's
+# tripod branch 2.9 inside), metachronal [1.59, 2.49] (branch 1.9 inside); the gap between them
+# (2.49..2.54) and everything else is "other".
+TRIPOD_HALF_WIDTH = 0.6
+METACHRONAL_HALF_WIDTH = 0.45
+# A run whose last Delta31 values spread more than this (circular std, rad) has not settled.
+SETTLED_STD = 0.15
+
+
+def wrap(x: np.ndarray | float) -> np.ndarray:
+    """Map angles to [0, 2 pi)."""
+    return np.mod(np.asarray(x, dtype=float), TWO_PI)
+
+
+def angle_diff(a: np.ndarray | float, b: np.ndarray | float) -> np.ndarray:
+    """Signed smallest difference a - b, in (-pi, pi]."""
+    d = np.mod(np.asarray(a, dtype=float) - np.asarray(b, dtype=float) + math.pi, TWO_PI)
+    return d - math.pi
+
+
+def circular_mean(angles: np.ndarray | list[float]) -> float:
+    a = np.asarray(angles, dtype=float)
+    if a.size == 0:
+        raise ValueError("circular mean of no angles")
+    return float(wrap(math.atan2(np.sin(a).mean(), np.cos(a).mean())))
+
+
+def circular_std(angles: np.ndarray | list[float]) -> float:
+    a = np.asarray(angles, dtype=float)
+    r = math.hypot(np.sin(a).mean(), np.cos(a).mean())
+    return math.sqrt(max(0.0, -2.0 * math.log(max(r, 1e-300))))
+
+
+def classify_gait(d31: float | None) -> str:
+    """'tripod', 'metachronal' or 'other' from a settled Delta31 (rad)."""
+    if d31 is None or not math.isfinite(d31):
+        return "other"
+    if abs(float(angle_diff(d31, TRIPOD))) <= TRIPOD_HALF_WIDTH:
+        return "tripod"
+    if abs(float(angle_diff(d31, METACHRONAL))) <= METACHRONAL_HALF_WIDTH:
+        return "metachronal"
+    return "other"
+
+
+def final_d31(d31: np.ndarray, last: int = 4) -> tuple[float | None, str]:
+    """Mean of the last `last` Delta31 samples and the gait; 'other' if they have not settled."""
+    if len(d31) < last:
+        return None, "other"
+    tail = d31[-last:]
+    mean = circular_mean(tail)
+    if circular_std(tail) > SETTLED_STD:
+        return mean, "other"
+    return mean, classify_gait(mean)
+
+
+def duty_factor(stance: np.ndarray, fraction: float = 0.5) -> float | None:
+    """Mean stance fraction over the last `fraction` of the record, all legs."""
+    if stance.shape[0] < 4:
+        return None
+    tail = stance[int(stance.shape[0] * (1.0 - fraction)) :]
+    return float(tail.mean())
+
+
+def forward_speed(times: np.ndarray, pos: np.ndarray, fraction: float = 0.5) -> float | None:
+    """Mean speed along x (m/s) over the last `fraction` of the record."""
+    if times.shape[0] < 4:
+        return None
+    i0 = int(times.shape[0] * (1.0 - fraction))
+    dt = times[-1] - times[i0]
+    if dt <= 0:
+        return None
+    return float((pos[-1, 0] - pos[i0, 0]) / dt)
+
+
+def footfall_intervals(times: np.ndarray, stance: np.ndarray) -> list[list[tuple[float, float]]]:
+    """Per leg, the (start, end) times of stance bars: the footprint diagram of Fig. 4/6b."""
+    bars: list[list[tuple[float, float]]] = []
+    for leg in range(stance.shape[1]):
+        s = stance[:, leg].astype(np.int8)
+        edges = np.flatnonzero(np.diff(s)) + 1
+        starts = list(edges[s[edges] == 1])
+        ends = list(edges[s[edges] == 0])
+        if s.size and s[0]:
+            starts.insert(0, 0)
+        if s.size and s[-1]:
+            ends.append(s.size - 1)
+        bars.append(
+            [(float(times[a]), float(times[b])) for a, b in zip(starts, ends, strict=False)]
+        )
+    return bars

@@ -1,0 +1,216 @@
+"""Build the hexapod as an MjModel with MjSpec: one rigid body, six 3-link legs, a floor.
+
+Frames. Body frame: x forward, y left, z up, origin at the centre of the body box. Each leg root
+frame sits at the coxa attachment with its local x pointing outward; joint 1 turns the leg about
+the vertical so that a positive angle moves the tip forward on both sides, joints 2 and 3 turn about
+the horizontal axis normal to the leg plane so that positive angles raise the femur/tibia.
+
+Slope. The floor stays flat and gravity is tilted instead: a slope of theta (uphill +) walking
+along +x is the same physics as gravity (-g sin theta, 0, -g cos theta). It can then change
+during a run (Fig. 9b) without rebuilding the model, and per simulation in a batch.
+
+Only feet touch the floor (contype/conaffinity), as the paper models leg-tip contact only.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+
+from sim_core.params import ModelParams
+
+GRAVITY = 9.81
+
+LEG_NAMES: tuple[str, ...] = ("R1", "L1", "R2", "L2", "R3", "L3")
+"""Paper order: legs 1, 2 fore (right, left); 3, 4 middle; 5, 6 hind."""
+
+# +1 for left legs (y > 0), -1 for right legs
+LEG_SIDE = np.array([-1.0, 1.0, -1.0, 1.0, -1.0, 1.0])
+# leg pair of each leg: 0 fore, 1 middle, 2 hind
+LEG_PAIR = np.array([0, 0, 1, 1, 2, 2])
+
+_INTEGRATOR = {
+    "euler": mujoco.mjtIntegrator.mjINT_EULER,
+    "implicit": mujoco.mjtIntegrator.mjINT_IMPLICIT,
+    "implicitfast": mujoco.mjtIntegrator.mjINT_IMPLICITFAST,
+    "rk4": mujoco.mjtIntegrator.mjINT_RK4,
+}
+
+
+def leg_names() -> tuple[str, ...]:
+    return LEG_NAMES
+
+
+def integrator_enum(name: str) -> int:
+    try:
+        return int(_INTEGRATOR[name])
+    except KeyError:
+        raise ValueError(
+            f"unknown integrator {name!r}; choose from {sorted(_INTEGRATOR)}"
+        ) from None
+
+
+def gravity_vector(slope_deg: float) -> np.ndarray:
+    """Gravity in the floor frame for a slope of slope_deg (uphill positive along +x)."""
+    th = math.radians(slope_deg)
+    return np.array([-GRAVITY * math.sin(th), 0.0, -GRAVITY * math.cos(th)])
+
+
+def attachment_points(p: ModelParams) -> np.ndarray:
+    """(6, 3) coxa attachment points in the body frame."""
+    xs = np.array([p.attach_x_fore, p.attach_x_mid, p.attach_x_hind])[LEG_PAIR]
+    return np.stack([xs, LEG_SIDE * p.attach_y, np.full(6, p.attach_z)], axis=1)
+
+
+def box_inertia(mass: float, size: tuple[float, float, float]) -> np.ndarray:
+    """Principal inertia of a solid box with full side lengths `size`."""
+    a, b, c = size
+    return mass / 12.0 * np.array([b * b + c * c, a * a + c * c, a * a + b * b])
+
+
+def _capsule_inertia(mass: float, length: float, radius: float) -> np.ndarray:
+    """Principal inertia (about its centre) of a thin rod along x; the radius term bounds it."""
+    axial = 0.5 * mass * radius * radius
+    transverse = mass * (length * length / 12.0 + radius * radius / 4.0)
+    return np.array([axial, transverse, transverse])
+
+
+def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
+    spec = mujoco.MjSpec()
+    spec.modelname = "insect_gait_hexapod"
+    opt = spec.option
+    opt.timestep = p.dt
+    opt.integrator = integrator_enum(p.integrator)
+    opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    opt.impratio = p.impratio
+    opt.gravity = gravity_vector(slope_deg)
+
+    world = spec.worldbody
+    floor = world.add_geom(
+        name="floor",
+        type=mujoco.mjtGeom.mjGEOM_PLANE,
+        size=[0.5, 0.5, 0.01],
+        contype=0,
+        conaffinity=1,
+        rgba=[0.85, 0.85, 0.8, 1.0],
+    )
+    floor.friction = [p.friction, 0.005, 0.0001]
+    world.add_light(pos=[0, 0, 1.0], dir=[0, 0, -1])
+
+    torso = world.add_body(
+        name="torso", pos=[0.0, 0.0, p.stand_height - p.attach_z + p.foot_radius]
+    )
+    torso.add_freejoint(name="root")
+    size = (p.body_length, p.body_width, p.body_thickness)
+    torso.explicitinertial = True
+    torso.mass = p.body_mass
+    torso.ipos = [p.com_offset_x, 0.0, 0.0]
+    torso.inertia = box_inertia(p.body_mass, size)
+    torso.add_geom(
+        name="torso_geom",
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[s / 2 for s in size],
+        contype=0,
+        conaffinity=0,
+        mass=0.0,
+        rgba=[0.45, 0.3, 0.2, 1.0],
+    )
+
+    attach = attachment_points(p)
+    for i, name in enumerate(LEG_NAMES):
+        side = LEG_SIDE[i]
+        yaw = -math.pi / 2 if side < 0 else math.pi / 2  # local x points outward
+        quat = [math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)]
+        coxa = torso.add_body(name=f"{name}_coxa", pos=attach[i].tolist(), quat=quat)
+        coxa.add_joint(
+            name=f"{name}_j1",
+            type=mujoco.mjtJoint.mjJNT_HINGE,
+            axis=[0.0, 0.0, -side],  # positive = tip forward on both sides
+            armature=p.armature,
+        )
+        _add_link(coxa, f"{name}_coxa", p.coxa_mass, p.coxa_length, 0.25e-3)
+        femur = coxa.add_body(name=f"{name}_femur", pos=[p.coxa_length, 0.0, 0.0])
+        femur.add_joint(
+            name=f"{name}_j2",
+            type=mujoco.mjtJoint.mjJNT_HINGE,
+            axis=[0.0, -1.0, 0.0],  # positive = raise
+            armature=p.armature,
+        )
+        _add_link(femur, f"{name}_femur", p.femur_mass, p.femur_length, 0.3e-3)
+        tibia = femur.add_body(name=f"{name}_tibia", pos=[p.femur_length, 0.0, 0.0])
+        tibia.add_joint(
+            name=f"{name}_j3",
+            type=mujoco.mjtJoint.mjJNT_HINGE,
+            axis=[0.0, -1.0, 0.0],
+            armature=p.armature,
+        )
+        _add_link(tibia, f"{name}_tibia", p.tibia_mass, p.tibia_length, 0.15e-3)
+        foot = tibia.add_geom(
+            name=f"{name}_foot",
+            type=mujoco.mjtGeom.mjGEOM_SPHERE,
+            size=[p.foot_radius, 0, 0],
+            pos=[p.tibia_length, 0.0, 0.0],
+            contype=1,
+            conaffinity=0,
+            condim=3,
+            mass=0.0,
+            rgba=[0.1, 0.1, 0.1, 1.0],
+        )
+        foot.friction = [p.friction, 0.005, 0.0001]
+        foot.solref = [p.contact_timeconst, p.contact_dampratio]
+        foot.solimp = [0.9, 0.95, p.foot_radius * 0.4, 0.5, 2.0]
+        foot.priority = 1  # the foot's contact parameters win over the floor's defaults
+        tibia.add_site(
+            name=f"{name}_foot_site",
+            type=mujoco.mjtGeom.mjGEOM_SPHERE,
+            size=[p.foot_radius * 1.5, 0, 0],
+            pos=[p.tibia_length, 0.0, 0.0],
+        )
+
+    gains = {"j1": (p.kp_yaw, p.kd_yaw), "j2": (p.kp_lift, p.kd_lift), "j3": (p.kp_lift, p.kd_lift)}
+    for name in LEG_NAMES:
+        for j in ("j1", "j2", "j3"):
+            kp, kd = gains[j]
+            act = spec.add_actuator(name=f"{name}_{j}_pd", target=f"{name}_{j}")
+            act.trntype = mujoco.mjtTrn.mjTRN_JOINT
+            # force = kp * ctrl - kp * q - kd * qdot: PD about ctrl, whose velocity term the
+            # implicit integrators treat implicitly (stable with large kd at insect scale)
+            act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+            act.gainprm[0] = kp
+            act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
+            act.biasprm[0] = 0.0
+            act.biasprm[1] = -kp
+            act.biasprm[2] = -kd
+    for name in LEG_NAMES:
+        spec.add_sensor(
+            name=f"{name}_touch",
+            type=mujoco.mjtSensor.mjSENS_TOUCH,
+            objtype=mujoco.mjtObj.mjOBJ_SITE,
+            objname=f"{name}_foot_site",
+        )
+    return spec
+
+
+def _add_link(body: mujoco.MjsBody, name: str, mass: float, length: float, radius: float) -> None:
+    # inertia is explicit so that the paper's link masses hold exactly, whatever the drawn shape
+    body.explicitinertial = True
+    body.mass = mass
+    body.ipos = [length / 2, 0.0, 0.0]
+    body.inertia = _capsule_inertia(mass, length, radius)
+    body.add_geom(
+        name=f"{name}_geom",
+        type=mujoco.mjtGeom.mjGEOM_CAPSULE,
+        fromto=[0.0, 0.0, 0.0, length, 0.0, 0.0],
+        size=[radius, 0, 0],
+        contype=0,
+        conaffinity=0,
+        mass=0.0,
+        rgba=[0.55, 0.4, 0.25, 1.0],
+    )
+
+
+def build_model(params: ModelParams | None = None, slope_deg: float = 0.0) -> mujoco.MjModel:
+    """Compile the hexapod; `params.dt`/`params.integrator` set the physics options."""
+    return build_spec(params or ModelParams(), slope_deg).compile()

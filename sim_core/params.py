@@ -1,0 +1,192 @@
+"""Every parameter of the model in one place: the paper's values and the ones we invented.
+
+Fujiki et al. (2013) give Table I (masses and lengths), D, T_sw, the oscillator gains and the
+resetting rule. Everything else a simulation needs (where legs attach, how high the body stands,
+joint gains, the swing curve, the ground) is ours; each such field says so in its description,
+with a one-line reason. `docs/MODEL.md` lists the same table (a test keeps them in sync).
+
+Units are SI inside the core (m, kg, s, rad, N); edge-facing names carry units in their names.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any, Literal
+
+from pydantic import BaseModel, ConfigDict, Field
+
+Integrator = Literal["euler", "implicit", "implicitfast", "rk4"]
+INTEGRATORS: tuple[Integrator, ...] = ("euler", "implicit", "implicitfast", "rk4")
+
+PAPER = "paper"
+INVENTED = "invented"
+
+
+def _paper(default: float, reason: str, **bounds: Any) -> float:
+    field: float = Field(default, description=f"[paper] {reason}", **bounds)
+    return field
+
+
+def _ours(default: float, reason: str, **bounds: Any) -> float:
+    field: float = Field(default, description=f"[invented] {reason}", **bounds)
+    return field
+
+
+class ModelParams(BaseModel):
+    """The hexapod, its nervous system and its ground. Frozen: derive variants with model_copy."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    # --- Table I (paper) -------------------------------------------------------------------
+    body_mass: float = _paper(3.0e-3, "Table I body mass 3.0 g", gt=0)
+    body_length: float = _paper(4.2e-2, "Table I body length 4.2 cm", gt=0)
+    body_width: float = _paper(1.0e-2, "Table I body width 1.0 cm", gt=0)
+    coxa_mass: float = _paper(0.05e-3, "Table I coxa mass 0.05 g", gt=0)
+    coxa_length: float = _paper(0.2e-3, "Table I coxa length 0.02 cm", gt=0)
+    femur_mass: float = _paper(0.03e-3, "Table I femur mass 0.03 g", gt=0)
+    femur_length: float = _paper(2.0e-3, "Table I femur length 0.2 cm", gt=0)
+    tibia_mass: float = _paper(0.03e-3, "Table I tibia mass 0.03 g", gt=0)
+    tibia_length: float = _paper(1.0e-2, "Table I tibia length 1.0 cm", gt=0)
+
+    # --- Leg kinematics (paper, Sec. II B 2) ----------------------------------------------------
+    stroke: float = _paper(2.0e-3, "D, distance AEP-PEP, 2 mm", gt=0)
+    swing_duration: float = _paper(34e-3, "T_sw, swing duration when LP = AEP, 34 ms", gt=0)
+
+    # --- Oscillators (paper, eqs. 3, 5-7) ------------------------------------------------------
+    k_contralateral: float = _paper(32.0, "K12=K21=K34=K43=K56=K65, eq. 5", ge=0)
+    k_ipsilateral: float = _paper(40.0, "K31=K35=K42=K46, eq. 7", ge=0)
+
+    # --- Body shape the paper leaves open --------------------------------------------------------
+    body_thickness: float = _ours(
+        4.0e-3, "box height for inertia and drawing; an insect thorax is a few mm thick", gt=0
+    )
+    com_offset_x: float = _ours(
+        0.0,
+        "body centre of mass ahead (+) of the box centre; a lever for fore/hind load sharing",
+        ge=-5e-3,
+        le=5e-3,
+    )
+    attach_x_fore: float = _ours(
+        10e-3, "fore coxa attachment ahead of the box centre; legs sit on the front half", ge=0
+    )
+    attach_x_mid: float = _ours(0.0, "middle coxa attachment at the box centre")
+    attach_x_hind: float = _ours(
+        -10e-3, "hind coxa attachment behind the box centre; symmetric with the fore legs", le=0
+    )
+    attach_y: float = _ours(
+        5.0e-3, "coxae attach at the body's side, half of the 1.0 cm width", gt=0
+    )
+    attach_z: float = _ours(0.0, "coxae attach at the body's mid-height plane")
+
+    # --- Stance geometry the paper leaves open ------------------------------------------------
+    stand_height: float = _ours(
+        7.0e-3,
+        "height of the coxa attachment above the stance line; keeps the 2+10 mm leg mid-range",
+        gt=0,
+    )
+    foot_y: float = _ours(
+        11.0e-3, "stance line's distance from the midline; sprawled posture of a cockroach", gt=0
+    )
+    stance_x_fore: float = _ours(
+        12e-3, "centre of the fore legs' AEP-PEP segment, 2 mm ahead of their attachment"
+    )
+    stance_x_mid: float = _ours(0.0, "centre of the middle legs' segment, below the attachment")
+    stance_x_hind: float = _ours(
+        -12e-3, "centre of the hind legs' segment, 2 mm behind their attachment"
+    )
+    swing_height: float = _ours(
+        0.8e-3, "apex of the swing curve above the AEP-PEP line; clears the ground by ~0.8 mm", gt=0
+    )
+    swing_shape: float = _ours(
+        1.0,
+        "exponent p of the lift profile z = h sin(pi s^p); p>1 steepens the descent at the AEP",
+        gt=0.2,
+        le=5.0,
+    )
+
+    # --- Joint control (PD) the paper leaves open -------------------------------------------------
+    kp_yaw: float = _ours(5e-3, "joint 1 stiffness, N m/rad: ~0.01 rad sag under stance load", gt=0)
+    kp_lift: float = _ours(5e-3, "joints 2 and 3 stiffness, N m/rad: ~0.1 mm sag under load", gt=0)
+    kd_yaw: float = _ours(
+        3e-5, "joint 1 damping, N m s/rad: near critical for the loaded leg", gt=0
+    )
+    kd_lift: float = _ours(
+        3e-5, "joints 2, 3 damping, N m s/rad: critical for the loaded leg", gt=0
+    )
+    armature: float = _ours(
+        2e-10,
+        "joint rotor inertia, kg m^2, ~ the tibia's own; bounds tiny-link stiffness (as flygym)",
+        ge=0,
+    )
+
+    # --- Ground and touch sensing the paper leaves open -----------------------------------------
+    foot_radius: float = _ours(0.25e-3, "tarsus tip sphere; small against the 2 mm stroke", gt=0)
+    friction: float = _ours(1.0, "foot-ground friction; claws and pads grip firmly", gt=0)
+    contact_timeconst: float = _ours(
+        5e-4, "contact solref time constant, s: stiff 'viscoelastic ground' as in the paper", gt=0
+    )
+    contact_dampratio: float = _ours(1.0, "contact solref damping ratio: critically damped", gt=0)
+    impratio: float = _ours(
+        10.0, "elliptic-cone impedance ratio: stops the tiny feet creeping in stance", ge=1
+    )
+    touch_threshold: float = _ours(
+        2e-4, "normal force, N, that counts as touchdown: ~2% of one leg's weight share", gt=0
+    )
+    scuff_fraction: float = _ours(
+        0.5,
+        "touches in swing before s = phi/phi_AEP reaches this are ignored as scuffs",
+        ge=0,
+        lt=1,
+    )
+
+    # --- Numerics defaults (see docs/NUMERICS.md) ---------------------------------------------
+    integrator: Integrator = Field("implicitfast", description="[invented] MuJoCo integrator")
+    dt: float = _ours(5e-5, "physics timestep, s (converged gait outcomes, docs/NUMERICS.md)", gt=0)
+    control_dt: float = _ours(
+        5e-4, "controller update period, s; targets are interpolated per physics step", gt=0
+    )
+
+    # --- derived quantities ------------------------------------------------------------------
+    @property
+    def leg_mass(self) -> float:
+        return self.coxa_mass + self.femur_mass + self.tibia_mass
+
+    @property
+    def total_mass(self) -> float:
+        return self.body_mass + 6 * self.leg_mass
+
+
+def phi_aep(beta: float) -> float:
+    """Oscillator phase at the AEP, 2 pi (1 - beta) (Sec. II B 2)."""
+    return 2.0 * math.pi * (1.0 - beta)
+
+
+def omega(beta: float, swing_duration: float) -> float:
+    """Basic oscillator frequency, eq. 2: 2 pi (1 - beta) / T_sw (rad/s)."""
+    return 2.0 * math.pi * (1.0 - beta) / swing_duration
+
+
+def nominal_speed(beta: float, stroke: float, swing_duration: float) -> float:
+    """Walking speed of eq. 2, v = (1 - beta) D / (beta T_sw) (m/s)."""
+    return (1.0 - beta) * stroke / (beta * swing_duration)
+
+
+def parameter_table(params: ModelParams | None = None) -> list[tuple[str, object, str, str]]:
+    """(name, value, origin, reason) for every parameter, for docs and the API."""
+    p = params or ModelParams()
+    rows = []
+    for name, field in ModelParams.model_fields.items():
+        desc = field.description or ""
+        origin = PAPER if desc.startswith("[paper]") else INVENTED
+        reason = desc.split("] ", 1)[-1]
+        rows.append((name, getattr(p, name), origin, reason))
+    return rows
+
+
+def parameter_markdown(params: ModelParams | None = None) -> str:
+    """The parameter table of docs/MODEL.md (kept in sync by a test)."""
+    lines = ["| parameter | value (SI) | origin | reason |", "|---|---|---|---|"]
+    for name, value, origin, reason in parameter_table(params):
+        shown = f"{value:.6g}" if isinstance(value, float) else str(value)
+        lines.append(f"| `{name}` | {shown} | {origin} | {reason} |")
+    return "\n".join(lines)

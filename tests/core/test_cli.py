@@ -1,0 +1,46 @@
+"""The command line: one-line errors with exit code 2, and the documented JSON."""
+
+import json
+import subprocess
+import sys
+
+import pytest
+
+from sim_core.cli import main
+
+BAD = [
+    ["--beta", "0.5"],
+    ["--beta", "1.0"],
+    ["--beta", "0.6", "--body-mass-g", "0"],
+    ["--beta", "0.6", "--slope-deg", "90"],
+    ["--beta", "0.6", "--slope-deg", "-95"],
+    ["--beta", "0.6", "--dt-s", "0"],
+    ["--beta", "0.6", "--duration-s", "-1"],
+    ["--beta", "abc"],
+    ["--beta", "0.6", "--integrator", "verlet"],
+    [],
+]
+
+
+@pytest.mark.parametrize("args", BAD)
+def test_bad_arguments_exit_2_with_one_line(args: list[str], capsys) -> None:
+    with pytest.raises(SystemExit) as exc:
+        code = main(["run", *args])
+        raise SystemExit(code)
+    assert exc.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert err.count("\n") == 0 and "error" in err
+    assert "Traceback" not in err
+
+
+def test_run_json_has_the_documented_keys() -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "sim_core.cli", "run", "--beta", "0.62", "--duration-s", "0.5",
+         "--json"],
+        capture_output=True, text=True, check=True,
+    )  # fmt: skip
+    obj = json.loads(out.stdout)
+    keys = {"beta", "d31", "d31_final", "gait", "speed_cm_s", "duty_factor_measured", "diverged"}
+    assert keys <= obj.keys() and "error" in obj
+    assert obj["diverged"] is False and obj["error"] is None
+    assert all(0 <= x < 6.2832 for x in obj["d31"])

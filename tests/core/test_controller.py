@@ -1,0 +1,84 @@
+"""Touch handling: touchdown, the scuff rule, resetting (eq. 4), lift-off."""
+
+import math
+
+import numpy as np
+
+from sim_core import ModelParams
+from sim_core.controller import apply_events
+from sim_core.legs import pack_geometry
+
+P = ModelParams()
+GEO = pack_geometry(P)
+BETA = 0.66
+PHI_AEP = 2 * math.pi * (1 - BETA)
+DT = 5e-5
+NSUB = 10
+
+
+def _run(phi0: np.ndarray, phi1: np.ndarray, stance: np.ndarray, touch: np.ndarray, reset: bool):
+    ids = np.array([0])
+    phi = phi0[None].copy()
+    phi_next = phi1[None].copy()
+    st = stance[None].astype(np.int8).copy()
+    lp = np.zeros((1, 6, 3))
+    phi_td = np.full((1, 6), PHI_AEP)
+    td = np.empty((1, 6))
+    lo = np.empty((1, 6))
+    d31 = np.empty(1)
+    apply_events(
+        ids, touch[None], phi, phi_next, st, lp, phi_td, np.array([PHI_AEP]),
+        np.array([reset]), P.touch_threshold, P.scuff_fraction, 1.0, DT, GEO, td, lo, d31,
+    )  # fmt: skip
+    return phi[0], st[0], td[0], lo[0], phi_td[0], d31[0]
+
+
+def _touch(leg: int, substep: int) -> np.ndarray:
+    t = np.zeros((NSUB, 6))
+    t[substep:, leg] = 1e-2
+    return t
+
+
+def test_touchdown_resets_phase_to_aep_plus_elapsed() -> None:
+    phi0 = np.full(6, 0.9 * PHI_AEP)
+    phi1 = phi0 + 0.01
+    phi, st, td, _, phi_td, d31 = _run(phi0, phi1, np.zeros(6, bool), _touch(0, 3), reset=True)
+    assert st[0] == 1 and st[1:].sum() == 0
+    assert td[0] == 1.0 + 4 * DT
+    advance_after = 0.01 * (NSUB - 4) / NSUB
+    assert math.isclose(phi[0], PHI_AEP + advance_after, abs_tol=1e-12)
+    assert phi_td[0] == PHI_AEP
+    assert math.isclose(d31, (phi[2] - phi[0]) % (2 * math.pi))
+    assert np.isnan(td[1:]).all()
+
+
+def test_without_reset_the_phase_runs_on() -> None:
+    phi0 = np.full(6, 0.9 * PHI_AEP)
+    phi1 = phi0 + 0.01
+    phi, st, _, _, phi_td, _ = _run(phi0, phi1, np.zeros(6, bool), _touch(0, 3), reset=False)
+    assert st[0] == 1
+    np.testing.assert_allclose(phi, phi1)
+    assert math.isclose(phi_td[0], phi0[0] + 0.01 * 4 / NSUB)
+
+
+def test_scuff_right_after_liftoff_is_ignored() -> None:
+    phi0 = np.full(6, 0.1 * PHI_AEP)
+    phi, st, td, _, _, _ = _run(phi0, phi0 + 0.01, np.zeros(6, bool), _touch(2, 0), reset=True)
+    assert st.sum() == 0 and np.isnan(td).all()
+    np.testing.assert_allclose(phi, phi0 + 0.01)
+
+
+def test_stance_leg_lifts_off_at_pep() -> None:
+    phi0 = np.full(6, 2 * math.pi - 0.004)
+    phi1 = phi0 + 0.01
+    phi, st, _, lo, _, _ = _run(phi0, phi1, np.ones(6, bool), np.zeros((NSUB, 6)), reset=True)
+    assert st.sum() == 0
+    np.testing.assert_allclose(phi, 0.006, atol=1e-12)
+    np.testing.assert_allclose(lo, 1.0 + NSUB * DT * 0.4)
+
+
+def test_missed_step_starts_a_new_swing() -> None:
+    phi0 = np.full(6, 2 * math.pi - 0.004)
+    phi, st, td, _, _, _ = _run(phi0, phi0 + 0.01, np.zeros(6, bool), np.zeros((NSUB, 6)), True)
+    assert st.sum() == 0 and np.isnan(td).all()
+    np.testing.assert_allclose(phi, 0.006, atol=1e-12)

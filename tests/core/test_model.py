@@ -1,0 +1,67 @@
+"""The compiled MuJoCo model matches Table I and the paper's structure."""
+
+import mujoco
+import numpy as np
+import pytest
+
+from sim_core import ModelParams, build_model, leg_names
+from sim_core.model import gravity_vector
+
+
+@pytest.fixture(scope="module")
+def model() -> mujoco.MjModel:
+    return build_model()
+
+
+def test_masses_match_table_1(model: mujoco.MjModel) -> None:
+    assert model.body("torso").mass[0] == pytest.approx(3.0e-3)
+    for leg in leg_names():
+        assert model.body(f"{leg}_coxa").mass[0] == pytest.approx(0.05e-3)
+        assert model.body(f"{leg}_femur").mass[0] == pytest.approx(0.03e-3)
+        assert model.body(f"{leg}_tibia").mass[0] == pytest.approx(0.03e-3)
+    assert model.body_mass.sum() == pytest.approx(3.0e-3 + 6 * 0.11e-3)
+
+
+def test_link_lengths_match_table_1(model: mujoco.MjModel) -> None:
+    for leg in leg_names():
+        # each child body sits one parent-link length along the parent's x axis
+        assert np.linalg.norm(model.body(f"{leg}_femur").pos) == pytest.approx(0.02e-2)
+        assert np.linalg.norm(model.body(f"{leg}_tibia").pos) == pytest.approx(0.2e-2)
+        assert np.linalg.norm(model.site(f"{leg}_foot_site").pos) == pytest.approx(1.0e-2)
+    box = model.geom("torso_geom").size
+    assert 2 * box[0] == pytest.approx(4.2e-2)
+    assert 2 * box[1] == pytest.approx(1.0e-2)
+
+
+def test_three_hinges_per_leg_and_a_pd_actuator_each(model: mujoco.MjModel) -> None:
+    assert model.njnt == 1 + 18
+    assert model.nu == 18
+    assert all(model.jnt_type[1:] == mujoco.mjtJoint.mjJNT_HINGE)
+    # joint 1 turns about the vertical, joints 2 and 3 about a horizontal axis
+    for leg in leg_names():
+        assert abs(model.joint(f"{leg}_j1").axis[2]) == 1.0
+        assert model.joint(f"{leg}_j2").axis[2] == 0.0
+        assert model.joint(f"{leg}_j3").axis[2] == 0.0
+
+
+def test_only_feet_can_touch_the_floor(model: mujoco.MjModel) -> None:
+    floor = model.geom("floor").id
+    for g in range(model.ngeom):
+        if g == floor:
+            continue
+        can = (model.geom_contype[g] & model.geom_conaffinity[floor]) or (
+            model.geom_contype[floor] & model.geom_conaffinity[g]
+        )
+        is_foot = model.geom(g).name.endswith("_foot")
+        assert bool(can) == is_foot, model.geom(g).name
+    # feet never collide with each other
+    feet = [model.geom(f"{leg}_foot").id for leg in leg_names()]
+    assert not (model.geom_contype[feet[0]] & model.geom_conaffinity[feet[1]])
+
+
+def test_slope_tilts_gravity_uphill_positive() -> None:
+    g = gravity_vector(10.0)
+    assert np.linalg.norm(g) == pytest.approx(9.81)
+    assert g[0] < 0  # walking +x uphill: gravity pulls back
+    m = build_model(ModelParams(), slope_deg=-5.0)
+    assert m.opt.gravity[0] > 0

@@ -1,0 +1,105 @@
+"""Running one or many: identity, determinism, divergence, walking, no shortcut."""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from sim_core import (
+    ModelParams,
+    RunSpec,
+    Simulation,
+    nominal_speed,
+    simulate,
+    simulate_batch,
+)
+
+P = ModelParams()
+
+
+def _same(a, b) -> None:
+    assert a.error == b.error
+    np.testing.assert_array_equal(a.d31, b.d31)
+    np.testing.assert_array_equal(a.body_pos_m, b.body_pos_m)
+    np.testing.assert_array_equal(a.stance, b.stance)
+    for x, y in zip(a.touchdowns, b.touchdowns, strict=True):
+        np.testing.assert_array_equal(x, y)
+
+
+def test_batch_equals_single_runs_bit_for_bit() -> None:
+    specs = [
+        RunSpec(beta=0.62, d31_init=2.0, duration_s=0.6),
+        RunSpec(beta=0.70, d31_init=3.0, duration_s=0.4, body_mass_g=3.5, slope_deg=4.0),
+        RunSpec(beta=0.66, d31_init=1.0, duration_s=0.5, phase_reset=False),
+    ]
+    batch = simulate_batch(specs, nthread=2)
+    for spec, res in zip(specs, batch, strict=True):
+        _same(simulate(spec), res)
+        assert res.times_s[-1] == pytest.approx(spec.duration_s, abs=2e-3)
+
+
+def test_reruns_are_bit_identical() -> None:
+    spec = RunSpec(beta=0.66, d31_init=2.5, duration_s=0.5)
+    _same(simulate(spec), simulate(spec))
+
+
+def test_progress_reaches_one() -> None:
+    seen: list[float] = []
+    simulate_batch([RunSpec(duration_s=0.2), RunSpec(duration_s=0.1)], progress=seen.append)
+    assert seen and seen[-1] == pytest.approx(1.0)
+    assert all(b >= a for a, b in itertools.pairwise(seen))
+
+
+@pytest.mark.parametrize("integrator", ["euler", "rk4"])
+def test_divergence_is_reported_never_returned_as_numbers(integrator: str) -> None:
+    spec = RunSpec(beta=0.62, duration_s=0.5, integrator=integrator, dt_s=1e-3, control_dt_s=1e-3)
+    res = simulate(spec)
+    assert res.diverged
+    assert "diverged at t =" in res.error and integrator in res.error and "0.001" in res.error
+    s = res.summary()
+    assert s["d31"] == [] and s["d31_final"] is None and s["speed_cm_s"] is None
+    assert s["gait"] is None
+
+
+def test_default_configuration_does_not_diverge() -> None:
+    res = simulate(RunSpec(beta=0.62, d31_init=3.0, duration_s=0.5))
+    assert not res.diverged
+
+
+@pytest.mark.parametrize("beta", [0.62, 0.70])
+def test_it_walks_at_the_eq2_speed_without_slipping(beta: float) -> None:
+    res = simulate(RunSpec(beta=beta, d31_init=math.pi, duration_s=2.0))
+    v = nominal_speed(beta, P.stroke, P.swing_duration) * 100
+    assert not res.diverged
+    assert res.speed_cm_s == pytest.approx(v, rel=0.10)
+    assert res.slip_fraction < 0.10
+    assert res.duty_factor_measured == pytest.approx(beta, abs=0.05)
+    # straight: sideways drift small against the distance walked
+    drift = abs(res.body_pos_m[-1, 1] - res.body_pos_m[0, 1])
+    assert drift < 0.1 * (res.body_pos_m[-1, 0] - res.body_pos_m[0, 0])
+
+
+@pytest.mark.parametrize("d31", [2.2, 3.0])
+def test_without_phase_reset_delta31_stays_where_it_started(d31: float) -> None:
+    res = simulate(RunSpec(beta=0.62, d31_init=d31, duration_s=2.0, phase_reset=False))
+    assert len(res.d31) >= 15
+    np.testing.assert_allclose(res.d31, d31, atol=1e-6)
+
+
+def test_live_simulation_matches_batch_and_acts_on_changes() -> None:
+    spec = RunSpec(beta=0.66, d31_init=2.5, duration_s=0.3)
+    sim = Simulation(spec)
+    sim.advance(0.3)
+    batch = simulate(spec)
+    assert [v for _, v in sim.d31_events] == pytest.approx(batch.d31.tolist(), abs=0)
+    sim.set_beta(0.62)
+    sim.set_body_mass_g(4.0)
+    sim.set_slope_deg(5.0)
+    sim.advance(0.05)
+    assert (sim.beta, sim.body_mass_g, sim.slope_deg) == (0.62, 4.0, 5.0)
+    assert sim.data.xpos[1, 0] > 0
+    t, st = sim.footfall
+    assert st.shape == (t.size, 6)
+    sim.reset(d31_init=1.0)
+    assert sim.time_s == 0 and sim.beta == 0.62
