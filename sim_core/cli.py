@@ -128,12 +128,19 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 def _add_params(sub: Any) -> None:
     p = sub.add_parser("params", help="every model parameter with its origin and reason")
     p.add_argument("--json", action="store_true")
+    p.add_argument("--update-doc", metavar="MD", help="rewrite the table in this markdown file")
     p.set_defaults(func=_cmd_params)
 
 
 def _cmd_params(args: argparse.Namespace) -> int:
-    from sim_core.params import parameter_markdown, parameter_table
+    from sim_core.params import parameter_markdown, parameter_table, update_parameter_doc
 
+    if args.update_doc:
+        from pathlib import Path
+
+        path = Path(args.update_doc)
+        path.write_text(update_parameter_doc(path.read_text()))
+        return 0
     if args.json:
         rows = [
             {"name": n, "value": v, "origin": o, "reason": r} for n, v, o, r in parameter_table()
@@ -144,12 +151,92 @@ def _cmd_params(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_calibrate(sub: Any) -> None:
+    p = sub.add_parser(
+        "calibrate", help="search the open parameters for the paper's gait selection"
+    )
+    p.add_argument("--trials", type=int, default=50)
+    p.add_argument("--storage", default="sqlite:///out/calibration.db", help="optuna storage URL")
+    p.add_argument("--study", default="gait-selection")
+    p.add_argument("--duration-s", type=float, default=6.0, help="per run")
+    p.add_argument("--n-init", type=int, default=8, help="initial Delta31 values per beta")
+    p.add_argument("--seed", type=int, default=0)
+    p.set_defaults(func=_cmd_calibrate)
+
+
+def _cmd_calibrate(args: argparse.Namespace) -> int:
+    import time
+    from pathlib import Path
+
+    from sim_core.calibration import SEARCH_SPACE, calibrate
+
+    if args.trials < 1 or args.duration_s <= 0 or args.n_init < 2:
+        print("insect-gait calibrate: error: --trials >= 1, --duration-s > 0, --n-init >= 2",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_USAGE
+    if args.storage.startswith("sqlite:///"):
+        Path(args.storage.removeprefix("sqlite:///")).parent.mkdir(parents=True, exist_ok=True)
+    t0 = time.perf_counter()
+
+    def report(n: int, score: float, values: dict[str, float]) -> None:
+        shown = " ".join(f"{k}={v:.3g}" for k, v in values.items())
+        print(f"[{time.perf_counter() - t0:7.0f} s] trial {n}: score {score:.3f}  {shown}",
+              flush=True)  # fmt: skip
+
+    study = calibrate(
+        args.trials, storage=args.storage, study_name=args.study, seed=args.seed,
+        duration_s=args.duration_s, n_init=args.n_init, on_trial=report,
+    )  # fmt: skip
+    best = study.best_trial
+    print(f"best trial {best.number}: score {best.value:.3f}")
+    for k in SEARCH_SPACE:
+        print(f"  {k} = {best.params[k]:.4g}")
+    return 0
+
+
+def _add_return_map(sub: Any) -> None:
+    p = sub.add_parser("return-map", help="Delta31(n) -> Delta31(n+4) drift from many starts")
+    p.add_argument("--beta", type=float, required=True)
+    p.add_argument("--n-init", type=int, default=16)
+    p.add_argument("--duration-s", type=float, default=3.0)
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_return_map)
+
+
+def _cmd_return_map(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from sim_core.calibration import initial_values, return_map
+
+    if not 0.5 < args.beta < 1 or args.n_init < 1 or args.duration_s <= 0:
+        print("insect-gait return-map: error: beta in (0.5, 1), --n-init >= 1, --duration-s > 0",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_USAGE
+    inits = initial_values(args.n_init).tolist()
+    rm = return_map(None, args.beta, inits, duration_s=args.duration_s)
+    centers, drift = rm.drift_per_cycle()
+    if args.json:
+        drift_list = [None if np.isnan(d) else float(d) for d in drift]
+        obj = {"beta": args.beta, "x": rm.x.tolist(), "y": rm.y.tolist()}
+        obj.update({"bin_centers": centers.tolist(), "drift_per_cycle": drift_list})
+        print(json.dumps(obj))
+        return 0
+    print(f"beta {args.beta}: {rm.x.size} pairs; mean drift of Delta31 per cycle by bin")
+    for c, d in zip(centers, drift, strict=True):
+        bar = "" if np.isnan(d) else ("+" if d > 0 else "-") * min(40, int(abs(d) / 0.005))
+        shown = "   n/a" if np.isnan(d) else f"{d:+.3f}"
+        print(f"  {c:5.2f} rad  {shown}  {bar}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="insect-gait", description=__doc__.splitlines()[0] if __doc__ else "")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
     _add_run(sub)
     _add_bench(sub)
     _add_params(sub)
+    _add_calibrate(sub)
+    _add_return_map(sub)
     for ep in entry_points(group="insect_gait.commands"):
         try:
             register = ep.load()

@@ -97,6 +97,8 @@ def plan_block(
 def apply_events(
     ids: np.ndarray,
     touch: np.ndarray,
+    height: np.ndarray,
+    prev_height: np.ndarray,
     phi: np.ndarray,
     phi_next: np.ndarray,
     stance: np.ndarray,
@@ -110,13 +112,19 @@ def apply_events(
     dt: float,
     geo: np.ndarray,
     td_time: np.ndarray,
+    td_phase: np.ndarray,
     lo_time: np.ndarray,
     d31: np.ndarray,
 ) -> None:
     """Advance phi to phi_next, applying touchdowns (with eq. 4) and lift-offs found in touch.
 
-    touch: (len(ids), k, 6) touch-sensor forces per substep. Outputs td_time, lo_time (n, 6)
-    and d31 (n,) are NaN where nothing happened.
+    touch, height: (len(ids), k, 6) touch-sensor force and foot clearance (foot centre height
+    minus its radius) at the start of each substep, i.e. at t0 + j dt. prev_height (n, 6) is the
+    clearance one substep before t0 and is updated here. A touch above `threshold` says that
+    the foot landed; the landing instant is where the clearance crossed zero, interpolated
+    linearly between substeps, so that it does not move with the timestep. Outputs td_time,
+    td_phase (the phase at touchdown, before any reset), lo_time (n, 6) and d31 (n,) are NaN
+    where nothing happened.
     """
     nsub = touch.shape[1]
     h = nsub * dt
@@ -126,6 +134,7 @@ def apply_events(
         d31[s] = np.nan
         for leg in range(6):
             td_time[s, leg] = np.nan
+            td_phase[s, leg] = np.nan
             lo_time[s, leg] = np.nan
             p0 = phi[s, leg]
             p1 = phi_next[s, leg]
@@ -133,15 +142,27 @@ def apply_events(
                 for j in range(nsub):
                     if touch[r, j, leg] <= threshold:
                         continue
-                    ph = p0 + (p1 - p0) * ((j + 1) / nsub)
+                    ph = p0 + (p1 - p0) * (j / nsub)
                     ph_w = ph - TWO_PI if ph >= TWO_PI else ph
                     if ph_w < scuff_fraction * phi_aep[s]:
                         continue  # scuff just after lift-off (or after a missed step)
+                    # landing instant: the last zero crossing of the clearance up to substep j
+                    frac = float(j)  # in substeps from t0
+                    above = prev_height[s, leg]
+                    for i in range(j, -1, -1):
+                        below = height[r, i, leg]
+                        above = prev_height[s, leg] if i == 0 else height[r, i - 1, leg]
+                        if above > 0.0 >= below:
+                            frac = (i - 1) + above / (above - below)
+                            break
+                    ph = p0 + (p1 - p0) * (frac / nsub)
+                    ph_w = ph - TWO_PI if ph >= TWO_PI else ph
                     swing_point(geo, leg, ph_w, phi_aep[s], tip)
                     for m in range(3):
                         lp[s, leg, m] = tip[m]
                     stance[s, leg] = 1
-                    td_time[s, leg] = t0 + (j + 1) * dt
+                    td_time[s, leg] = t0 + frac * dt
+                    td_phase[s, leg] = ph_w
                     advance = p1 - ph
                     if reset[s]:
                         phi_td[s, leg] = phi_aep[s]
@@ -156,6 +177,7 @@ def apply_events(
                 stance[s, leg] = 0
                 p1 -= TWO_PI
             phi[s, leg] = p1 % TWO_PI
+            prev_height[s, leg] = height[r, nsub - 1, leg]
         if not math.isnan(td_time[s, 0]):
             d31[s] = (phi[s, 2] - phi[s, 0]) % TWO_PI
 

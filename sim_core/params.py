@@ -140,8 +140,13 @@ class ModelParams(BaseModel):
     )
 
     # --- Numerics defaults (see docs/NUMERICS.md) ---------------------------------------------
-    integrator: Integrator = Field("implicitfast", description="[invented] MuJoCo integrator")
-    dt: float = _ours(5e-5, "physics timestep, s (converged gait outcomes, docs/NUMERICS.md)", gt=0)
+    integrator: Integrator = Field(
+        "implicitfast",
+        description="[invented] MuJoCo integrator; treats the PD damping implicitly, cheap",
+    )
+    dt: float = _ours(
+        5e-5, "physics timestep, s; its convergence is measured in docs/NUMERICS.md", gt=0
+    )
     control_dt: float = _ours(
         5e-4, "controller update period, s; targets are interpolated per physics step", gt=0
     )
@@ -190,3 +195,14 @@ def parameter_markdown(params: ModelParams | None = None) -> str:
         shown = f"{value:.6g}" if isinstance(value, float) else str(value)
         lines.append(f"| `{name}` | {shown} | {origin} | {reason} |")
     return "\n".join(lines)
+
+
+DOC_BEGIN = "<!-- params:begin -->"
+DOC_END = "<!-- params:end -->"
+
+
+def update_parameter_doc(text: str, params: ModelParams | None = None) -> str:
+    """Replace the table between the params markers of a markdown document."""
+    head, rest = text.split(DOC_BEGIN, 1)
+    _, tail = rest.split(DOC_END, 1)
+    return f"{head}{DOC_BEGIN}\n{parameter_markdown(params)}\n{DOC_END}{tail}"

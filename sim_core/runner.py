@@ -92,10 +92,13 @@ class BatchRunner:
         self.lp = np.zeros((n, 6, 3))
         self.phi_td = np.zeros((n, 6))
         self.td_time = np.full((n, 6), np.nan)
+        self.td_phase = np.full((n, 6), np.nan)
         self.lo_time = np.full((n, 6), np.nan)
         self.d31_evt = np.full(n, np.nan)
         self.ctrl = np.zeros((n, self.nsub, self.model.nu))
         self.touch = np.zeros((n, self.nsub, self.model.nsensor))
+        self.feet = np.zeros((n, self.nsub, self.model.nsite, 3))
+        self.prev_height = np.zeros((n, 6))
         self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
         self.qpos = self.batch.bind("qpos")
         self.qvel = self.batch.bind("qvel")
@@ -106,6 +109,8 @@ class BatchRunner:
         self.active = np.ones(n, dtype=np.bool_)
         self.errors: list[str | None] = [None] * n
         self.touchdowns: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
+        # phase of each touchdown before resetting: phi_AEP minus it is the reset's jump
+        self.touchdown_phases: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
         self.liftoffs: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
         self.d31_t: list[list[float]] = [[] for _ in range(n)]
         self.d31_v: list[list[float]] = [[] for _ in range(n)]
@@ -226,9 +231,9 @@ class BatchRunner:
             self.batch.rollout(
                 self.nsub,
                 control=self.ctrl[:m],
-                record=("sensordata",),
+                record=("sensordata", "site_xpos"),
                 ids=call_ids,
-                out={"sensordata": self.touch[:m]},
+                out={"sensordata": self.touch[:m], "site_xpos": self.feet[:m]},
             )
         except mujoco.batch.SimulationError as exc:
             for sim in exc.ids:
@@ -238,6 +243,8 @@ class BatchRunner:
         apply_events(
             ids,
             self.touch[:m],
+            self.feet[:m, :, :, 2] - p.foot_radius,
+            self.prev_height,
             self.phi,
             self.phi_next,
             self.stance,
@@ -251,6 +258,7 @@ class BatchRunner:
             self.dt,
             self.geo,
             self.td_time,
+            self.td_phase,
             self.lo_time,
             self.d31_evt,
         )
@@ -274,6 +282,7 @@ class BatchRunner:
         for r, leg in zip(*np.nonzero(np.isfinite(td)), strict=True):
             s = int(ids[r])
             self.touchdowns[s][leg].append(float(td[r, leg]))
+            self.touchdown_phases[s][leg].append(float(self.td_phase[s, leg]))
             self._td_xy[s, leg] = feet[s, leg]
             if leg == 0:
                 self.d31_t[s].append(float(td[r, 0]))

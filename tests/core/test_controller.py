@@ -18,17 +18,21 @@ NSUB = 10
 
 def _run(phi0: np.ndarray, phi1: np.ndarray, stance: np.ndarray, touch: np.ndarray, reset: bool):
     ids = np.array([0])
+    # the foot is 0.1 mm up until the touch, 0.01 mm into the ground from then on
+    height = np.where(touch > 0, -1e-5, 1e-4)
+    prev = np.full((1, 6), 1e-4)
     phi = phi0[None].copy()
     phi_next = phi1[None].copy()
     st = stance[None].astype(np.int8).copy()
     lp = np.zeros((1, 6, 3))
     phi_td = np.full((1, 6), PHI_AEP)
     td = np.empty((1, 6))
+    tdp = np.empty((1, 6))
     lo = np.empty((1, 6))
     d31 = np.empty(1)
     apply_events(
-        ids, touch[None], phi, phi_next, st, lp, phi_td, np.array([PHI_AEP]),
-        np.array([reset]), P.touch_threshold, P.scuff_fraction, 1.0, DT, GEO, td, lo, d31,
+        ids, touch[None], height[None], prev, phi, phi_next, st, lp, phi_td, np.array([PHI_AEP]),
+        np.array([reset]), P.touch_threshold, P.scuff_fraction, 1.0, DT, GEO, td, tdp, lo, d31,
     )  # fmt: skip
     return phi[0], st[0], td[0], lo[0], phi_td[0], d31[0]
 
@@ -44,8 +48,9 @@ def test_touchdown_resets_phase_to_aep_plus_elapsed() -> None:
     phi1 = phi0 + 0.01
     phi, st, td, _, phi_td, d31 = _run(phi0, phi1, np.zeros(6, bool), _touch(0, 3), reset=True)
     assert st[0] == 1 and st[1:].sum() == 0
-    assert td[0] == 1.0 + 4 * DT
-    advance_after = 0.01 * (NSUB - 4) / NSUB
+    frac = 2 + 1e-4 / 1.1e-4  # the clearance crosses zero between substeps 2 and 3
+    assert math.isclose(td[0], 1.0 + frac * DT)
+    advance_after = 0.01 * (NSUB - frac) / NSUB
     assert math.isclose(phi[0], PHI_AEP + advance_after, abs_tol=1e-12)
     assert phi_td[0] == PHI_AEP
     assert math.isclose(d31, (phi[2] - phi[0]) % (2 * math.pi))
@@ -58,7 +63,7 @@ def test_without_reset_the_phase_runs_on() -> None:
     phi, st, _, _, phi_td, _ = _run(phi0, phi1, np.zeros(6, bool), _touch(0, 3), reset=False)
     assert st[0] == 1
     np.testing.assert_allclose(phi, phi1)
-    assert math.isclose(phi_td[0], phi0[0] + 0.01 * 4 / NSUB)
+    assert math.isclose(phi_td[0], phi0[0] + 0.01 * (2 + 1e-4 / 1.1e-4) / NSUB)
 
 
 def test_scuff_right_after_liftoff_is_ignored() -> None:
