@@ -1,0 +1,37 @@
+# insect-gait: the REST API (default command) and, with another command, the viewer.
+# Same install steps as the Makefile (`python -m venv .venv && .venv/bin/pip install -e ...`),
+# without the dev extras.
+FROM python:3.11-slim
+
+ENV PYTHONUNBUFFERED=1 \
+    PYTHONDONTWRITEBYTECODE=1 \
+    PIP_NO_CACHE_DIR=1 \
+    PIP_DISABLE_PIP_VERSION_CHECK=1 \
+    MPLBACKEND=Agg \
+    PATH="/app/.venv/bin:${PATH}" \
+    INSECT_GAIT_HOST=0.0.0.0 \
+    INSECT_GAIT_PORT=8000 \
+    INSECT_GAIT_DB_PATH=/data/insect-gait.sqlite3
+
+RUN groupadd --system --gid 10001 app \
+    && useradd --system --uid 10001 --gid app --home-dir /app --shell /usr/sbin/nologin app \
+    && mkdir -p /app /data \
+    && chown app:app /app /data
+
+WORKDIR /app
+USER 10001:10001
+
+COPY --chown=10001:10001 pyproject.toml README.md ./
+COPY --chown=10001:10001 sim_core ./sim_core
+COPY --chown=10001:10001 server ./server
+COPY --chown=10001:10001 web ./web
+RUN python -m venv .venv && .venv/bin/pip install --quiet -e .
+
+VOLUME ["/data"]
+EXPOSE 8000 8080
+
+# The API's own health endpoint; python instead of curl, which the slim image lacks.
+HEALTHCHECK --interval=30s --timeout=5s --start-period=30s --retries=3 \
+    CMD ["python", "-c", "import os, urllib.request; urllib.request.urlopen('http://127.0.0.1:%s/healthz' % os.environ.get('INSECT_GAIT_PORT', '8000'), timeout=4)"]
+
+CMD ["insect-gait", "api"]

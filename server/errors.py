@@ -1,0 +1,106 @@
+"""Turn pydantic's validation errors into messages a person can act on.
+
+FastAPI's default 422 says "Input should be greater than 0.5" at `["body", "run", "beta"]`;
+a researcher scripting sweeps needs "beta: Input should be greater than 0.5; allowed:
+0.5 < beta < 1". The shape stays FastAPI's (`detail` is a list with `loc`, `msg`, `type`) so
+generic clients keep working; `field` and `allowed` are added.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from pydantic import BaseModel
+
+from server.schemas import KIND_MODELS
+
+
+def _allowed_for(model: type[BaseModel] | None, path: Sequence[str | int]) -> str | None:
+    """Walk nested models along `path` and return the field's 'allowed' text, if it has one."""
+    allowed: str | None = None
+    for part in path:
+        if model is None or not isinstance(part, str) or part not in model.model_fields:
+            break
+        info = model.model_fields[part]
+        extra = info.json_schema_extra
+        allowed = extra.get("allowed") if isinstance(extra, dict) else None  # type: ignore[assignment]
+        ann = info.annotation
+        model = ann if isinstance(ann, type) and issubclass(ann, BaseModel) else None
+    return allowed if isinstance(allowed, str) else None
+
+
+def _model_at(model: type[BaseModel] | None, path: Sequence[str | int]) -> type[BaseModel] | None:
+    """The model that owns the last element of `path` (for naming a nested unknown field)."""
+    for part in path[:-1]:
+        if model is None or not isinstance(part, str) or part not in model.model_fields:
+            return None
+        ann = model.model_fields[part].annotation
+        model = ann if isinstance(ann, type) and issubclass(ann, BaseModel) else None
+    return model
+
+
+def _field_name(path: Sequence[str | int]) -> str:
+    out = ""
+    for part in path:
+        out += f"[{part}]" if isinstance(part, int) else (f".{part}" if out else part)
+    return out or "body"
+
+
+def humanize(errors: Sequence[dict[str, Any]], body: Any) -> list[dict[str, Any]]:
+    """Rewrite each error; `body` is the parsed request body, used to name the job kind."""
+    kind = body.get("kind") if isinstance(body, dict) else None
+    out: list[dict[str, Any]] = []
+    for err in errors:
+        loc = list(err.get("loc", ()))
+        etype = str(err.get("type", "value_error"))
+        source = loc[0] if loc else "body"
+        path = loc[1:]
+        model: type[BaseModel] | None = None
+        if source == "body" and path and isinstance(path[0], str) and path[0] in KIND_MODELS:
+            model = KIND_MODELS[path[0]]
+            path = path[1:]
+        elif source == "body" and isinstance(kind, str) and kind in KIND_MODELS:
+            model = KIND_MODELS[kind]
+        field = _field_name(path) if path else ("body" if source == "body" else str(source))
+        allowed = _allowed_for(model, path)
+        msg = str(err.get("msg", "invalid value"))
+        owner = _model_at(model, path) if etype == "extra_forbidden" else None
+        if owner is not None:
+            known = ", ".join(sorted(owner.model_fields))
+            where = f"kind '{kind}'" if owner is model else f"'{_field_name(path[:-1])}'"
+            msg = f"unknown field '{field}' for {where}; allowed fields: {known}"
+        elif etype in ("union_tag_invalid", "union_tag_not_found"):
+            field = "kind"
+            allowed = ", ".join(sorted(KIND_MODELS))
+            msg = f"kind: {msg}; allowed: {allowed}"
+        elif etype == "json_invalid":
+            field = "body"
+            msg = f"request body is not valid JSON: {err.get('ctx', {}).get('error', msg)}"
+        elif etype == "model_attributes_type" or (etype.endswith("_type") and not path):
+            msg = f"{field}: {msg}; send a JSON object"
+        else:
+            msg = f"{field}: {msg}"
+            if allowed:
+                msg += f"; allowed: {allowed}"
+        out.append(
+            {
+                "loc": [str(x) if not isinstance(x, int) else x for x in loc],
+                "field": field,
+                "msg": msg,
+                "type": etype,
+                "allowed": allowed,
+            }
+        )
+    return out
+
+
+def limit_error(field: str, msg: str, allowed: str) -> dict[str, Any]:
+    """A 422 item for limits that depend on settings (job size), in the same shape."""
+    return {
+        "loc": ["body", field],
+        "field": field,
+        "msg": f"{field}: {msg}; allowed: {allowed}",
+        "type": "job_too_large",
+        "allowed": allowed,
+    }

@@ -1,0 +1,346 @@
+"""The job store: one SQLite file (WAL mode) is the queue, the job table and the result store.
+
+Why the job table is also the queue: the state a client sees and the state workers act on can
+then never disagree, even after `kill -9`. A job moves queued -> running -> done | failed, or to
+cancelled from queued or running. Every write a worker makes is fenced by the job's `attempts`
+counter and `status = 'running'`, so a worker that lost its job (cancelled, re-queued after a
+crash) cannot overwrite what happened since.
+
+The API process and the worker processes each open their own connections; WAL lets readers
+(status polls) proceed while a worker commits a result.
+"""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+import threading
+import uuid
+import zlib
+from collections.abc import Iterator
+from contextlib import contextmanager
+from dataclasses import dataclass
+from datetime import UTC, datetime
+from pathlib import Path
+from typing import Any
+
+SCHEMA_VERSION = 1
+
+_SCHEMA = """
+CREATE TABLE IF NOT EXISTS jobs (
+    seq         INTEGER PRIMARY KEY AUTOINCREMENT,
+    id          TEXT NOT NULL UNIQUE,
+    kind        TEXT NOT NULL,
+    spec        TEXT NOT NULL,
+    status      TEXT NOT NULL CHECK (status IN ('queued','running','done','failed','cancelled')),
+    progress    REAL NOT NULL DEFAULT 0,
+    attempts    INTEGER NOT NULL DEFAULT 0,
+    requeues    INTEGER NOT NULL DEFAULT 0,
+    sim_seconds REAL NOT NULL,
+    created_at  TEXT NOT NULL,
+    started_at  TEXT,
+    finished_at TEXT,
+    error       TEXT,
+    note        TEXT
+);
+CREATE INDEX IF NOT EXISTS jobs_status_seq ON jobs (status, seq);
+CREATE TABLE IF NOT EXISTS results (
+    job_id TEXT PRIMARY KEY REFERENCES jobs (id) ON DELETE CASCADE,
+    body   BLOB NOT NULL
+);
+"""
+
+_COLUMNS = (
+    "id, kind, spec, status, progress, attempts, requeues, sim_seconds, created_at, started_at,"
+    " finished_at, error, note"
+)
+
+
+def now_iso() -> str:
+    return datetime.now(UTC).isoformat(timespec="milliseconds").replace("+00:00", "Z")
+
+
+def _row_to_job(row: sqlite3.Row) -> dict[str, Any]:
+    job = dict(row)
+    job["spec"] = json.loads(job["spec"])
+    return job
+
+
+@dataclass(frozen=True)
+class Claim:
+    """A job handed to a worker; `attempt` is the fencing token for everything it writes."""
+
+    job_id: str
+    attempt: int
+
+
+@dataclass(frozen=True)
+class QueueFull:
+    queued: int
+
+
+class JobStore:
+    """All SQL lives here. Safe to use from many threads (one connection per thread)."""
+
+    def __init__(self, path: Path | str) -> None:
+        self.path = Path(path)
+        self._local = threading.local()
+
+    # ---- connections ---------------------------------------------------------------------
+
+    def _conn(self) -> sqlite3.Connection:
+        conn: sqlite3.Connection | None = getattr(self._local, "conn", None)
+        if conn is None:
+            conn = sqlite3.connect(self.path, timeout=10.0, isolation_level=None)
+            conn.row_factory = sqlite3.Row
+            conn.execute("PRAGMA busy_timeout = 10000")
+            conn.execute("PRAGMA foreign_keys = ON")
+            # NORMAL is safe against a killed process in WAL mode (only power loss can lose
+            # the last commits), and it keeps status polls fast while workers write.
+            conn.execute("PRAGMA synchronous = NORMAL")
+            self._local.conn = conn
+        return conn
+
+    @contextmanager
+    def _write(self) -> Iterator[sqlite3.Connection]:
+        """BEGIN IMMEDIATE: take the write lock up front so check-then-write is atomic."""
+        conn = self._conn()
+        conn.execute("BEGIN IMMEDIATE")
+        try:
+            yield conn
+        except BaseException:
+            conn.execute("ROLLBACK")
+            raise
+        else:
+            conn.execute("COMMIT")
+
+    def close(self) -> None:
+        conn = getattr(self._local, "conn", None)
+        if conn is not None:
+            conn.close()
+            self._local.conn = None
+
+    def init(self) -> None:
+        """Create the file and tables; switch to WAL (a property of the file, set once)."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
+        conn = self._conn()
+        mode = conn.execute("PRAGMA journal_mode = WAL").fetchone()[0]
+        if str(mode).lower() != "wal":
+            raise RuntimeError(f"could not switch {self.path} to WAL mode (got {mode!r})")
+        conn.executescript(_SCHEMA)
+        version = conn.execute("PRAGMA user_version").fetchone()[0]
+        if version == 0:
+            conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        elif version != SCHEMA_VERSION:
+            raise RuntimeError(
+                f"{self.path} has schema version {version}; this server reads {SCHEMA_VERSION}"
+            )
+
+    # ---- API side ------------------------------------------------------------------------
+
+    def submit(
+        self, kind: str, spec: dict[str, Any], sim_seconds: float, queue_limit: int
+    ) -> dict[str, Any] | QueueFull:
+        """Insert a queued job unless the queue is full; the check and insert are one lock."""
+        job_id = str(uuid.uuid4())
+        with self._write() as conn:
+            queued = conn.execute("SELECT count(*) FROM jobs WHERE status = 'queued'").fetchone()
+            if queued[0] >= queue_limit:
+                return QueueFull(queued=int(queued[0]))
+            conn.execute(
+                "INSERT INTO jobs (id, kind, spec, status, sim_seconds, created_at)"
+                " VALUES (?, ?, ?, 'queued', ?, ?)",
+                (job_id, kind, json.dumps(spec), sim_seconds, now_iso()),
+            )
+        job = self.get(job_id)
+        assert job is not None
+        return job
+
+    def get(self, job_id: str) -> dict[str, Any] | None:
+        row = (
+            self._conn().execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
+        )
+        return _row_to_job(row) if row is not None else None
+
+    def list_jobs(
+        self, status: str | None, limit: int, offset: int
+    ) -> tuple[list[dict[str, Any]], int]:
+        """Newest first."""
+        conn = self._conn()
+        where, args = ("WHERE status = ?", (status,)) if status else ("", ())
+        total = conn.execute(f"SELECT count(*) FROM jobs {where}", args).fetchone()[0]
+        rows = conn.execute(
+            f"SELECT {_COLUMNS} FROM jobs {where} ORDER BY seq DESC LIMIT ? OFFSET ?",
+            (*args, limit, offset),
+        ).fetchall()
+        return [_row_to_job(r) for r in rows], int(total)
+
+    def cancel(self, job_id: str) -> tuple[str, dict[str, Any] | None]:
+        """-> (previous status or 'missing', job). Only queued and running jobs change."""
+        with self._write() as conn:
+            row = conn.execute("SELECT status FROM jobs WHERE id = ?", (job_id,)).fetchone()
+            if row is None:
+                return "missing", None
+            previous = str(row[0])
+            if previous in ("queued", "running"):
+                conn.execute(
+                    "UPDATE jobs SET status = 'cancelled', finished_at = ?,"
+                    " note = coalesce(note || ' ', '') || ? WHERE id = ?",
+                    (now_iso(), f"cancelled by request while {previous}.", job_id),
+                )
+        return previous, self.get(job_id)
+
+    def result(self, job_id: str) -> dict[str, Any] | None:
+        row = (
+            self._conn().execute("SELECT body FROM results WHERE job_id = ?", (job_id,)).fetchone()
+        )
+        if row is None:
+            return None
+        out: dict[str, Any] = json.loads(zlib.decompress(row[0]))
+        return out
+
+    def counts(self) -> dict[str, int]:
+        rows = self._conn().execute(
+            "SELECT status, count(*) FROM jobs"
+            " WHERE status IN ('queued', 'running') GROUP BY status"
+        )
+        out = {"queued": 0, "running": 0}
+        out.update({str(s): int(n) for s, n in rows})
+        return out
+
+    def typical_job_seconds(self) -> float | None:
+        """Median wall time of the last finished jobs, for Retry-After estimates."""
+        rows = (
+            self._conn()
+            .execute(
+                "SELECT (julianday(finished_at) - julianday(started_at)) * 86400.0 FROM jobs"
+                " WHERE status = 'done' AND started_at IS NOT NULL"
+                " ORDER BY seq DESC LIMIT 20"
+            )
+            .fetchall()
+        )
+        xs = sorted(float(r[0]) for r in rows if r[0] is not None)
+        return xs[len(xs) // 2] if xs else None
+
+    # ---- supervisor side -----------------------------------------------------------------
+
+    def claim_next(self) -> Claim | None:
+        """Oldest queued job -> running, atomically; its new attempt number fences the worker."""
+        # a plain read first: an idle pool polls this, and must not take the write lock for it
+        if (
+            self._conn().execute("SELECT 1 FROM jobs WHERE status = 'queued' LIMIT 1").fetchone()
+            is None
+        ):
+            return None
+        with self._write() as conn:
+            row = conn.execute(
+                "UPDATE jobs SET status = 'running', attempts = attempts + 1, progress = 0,"
+                " started_at = ?, finished_at = NULL"
+                " WHERE seq = (SELECT seq FROM jobs WHERE status = 'queued' ORDER BY seq LIMIT 1)"
+                " RETURNING id, attempts",
+                (now_iso(),),
+            ).fetchone()
+        return Claim(str(row[0]), int(row[1])) if row is not None else None
+
+    def recover_interrupted(self, max_requeues: int) -> tuple[list[str], list[str]]:
+        """At start-up: jobs left 'running' by a dead server are re-queued, or failed with why.
+
+        Called only while holding the instance lock, so no live worker owns them. A job that
+        was running when the server died may itself be the reason it died (memory, a crash),
+        so it is re-queued at most `max_requeues` times.
+        """
+        requeued: list[str] = []
+        failed: list[str] = []
+        with self._write() as conn:
+            rows = conn.execute(
+                "SELECT id, requeues, attempts FROM jobs WHERE status = 'running' ORDER BY seq"
+            ).fetchall()
+            stamp = now_iso()
+            for job_id, requeues, attempts in rows:
+                if requeues < max_requeues:
+                    conn.execute(
+                        "UPDATE jobs SET status = 'queued', progress = 0, started_at = NULL,"
+                        " requeues = requeues + 1, note = coalesce(note || ' ', '') || ?"
+                        " WHERE id = ?",
+                        (
+                            f"re-queued at {stamp}: the server stopped while attempt "
+                            f"{attempts} was running.",
+                            job_id,
+                        ),
+                    )
+                    requeued.append(job_id)
+                else:
+                    conn.execute(
+                        "UPDATE jobs SET status = 'failed', finished_at = ?, error = ?"
+                        " WHERE id = ?",
+                        (
+                            stamp,
+                            f"the server stopped while this job was running, {requeues + 1} "
+                            f"time(s); not re-queued again (limit max_requeues = "
+                            f"{max_requeues}), the job may be what brings the server down",
+                            job_id,
+                        ),
+                    )
+                    failed.append(job_id)
+        return requeued, failed
+
+    def requeue_on_shutdown(self, claim: Claim) -> bool:
+        """A clean shutdown interrupted this job: it goes back to the queue, no requeue spent."""
+        with self._write() as conn:
+            cur = conn.execute(
+                "UPDATE jobs SET status = 'queued', progress = 0, started_at = NULL,"
+                " note = coalesce(note || ' ', '') || ?"
+                " WHERE id = ? AND attempts = ? AND status = 'running'",
+                (
+                    f"re-queued at {now_iso()}: the server shut down while it ran.",
+                    claim.job_id,
+                    claim.attempt,
+                ),
+            )
+        return cur.rowcount == 1
+
+    def status_of(self, job_ids: list[str]) -> dict[str, str]:
+        if not job_ids:
+            return {}
+        marks = ",".join("?" * len(job_ids))
+        rows = self._conn().execute(f"SELECT id, status FROM jobs WHERE id IN ({marks})", job_ids)
+        return {str(i): str(s) for i, s in rows}
+
+    # ---- worker side ---------------------------------------------------------------------
+
+    def spec_of(self, job_id: str) -> dict[str, Any] | None:
+        row = self._conn().execute("SELECT spec FROM jobs WHERE id = ?", (job_id,)).fetchone()
+        return json.loads(row[0]) if row is not None else None
+
+    def set_progress(self, claim: Claim, fraction: float) -> bool:
+        cur = self._conn().execute(
+            "UPDATE jobs SET progress = ? WHERE id = ? AND attempts = ? AND status = 'running'",
+            (min(max(float(fraction), 0.0), 1.0), claim.job_id, claim.attempt),
+        )
+        return cur.rowcount == 1
+
+    def finish_done(self, claim: Claim, result: dict[str, Any]) -> bool:
+        """Store the result and mark done in one transaction, only if the claim still holds."""
+        body = zlib.compress(json.dumps(result, allow_nan=False).encode(), 6)
+        with self._write() as conn:
+            cur = conn.execute(
+                "UPDATE jobs SET status = 'done', progress = 1, finished_at = ?"
+                " WHERE id = ? AND attempts = ? AND status = 'running'",
+                (now_iso(), claim.job_id, claim.attempt),
+            )
+            if cur.rowcount != 1:
+                return False
+            conn.execute(
+                "INSERT OR REPLACE INTO results (job_id, body) VALUES (?, ?)",
+                (claim.job_id, body),
+            )
+        return True
+
+    def finish_failed(self, claim: Claim, error: str) -> bool:
+        with self._write() as conn:
+            cur = conn.execute(
+                "UPDATE jobs SET status = 'failed', finished_at = ?, error = ?"
+                " WHERE id = ? AND attempts = ? AND status = 'running'",
+                (now_iso(), error, claim.job_id, claim.attempt),
+            )
+        return cur.rowcount == 1

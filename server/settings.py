@@ -1,0 +1,75 @@
+"""Service settings, read from the environment (prefix ``INSECT_GAIT_``) or passed in by tests.
+
+Every limit lives here so that an operator can tune a deployment without code changes and the
+limits a client is refused with are the same numbers the docs and error messages show.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+from pydantic import Field, SecretStr, field_validator
+from pydantic_settings import BaseSettings, SettingsConfigDict
+
+
+def _default_workers() -> int:
+    return os.cpu_count() or 1
+
+
+class Settings(BaseSettings):
+    """One deployment's configuration; env var names are the field names upper-cased."""
+
+    model_config = SettingsConfigDict(env_prefix="INSECT_GAIT_", extra="ignore")
+
+    host: str = Field("127.0.0.1", description="interface to bind; loopback unless told")
+    port: int = Field(8000, ge=0, le=65535, description="TCP port (0 = any free port)")
+    db_path: Path = Field(
+        Path("data/insect-gait.sqlite3"), description="SQLite file for jobs and results"
+    )
+    workers: int = Field(
+        default_factory=_default_workers,
+        ge=0,
+        le=256,
+        description="simulation worker processes; 0 keeps jobs queued and runs none",
+    )
+    threads_per_worker: int | None = Field(
+        None,
+        ge=1,
+        le=256,
+        description="threads one worker gives simulate_batch; None = cores / workers",
+    )
+    queue_limit: int = Field(
+        100, ge=1, le=100_000, description="queued (not yet running) jobs before 429"
+    )
+    max_job_sim_seconds: float = Field(
+        3600.0, gt=0, description="simulated seconds one job may ask for, summed over its runs"
+    )
+    max_runs_per_job: int = Field(
+        1000, ge=1, description="simulations one job may ask for (list length x grid size)"
+    )
+    max_requeues: int = Field(
+        1,
+        ge=0,
+        le=10,
+        description="times a job interrupted by a server crash is re-queued before it fails",
+    )
+    api_token: SecretStr | None = Field(
+        None, description="when set, mutating endpoints need 'Authorization: Bearer <token>'"
+    )
+    log_level: str = Field("info", description="uvicorn log level")
+
+    @field_validator("api_token", mode="before")
+    @classmethod
+    def _empty_token_is_none(cls, v: object) -> object:
+        # compose passes INSECT_GAIT_API_TOKEN="" when unset; that must mean "no token",
+        # not "the token is the empty string".
+        if v is None or (isinstance(v, str) and not v.strip()):
+            return None
+        return v
+
+    def threads_for_one_worker(self) -> int:
+        """Share the cores among workers so N busy workers do not oversubscribe the machine."""
+        if self.threads_per_worker is not None:
+            return self.threads_per_worker
+        return max(1, (os.cpu_count() or 1) // max(1, self.workers))

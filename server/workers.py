@@ -1,0 +1,304 @@
+"""Worker processes and the supervisor thread that feeds them.
+
+Why not huey (see docs/API.md for the long form): its SQLite storage deletes a task when a
+consumer takes it, so a `kill -9` loses every running task, and `revoke` only skips tasks not yet
+started, so cancel could not stop a running simulation. Both would need this module anyway, and
+two queues (huey's and the job table) could disagree after a crash. Here the job table is the
+queue, and the supervisor owns the worker processes, so it can kill the one running a cancelled
+job.
+
+Shape: the supervisor (a thread in the API process, doing no simulation) claims the oldest queued
+job for each idle worker and sends the worker its id over a pipe. The worker reads the spec,
+simulates, writes progress and the result to SQLite itself (fenced by the claim) and answers
+"finished". Cancel = the API marks the job cancelled; the supervisor sees a busy worker's job
+cancelled, SIGKILLs that worker and starts a fresh one. A worker that dies on its own (segfault,
+out of memory) fails only its own job. Workers die with the API process (PR_SET_PDEATHSIG plus a
+parent watchdog), so after `kill -9` no orphan keeps simulating.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import multiprocessing as mp
+import os
+import signal
+import socket
+import sys
+import threading
+import time
+import traceback
+from dataclasses import dataclass, field
+from multiprocessing.connection import Connection, wait
+from multiprocessing.process import BaseProcess
+from pathlib import Path
+from typing import Any
+
+from server.jobs import Claim, JobStore
+
+log = logging.getLogger("insect_gait.server.workers")
+
+PROGRESS_EVERY_S = 0.25
+RESPAWN_BACKOFF_S = 1.0
+
+
+# ---- inside a worker process --------------------------------------------------------------
+
+
+def _die_with_parent(parent_pid: int) -> None:
+    """Make sure a worker never outlives the API process that owns its job."""
+    if sys.platform.startswith("linux"):
+        try:
+            import ctypes
+
+            libc = ctypes.CDLL(None, use_errno=True)
+            libc.prctl(1, signal.SIGKILL)  # PR_SET_PDEATHSIG
+        except Exception:  # the watchdog below still covers it
+            pass
+    if os.getppid() != parent_pid:  # the parent died before prctl took effect
+        os._exit(1)
+
+    def watchdog() -> None:
+        while True:
+            time.sleep(0.5)
+            if os.getppid() != parent_pid:
+                os._exit(1)
+
+    threading.Thread(target=watchdog, name="parent-watchdog", daemon=True).start()
+
+
+def worker_main(conn: Connection, db_path: str, nthread: int, parent_pid: int) -> None:
+    """Loop: receive (job_id, attempt), run it, answer. Exits on None or a closed pipe."""
+    _die_with_parent(parent_pid)
+    # Ctrl-C and `kill 0` (make run) signal the whole group; the API process decides what
+    # happens to a running job (re-queue on shutdown) and SIGKILLs workers itself, so a
+    # worker must not die first and have its job counted as crashed.
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    from server.kinds import JobFailed, execute
+    from server.schemas import JOB_SPEC_ADAPTER
+
+    with contextlib.suppress(Exception):
+        import sim_core  # noqa: F401  (warm the import before the first job arrives)
+
+    store = JobStore(db_path)
+    conn.send(("ready", os.getpid()))
+    while True:
+        try:
+            msg = conn.recv()
+        except (EOFError, OSError):
+            return
+        if msg is None:
+            return
+        claim = Claim(*msg)
+        last = 0.0
+
+        def progress(fraction: float, claim: Claim = claim) -> None:
+            nonlocal last
+            now = time.monotonic()
+            if now - last >= PROGRESS_EVERY_S:
+                last = now
+                store.set_progress(claim, fraction)
+
+        try:
+            raw = store.spec_of(claim.job_id)
+            if raw is None:
+                raise JobFailed("the job disappeared from the database")
+            job = JOB_SPEC_ADAPTER.validate_python(raw)
+            result = execute(job, progress, nthread)
+            if not store.finish_done(claim, result):
+                log.info("job %s finished but was cancelled or re-queued meanwhile", claim.job_id)
+        except JobFailed as exc:
+            store.finish_failed(claim, str(exc))
+        except Exception as exc:
+            tb = traceback.extract_tb(exc.__traceback__)
+            where = f" (at {tb[-1].filename}:{tb[-1].lineno})" if tb else ""
+            store.finish_failed(claim, f"{type(exc).__name__}: {exc}{where}")
+        try:
+            conn.send(("finished", claim.job_id))
+        except (BrokenPipeError, OSError):
+            return
+
+
+# ---- inside the API process ---------------------------------------------------------------
+
+
+@dataclass
+class _Worker:
+    proc: BaseProcess
+    conn: Connection
+    started: float
+    claim: Claim | None = None
+    ready: bool = False
+    pid: int | None = None
+
+
+@dataclass
+class PoolStats:
+    configured: int
+    alive: int
+    busy: int
+
+
+@dataclass
+class WorkerPool:
+    """Owns N worker processes and the supervisor thread; start() and stop() from lifespan."""
+
+    store: JobStore
+    db_path: Path
+    size: int
+    nthread: int
+    _workers: list[_Worker] = field(default_factory=list)
+    _thread: threading.Thread | None = None
+    _stop: threading.Event = field(default_factory=threading.Event)
+    _wake_r: socket.socket | None = None
+    _wake_w: socket.socket | None = None
+    _ctx: Any = field(default_factory=lambda: mp.get_context("spawn"))
+    _respawn_at: float = 0.0
+
+    def start(self) -> None:
+        self._wake_r, self._wake_w = socket.socketpair()
+        self._wake_r.setblocking(False)
+        self._wake_w.setblocking(False)
+        self._thread = threading.Thread(target=self._run, name="job-supervisor", daemon=True)
+        self._thread.start()
+
+    def wake(self) -> None:
+        """Tell the supervisor to look at the queue now (a job arrived or was cancelled)."""
+        if self._wake_w is not None:
+            with contextlib.suppress(BlockingIOError, OSError):
+                self._wake_w.send(b"x")
+
+    def stats(self) -> PoolStats:
+        workers = list(self._workers)
+        alive = sum(1 for w in workers if w.proc.is_alive())
+        busy = sum(1 for w in workers if w.claim is not None)
+        return PoolStats(configured=self.size, alive=alive, busy=busy)
+
+    def stop(self, timeout: float = 15.0) -> None:
+        """Clean shutdown: running jobs go back to the queue; every worker process ends.
+
+        The supervisor thread ends the workers itself: PR_SET_PDEATHSIG fires when the thread
+        that started a worker exits, so it must be the last to touch them.
+        """
+        self._stop.set()
+        self.wake()
+        if self._thread is not None:
+            self._thread.join(timeout)
+        for s in (self._wake_r, self._wake_w):
+            if s is not None:
+                s.close()
+
+    # ---- supervisor thread ----------------------------------------------------------------
+
+    def _spawn(self) -> _Worker:
+        parent, child = self._ctx.Pipe(duplex=True)
+        proc = self._ctx.Process(
+            target=worker_main,
+            args=(child, str(self.db_path), self.nthread, os.getpid()),
+            name="insect-gait-worker",
+            daemon=True,
+        )
+        proc.start()
+        child.close()
+        return _Worker(proc=proc, conn=parent, started=time.monotonic())
+
+    def _end_worker(self, w: _Worker, requeue: bool) -> None:
+        if w.conn.closed:
+            return
+        if w.claim is not None and requeue:
+            self.store.requeue_on_shutdown(w.claim)
+        if w.proc.is_alive():
+            if w.claim is None and w.ready:
+                with contextlib.suppress(OSError):
+                    w.conn.send(None)
+                w.proc.join(1.0)
+            if w.proc.is_alive():
+                w.proc.kill()
+        w.proc.join(2.0)
+        w.conn.close()
+
+    def _run(self) -> None:
+        try:
+            self._workers = [self._spawn() for _ in range(self.size)]
+            while not self._stop.is_set():
+                self._step()
+        except Exception:  # keep the API answering; /healthz shows the workers as gone
+            log.exception("job supervisor crashed")
+        finally:
+            for w in self._workers:
+                self._end_worker(w, requeue=True)
+
+    def _step(self) -> None:
+        self._reap_dead()
+        self._kill_cancelled()
+        self._assign()
+        waitables: list[Any] = [w.conn for w in self._workers if not w.conn.closed]
+        if self._wake_r is not None:
+            waitables.append(self._wake_r)
+        for ready in wait(waitables, timeout=0.2):
+            if ready is self._wake_r:
+                with contextlib.suppress(BlockingIOError, OSError):
+                    self._wake_r.recv(4096)
+                continue
+            w = next(w for w in self._workers if w.conn is ready)
+            try:
+                kind, payload = w.conn.recv()
+            except (EOFError, OSError):
+                continue  # it died; _reap_dead handles it
+            if kind == "ready":
+                w.ready, w.pid = True, int(payload)
+            elif kind == "finished":
+                w.claim = None
+
+    def _reap_dead(self) -> None:
+        for i, w in enumerate(self._workers):
+            if w.proc.is_alive():
+                continue
+            code = w.proc.exitcode
+            how = f"signal {-code}" if code is not None and code < 0 else f"exit code {code}"
+            if w.claim is not None:
+                self.store.finish_failed(
+                    w.claim,
+                    f"the worker process died ({how}) while running this job: the simulation "
+                    "crashed or ran out of memory; other jobs are not affected",
+                )
+                log.warning("worker %s died (%s) running job %s", w.pid, how, w.claim.job_id)
+            w.conn.close()
+            if time.monotonic() - w.started < 2.0:
+                # dying at start-up again and again must not become a fork loop
+                self._respawn_at = time.monotonic() + RESPAWN_BACKOFF_S
+            if time.monotonic() >= self._respawn_at:
+                self._workers[i] = self._spawn()
+            else:
+                w.claim = None
+
+    def _kill_cancelled(self) -> None:
+        busy = {w.claim.job_id: w for w in self._workers if w.claim is not None}
+        if not busy:
+            return
+        statuses = self.store.status_of(list(busy))
+        for job_id, w in busy.items():
+            status = statuses.get(job_id, "missing")
+            # done/failed: the worker wrote it and its "finished" is on the way; leave it be
+            if status not in ("cancelled", "missing"):
+                continue
+            log.info("job %s is %s: stopping worker %s", job_id, status, w.pid)
+            w.proc.kill()
+            w.proc.join(2.0)
+            w.conn.close()
+            self._workers[self._workers.index(w)] = self._spawn()
+
+    def _assign(self) -> None:
+        for w in self._workers:
+            if w.claim is not None or not w.ready or not w.proc.is_alive():
+                continue
+            claim = self.store.claim_next()
+            if claim is None:
+                return
+            try:
+                w.conn.send((claim.job_id, claim.attempt))
+            except OSError:
+                self.store.requeue_on_shutdown(claim)
+                continue
+            w.claim = claim

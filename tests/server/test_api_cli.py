@@ -1,0 +1,75 @@
+"""The `api` plug-in, the settings it reads, and the one-server-per-database rule."""
+
+from __future__ import annotations
+
+import argparse
+import subprocess
+import sys
+from collections.abc import Callable
+from pathlib import Path
+
+import pytest
+from api_harness import REPO, Server
+
+from server.cli import register, settings_from_args
+from server.settings import Settings
+
+
+def _parser() -> argparse.ArgumentParser:
+    parser = argparse.ArgumentParser(prog="insect-gait")
+    register(parser.add_subparsers(dest="command"))
+    return parser
+
+
+def test_register_adds_api_with_flags(tmp_path: Path) -> None:
+    args = _parser().parse_args(["api", "--port", "9001", "--db", str(tmp_path / "x.db")])
+    assert args.func.__name__ == "run_api"
+    settings = settings_from_args(args)
+    assert settings.port == 9001 and settings.db_path == tmp_path / "x.db"
+    assert settings.host == "127.0.0.1"
+
+
+def test_flags_override_environment(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.setenv("INSECT_GAIT_PORT", "7000")
+    monkeypatch.setenv("INSECT_GAIT_QUEUE_LIMIT", "5")
+    monkeypatch.setenv("INSECT_GAIT_API_TOKEN", "t")
+    args = _parser().parse_args(["api", "--host", "0.0.0.0"])
+    s = settings_from_args(args)
+    assert (s.host, s.port, s.queue_limit) == ("0.0.0.0", 7000, 5)
+    assert s.api_token is not None and s.api_token.get_secret_value() == "t"
+
+
+def test_settings_defaults() -> None:
+    s = Settings()
+    assert s.host == "127.0.0.1" and s.workers >= 1 and s.api_token is None
+    assert s.threads_for_one_worker() >= 1
+
+
+def test_bad_setting_exits_2(tmp_path: Path) -> None:
+    out = subprocess.run(
+        [sys.executable, "-m", "server", "--workers", "-1", "--db", str(tmp_path / "d.db")],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert out.returncode == 2
+    assert "workers" in out.stdout
+
+
+def test_second_server_on_same_db_refuses(make_server: Callable[..., Server]) -> None:
+    first = make_server(workers=0)
+    second = make_server(db=first.db, workers=0, start=False)
+    with pytest.raises(AssertionError, match="another insect-gait api already serves"):
+        second.start(timeout=30)
+    with first.client() as c:
+        assert c.get("/healthz").status_code == 200
+
+
+def test_insect_gait_entry_point_knows_api() -> None:
+    exe = Path(sys.executable).parent / "insect-gait"
+    if not exe.exists():
+        pytest.skip("the insect-gait script is not installed (pip install -e .)")
+    out = subprocess.run([str(exe), "api", "--help"], capture_output=True, text=True, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert "--db" in out.stdout and "--port" in out.stdout

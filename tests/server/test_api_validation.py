@@ -1,0 +1,214 @@
+"""Every bad field gets a 422 that names the field and its allowed range, and stores nothing.
+
+One real server with no workers serves the whole module: validation happens at the door, and a
+server that runs nothing keeps the job count exact.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from collections.abc import Iterator
+from typing import Any
+
+import httpx
+import pytest
+from api_harness import SHORT, Server, free_port
+
+BASE: dict[str, Any] = dict(SHORT)
+SWEEP: dict[str, Any] = {
+    "kind": "sweep",
+    "beta_range": {"start": 0.6, "stop": 0.7, "steps": 3},
+    "duration_s": 0.3,
+}
+BIFURCATION: dict[str, Any] = {**SWEEP, "kind": "bifurcation", "transient_s": 0.1}
+
+
+@pytest.fixture(scope="module")
+def server(tmp_path_factory: pytest.TempPathFactory) -> Iterator[Server]:
+    tmp = tmp_path_factory.mktemp("validation")
+    srv = Server(
+        db=tmp / "jobs.sqlite3",
+        port=free_port(),
+        env={
+            "INSECT_GAIT_WORKERS": "0",
+            "INSECT_GAIT_MAX_JOB_SIM_SECONDS": "100",
+            "INSECT_GAIT_MAX_RUNS_PER_JOB": "20",
+            "INSECT_GAIT_LOG_LEVEL": "warning",
+        },
+        log=tmp / "server.log",
+    )
+    srv.start()
+    yield srv
+    srv.stop()
+
+
+@pytest.fixture
+def client(server: Server) -> Iterator[httpx.Client]:
+    with server.client() as c:
+        yield c
+
+
+def stored(server: Server) -> int:
+    """Count rows in the database itself, not through the API under test."""
+    with sqlite3.connect(server.db) as conn:
+        return int(conn.execute("SELECT count(*) FROM jobs").fetchone()[0])
+
+
+def with_(base: dict[str, Any], **kw: Any) -> dict[str, Any]:
+    out = dict(base)
+    out.update(kw)
+    return out
+
+
+# (body, field the message must name, text the message must contain: the allowed range)
+BAD: list[tuple[dict[str, Any], str, str]] = [
+    (with_(BASE, beta=0.5), "beta", "0.5 < beta < 1"),
+    (with_(BASE, beta=1.0), "beta", "0.5 < beta < 1"),
+    (with_(BASE, beta="0.6"), "beta", "0.5 < beta < 1"),
+    (with_(BASE, beta=None), "beta", "0.5 < beta < 1"),
+    (with_(BASE, body_mass_g=0), "body_mass_g", "0 < body_mass_g <= 30"),
+    (with_(BASE, body_mass_g=31), "body_mass_g", "0 < body_mass_g <= 30"),
+    (with_(BASE, slope_deg=-90), "slope_deg", "-90 < slope_deg < 90"),
+    (with_(BASE, slope_deg=95), "slope_deg", "-90 < slope_deg < 90"),
+    (with_(BASE, duration_s=0), "duration_s", "0 < duration_s <= 600"),
+    (with_(BASE, duration_s=601), "duration_s", "0 < duration_s <= 600"),
+    (with_(BASE, dt_s=0), "dt_s", "0 < dt_s <= 0.01"),
+    (with_(BASE, dt_s=0.02), "dt_s", "0 < dt_s <= 0.01"),
+    (with_(BASE, control_dt_s=-1e-3), "control_dt_s", "0 < control_dt_s <= 0.01"),
+    (with_(BASE, dt_s=0.002, control_dt_s=0.001), "control_dt_s", "must be >= dt_s"),
+    (with_(BASE, integrator="leapfrog"), "integrator", "euler, implicit, implicitfast, rk4"),
+    (with_(BASE, phase_reset="yes"), "phase_reset", "boolean"),
+    (with_(BASE, d31_init=[]), "d31_init", "1..1000 values"),
+    (with_(BASE, d31_init=2.0), "d31_init", "1..1000 values"),
+    (with_(BASE, d31_init=[1.0, -0.1]), "d31_init[1]", "0 <= d31_init <= 2*pi"),
+    (with_(BASE, d31_init=[7.0]), "d31_init[0]", "0 <= d31_init <= 2*pi"),
+    (with_(BASE, d31_init=[0.5] * 1001), "d31_init", "1..1000 values"),
+    (with_(BASE, include_series=1), "include_series", "boolean"),
+    (with_(BASE, colour="red"), "colour", "allowed fields: beta"),
+    (with_(BASE, kind="walk"), "kind", "bifurcation, return_map, run, sweep"),
+    ({"beta": 0.66, "d31_init": [2.0]}, "kind", "bifurcation, return_map, run, sweep"),
+    ({"kind": "return_map", "lag": 0, "duration_s": 0.3}, "lag", "1 <= lag <= 50"),
+    ({"kind": "return_map", "lag": 1.5, "duration_s": 0.3}, "lag", "1 <= lag <= 50"),
+    ({"kind": "sweep", "duration_s": 0.3}, "beta_range", "Field required"),
+    (with_(SWEEP, beta_range={"start": 0.4, "stop": 0.7}), "beta_range.start", "0.5 < start < 1"),
+    (with_(SWEEP, beta_range={"start": 0.6, "stop": 1.2}), "beta_range.stop", "0.5 < stop < 1"),
+    (
+        with_(SWEEP, beta_range={"start": 0.6, "stop": 0.7, "steps": 1}),
+        "beta_range.steps",
+        "2 <= steps <= 201",
+    ),
+    (
+        with_(SWEEP, beta_range={"start": 0.6, "stop": 0.7, "step": 0.01}),
+        "beta_range.step",
+        "allowed fields: start, steps, stop",
+    ),
+    (with_(BIFURCATION, transient_s=-1), "transient_s", "0 <= transient_s < 600"),
+    (with_(BIFURCATION, transient_s=0.3), "transient_s", "must be < duration_s"),
+    # limits from the settings: 20 runs and 100 simulated seconds per job
+    (with_(BASE, d31_init=[1.0] * 21), "d31_init", "at most 20 simulations per job"),
+    (
+        with_(SWEEP, beta_range={"start": 0.6, "stop": 0.7, "steps": 30}),
+        "d31_init",
+        "at most 20 simulations per job",
+    ),
+    (with_(BASE, d31_init=[1.0] * 2, duration_s=60), "duration_s", "at most 100 simulated"),
+]
+
+
+@pytest.mark.parametrize(
+    ("body", "field", "allowed"), BAD, ids=[f"{f}-{i}" for i, (_, f, _a) in enumerate(BAD)]
+)
+def test_bad_field_gets_422_naming_field_and_range(
+    server: Server, client: httpx.Client, body: dict[str, Any], field: str, allowed: str
+) -> None:
+    before = stored(server)
+    r = client.post("/v1/jobs", json=body)
+    assert r.status_code == 422, r.text
+    issues = r.json()["detail"]
+    mine = [i for i in issues if i["field"] == field]
+    assert mine, f"no issue names {field!r}: {issues}"
+    assert any(allowed in i["msg"] for i in mine), f"{allowed!r} not in {mine}"
+    assert all(i["msg"].startswith(("unknown field", "kind:", field)) for i in mine)
+    assert stored(server) == before
+
+
+@pytest.mark.parametrize(
+    ("content", "needle"),
+    [
+        (b"{not json", "not valid JSON"),
+        (b"[1, 2]", "JSON object"),
+        (b'"run"', "JSON object"),
+        (b'{"kind": "run", "beta": NaN}', "beta"),
+    ],
+)
+def test_malformed_body_gets_422(
+    server: Server, client: httpx.Client, content: bytes, needle: str
+) -> None:
+    before = stored(server)
+    r = client.post("/v1/jobs", content=content, headers={"content-type": "application/json"})
+    assert r.status_code == 422, r.text
+    assert needle in str(r.json()["detail"])
+    assert stored(server) == before
+
+
+@pytest.mark.parametrize(
+    ("query", "field"),
+    [
+        ("limit=0", "limit"),
+        ("limit=201", "limit"),
+        ("offset=-1", "offset"),
+        ("status=ok", "status"),
+    ],
+)
+def test_bad_query_gets_422(client: httpx.Client, query: str, field: str) -> None:
+    r = client.get(f"/v1/jobs?{query}")
+    assert r.status_code == 422
+    assert r.json()["detail"][0]["field"] == field
+
+
+def test_bad_result_format_gets_422(client: httpx.Client) -> None:
+    r = client.get("/v1/jobs/nope/result?format=xml")
+    assert r.status_code == 422
+    assert "format" in r.json()["detail"][0]["msg"]
+
+
+@pytest.mark.parametrize("verb", ["get", "delete"])
+@pytest.mark.parametrize("suffix", ["", "/result", "/figure.png"])
+def test_unknown_job_is_404(client: httpx.Client, verb: str, suffix: str) -> None:
+    if verb == "delete" and suffix:
+        return
+    r = client.request(verb.upper(), f"/v1/jobs/no-such-job{suffix}")
+    assert r.status_code == 404
+    assert "no-such-job" in r.json()["detail"]
+
+
+def test_good_job_is_stored_queued_with_defaults(server: Server, client: httpx.Client) -> None:
+    before = stored(server)
+    r = client.post("/v1/jobs", json={"kind": "return_map", "beta": 0.7, "duration_s": 0.3})
+    assert r.status_code == 202, r.text
+    job = r.json()
+    assert r.headers["location"] == f"/v1/jobs/{job['id']}"
+    assert job["status"] == "queued" and job["progress"] == 0.0
+    assert job["spec"]["lag"] == 4 and len(job["spec"]["d31_init"]) == 12
+    assert job["sim_seconds"] == pytest.approx(12 * 0.3)
+    assert stored(server) == before + 1
+    page = client.get("/v1/jobs", params={"status": "queued", "limit": 1}).json()
+    assert page["items"][0]["id"] == job["id"] and page["total"] >= 1
+    # no workers here: a result is refused with the reason
+    r = client.get(f"/v1/jobs/{job['id']}/result")
+    assert r.status_code == 409 and "queued" in r.json()["detail"]
+
+
+def test_openapi_docs_are_served(client: httpx.Client) -> None:
+    assert client.get("/docs").status_code == 200
+    paths = client.get("/openapi.json").json()["paths"]
+    assert {"/v1/jobs", "/v1/jobs/{job_id}", "/v1/jobs/{job_id}/result"} <= set(paths)
+
+
+def test_model_parameters(client: httpx.Client) -> None:
+    sim_core = pytest.importorskip("sim_core")
+    r = client.get("/v1/model")
+    assert r.status_code == 200
+    rows = r.json()
+    assert [row["name"] for row in rows] == [row[0] for row in sim_core.parameter_table()]
+    assert {row["origin"] for row in rows} <= {"paper", "invented"}
