@@ -41,10 +41,10 @@ class Range:
 
 
 SEARCH_SPACE: dict[str, Range] = {
-    "kp_lift": Range(5e-4, 2e-2, True, "static sag 0.02-0.7 mm under a tripod's load"),
+    "kp_lift": Range(5e-4, 2e-2, True, "static sag ~0.02-0.7 mm under a tripod's load"),
     "kd_lift": Range(5e-6, 3e-4, True, "leg time constants kd/kp ~1 ms to ~0.3 s: muscle-like"),
-    "kp_yaw": Range(1e-3, 2e-2, True, "fore-aft compliance of the same order as the lift joints"),
-    "kd_yaw": Range(5e-6, 3e-4, True, "as kd_lift"),
+    "kp_yaw": Range(5e-4, 2e-2, True, "fore-aft compliance of the same order as the lift joints"),
+    "kd_yaw": Range(5e-6, 3e-4, True, "fore-aft time constants as for the lift joints"),
     "swing_height": Range(0.3e-3, 1.5e-3, False, "foot clearance 0.3-1.5 mm, below the femur"),
     "swing_shape": Range(0.5, 2.0, False, "swing descent from gentle to steep near the AEP"),
     "com_offset_x": Range(-4e-3, 4e-3, False, "centre of mass within the thorax, +-4 mm"),
@@ -162,6 +162,7 @@ def calibrate(
     duration_s: float = 6.0,
     n_init: int = 8,
     on_trial: Callable[[int, float, dict[str, float]], None] | None = None,
+    betas: Sequence[float] = (BETA_FAST, BETA_BISTABLE, BETA_SLOW),
 ) -> Any:
     """Run (or resume) an optuna study; returns the study. Needs `optuna` installed."""
     import optuna
@@ -183,7 +184,7 @@ def calibrate(
         if not reachable(params):
             trial.set_user_attr("unreachable", True)
             return 100.0
-        ev = evaluate(params, n_init=n_init, duration_s=duration_s)
+        ev = evaluate(params, betas=betas, n_init=n_init, duration_s=duration_s)
         for b, fs in ev.finals.items():
             trial.set_user_attr(f"finals_{b}", [None if f is None else round(f, 3) for f in fs])
         trial.set_user_attr("speed_error", ev.speed_error)

@@ -229,6 +229,28 @@ def _cmd_return_map(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_converge(sub: Any) -> None:
+    p = sub.add_parser("converge", help="same gait outcomes at dt and dt/2? (default numerics)")
+    p.add_argument("--dt-s", type=float, default=None)
+    p.add_argument("--integrator", choices=INTEGRATORS, default=None)
+    p.add_argument("--duration-s", type=float, default=6.0)
+    p.add_argument("--tolerance", type=float, default=0.05, help="rad")
+    p.set_defaults(func=_cmd_converge)
+
+
+def _cmd_converge(args: argparse.Namespace) -> int:
+    from sim_core.numerics import convergence_check
+
+    if (args.dt_s is not None and args.dt_s <= 0) or args.duration_s <= 0:
+        print("insect-gait converge: error: --dt-s and --duration-s must be > 0", file=sys.stderr)
+        return EXIT_USAGE
+    report = convergence_check(
+        dt_s=args.dt_s, integrator=args.integrator, duration_s=args.duration_s
+    )
+    print(report.summary(args.tolerance))
+    return 0 if all(report.agree(args.tolerance)) else 1
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="insect-gait", description=__doc__.splitlines()[0] if __doc__ else "")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -237,6 +259,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_params(sub)
     _add_calibrate(sub)
     _add_return_map(sub)
+    _add_converge(sub)
     for ep in entry_points(group="insect_gait.commands"):
         try:
             register = ep.load()

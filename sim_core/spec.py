@@ -76,6 +76,7 @@ class RunResult:
     body_vel_m_s: np.ndarray  # (T, 3)
     body_quat: np.ndarray  # (T, 4) w, x, y, z
     touchdowns: tuple[np.ndarray, ...]  # per leg: touchdown times (s)
+    touchdown_phases: tuple[np.ndarray, ...]  # per leg: phase at touchdown, before resetting
     liftoffs: tuple[np.ndarray, ...]  # per leg: lift-off times (s)
     d31_final: float | None
     gait: str | None
@@ -119,6 +120,7 @@ class RunResult:
                 "body_vel_m_s": self.body_vel_m_s.tolist(),
                 "body_quat": self.body_quat.tolist(),
                 "touchdowns_s": [t.tolist() for t in self.touchdowns],
+                "touchdown_phases": [t.tolist() for t in self.touchdown_phases],
                 "liftoffs_s": [t.tolist() for t in self.liftoffs],
             }
         )

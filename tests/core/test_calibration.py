@@ -1,0 +1,69 @@
+"""The calibration study's scoring, reachability screen and return-map construction."""
+
+import math
+
+import numpy as np
+import pytest
+
+from sim_core import ModelParams
+from sim_core.calibration import (
+    SEARCH_SPACE,
+    Evaluation,
+    ReturnMap,
+    reachable,
+    return_map,
+)
+from sim_core.numerics import ConvergenceRow, convergence_check
+
+
+def _ev(fast: list[float | None], slow: list[float | None], bis: list[float | None]) -> Evaluation:
+    return Evaluation(
+        params={}, finals={0.62: fast, 0.70: slow, 0.655: bis}, speed_error=0.0, max_slip=0.0,
+        diverged=0,
+    )  # fmt: skip
+
+
+def test_score_prefers_the_papers_branches() -> None:
+    paper = _ev([2.9] * 8, [1.9] * 8, [2.9, 1.9])
+    swapped = _ev([1.9] * 8, [2.9] * 8, [2.9, 1.9])
+    monostable = _ev([2.9] * 8, [1.9] * 8, [2.9, 2.9])
+    diverged = _ev([None] * 8, [1.9] * 8, [2.9, 1.9])
+    assert paper.score() == pytest.approx(0.0)
+    assert paper.score() < monostable.score() < swapped.score()
+    assert diverged.score() > paper.score() + 8 * 3
+
+
+def test_search_space_stays_inside_the_models_own_bounds() -> None:
+    for name, r in SEARCH_SPACE.items():
+        assert name in ModelParams.model_fields
+        assert r.low < r.high and len(r.reason) > 10
+        ModelParams(**{name: r.low})
+        ModelParams(**{name: r.high})
+
+
+def test_reachability_screen() -> None:
+    assert reachable(ModelParams())
+    assert not reachable(ModelParams(stand_height=11.9e-3, foot_y=13e-3))
+
+
+def test_return_map_pairs_are_lagged_delta31() -> None:
+    rm = return_map(None, 0.66, [2.0, 3.0], duration_s=0.8, lag=4, skip=1)
+    assert rm.x.size == rm.y.size > 0
+    assert ((0 <= rm.x) & (rm.x < 2 * math.pi)).all()
+
+
+def test_drift_per_cycle_bins() -> None:
+    x = np.array([1.0, 1.0, 3.0])
+    rm = ReturnMap(beta=0.6, lag=4, x=x, y=x + np.array([0.4, 0.8, -0.4]))
+    centers, drift = rm.drift_per_cycle(bins=4)
+    assert centers.size == 4
+    assert drift[0] == pytest.approx(0.15) and drift[1] == pytest.approx(-0.1)
+    assert np.isnan(drift[2:]).all()
+
+
+def test_convergence_rows_and_a_tiny_check() -> None:
+    assert ConvergenceRow(0.6, 1.0, 2.0, 2.01, "a", "a").difference == pytest.approx(0.01)
+    assert ConvergenceRow(0.6, 1.0, None, 2.0, None, "a").difference == math.inf
+    report = convergence_check(betas=(0.66,), inits=(2.5,), duration_s=0.3, dt_s=1e-4)
+    assert len(report.rows) == 1 and report.dt_s == 1e-4
+    assert "agree" in report.summary()
