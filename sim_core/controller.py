@@ -108,6 +108,7 @@ def apply_events(
     reset: np.ndarray,
     threshold: float,
     scuff_fraction: float,
+    interpolate: bool,
     t0: float,
     dt: float,
     geo: np.ndarray,
@@ -148,8 +149,7 @@ def apply_events(
                         continue  # scuff just after lift-off (or after a missed step)
                     # landing instant: the last zero crossing of the clearance up to substep j
                     frac = float(j)  # in substeps from t0
-                    above = prev_height[s, leg]
-                    for i in range(j, -1, -1):
+                    for i in range(j if interpolate else -1, -1, -1):
                         below = height[r, i, leg]
                         above = prev_height[s, leg] if i == 0 else height[r, i - 1, leg]
                         if above > 0.0 >= below:

@@ -151,6 +151,12 @@ class ModelParams(BaseModel):
         5e-4, "controller update period, s; targets are interpolated per physics step", gt=0
     )
 
+    touchdown_interpolation: bool = Field(
+        True,
+        description="[invented] landing instant from the interpolated clearance crossing "
+        "(True) or at the physics step where the touch is sensed (False); see NUMERICS.md",
+    )
+
     # --- derived quantities ------------------------------------------------------------------
     @property
     def leg_mass(self) -> float:

@@ -254,6 +254,7 @@ class BatchRunner:
             self.reset_on,
             p.touch_threshold,
             p.scuff_fraction,
+            p.touchdown_interpolation,
             t0,
             self.dt,
             self.geo,
