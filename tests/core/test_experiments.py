@@ -1,0 +1,83 @@
+"""Experiment analysis on synthetic data with known answers, and one tiny live ramp."""
+
+import math
+
+import numpy as np
+import pytest
+
+from sim_core import RunSpec
+from sim_core.experiments import (
+    detect_transitions,
+    fixed_points,
+    hysteresis_width,
+    ramp,
+    triangle,
+)
+
+X = np.linspace(0, 2 * math.pi, 64, endpoint=False)
+
+
+def test_single_stable_fixed_point() -> None:
+    drift = -0.05 * np.sin(X - 2.9)  # pulls toward 2.9, pushes away from 2.9 + pi
+    fps = fixed_points(X, drift)
+    stable = [f for f in fps if f.stable]
+    unstable = [f for f in fps if not f.stable]
+    assert len(stable) == 1 and stable[0].d31 == pytest.approx(2.9, abs=0.01)
+    assert stable[0].slope == pytest.approx(1 - 4 * 0.05, abs=0.01)
+    assert len(unstable) == 1
+    assert unstable[0].d31 == pytest.approx((2.9 + math.pi) % (2 * math.pi), abs=0.01)
+    assert unstable[0].slope == pytest.approx(1 + 4 * 0.05, abs=0.01)
+
+
+def test_bistable_map_has_two_stable_and_a_saddle_between() -> None:
+    # zeros at 1.9 (stable), 2.4 (unstable), 2.9 (stable) inside [1.5, 3.3]
+    drift = -0.2 * (X - 1.9) * (X - 2.4) * (X - 2.9)
+    drift[(X < 1.5) | (X > 3.3)] = np.nan
+    fps = fixed_points(X, drift)
+    inside = [f for f in fps if 1.6 < f.d31 < 3.2]
+    assert [round(f.d31, 1) for f in inside] == [1.9, 2.4, 2.9]
+    assert [f.stable for f in inside] == [True, False, True]
+
+
+def test_a_fold_adds_or_removes_a_pair_of_fixed_points() -> None:
+    base = -0.05 * np.sin(X - 2.9)
+    bump = np.exp(-((X - 1.9) ** 2) / 0.05)  # near 1.9 base drift is about +0.042
+    ghost = fixed_points(X, base - 0.03 * bump)  # dips toward zero without crossing: a ghost
+    folded = fixed_points(X, base - 0.08 * bump)  # crosses twice: a stable/unstable pair
+    assert len(ghost) == 2
+    assert len(folded) == 4
+    new = [f for f in folded if 1.4 < f.d31 < 2.4]
+    assert sorted(f.stable for f in new) == [False, True]
+
+
+def test_transitions_and_hysteresis_on_a_synthetic_loop() -> None:
+    down = np.linspace(0.70, 0.62, 80)
+    d31_down = np.where(down > 0.645, 1.9, 2.9)
+    up = down[::-1]
+    d31_up = np.where(up < 0.67, 2.9, 1.9)
+    t_down = detect_transitions(down, d31_down)
+    t_up = detect_transitions(up, d31_up)
+    assert len(t_down) == 1 and t_down[0].before == "metachronal" and t_down[0].after == "tripod"
+    assert t_down[0].value == pytest.approx(0.645, abs=0.002)
+    assert t_up[0].value == pytest.approx(0.67, abs=0.002)
+    assert hysteresis_width(t_down, t_up) == pytest.approx(0.025, abs=0.003)
+
+
+def test_isolated_blips_are_not_transitions() -> None:
+    d31 = np.full(40, 1.9)
+    d31[10] = 2.9
+    assert detect_transitions(np.arange(40.0), d31) == []
+
+
+def test_triangle_schedule() -> None:
+    s = triangle(0.70, 0.62, hold_s=1.0, ramp_s=2.0)
+    assert s(0.5) == 0.70 and s(2.0) == pytest.approx(0.66) and s(3.0) == pytest.approx(0.62)
+    assert s(4.0) == pytest.approx(0.66) and s(9.0) == 0.70
+
+
+def test_live_ramp_follows_its_schedule() -> None:
+    r = ramp("beta", triangle(0.70, 0.66, 0.1, 0.3), 0.8, RunSpec(beta=0.70, d31_init=2.0))
+    assert r.error is None and r.d31.size == r.value.size > 4
+    assert r.value.min() < 0.69 and r.value.max() == pytest.approx(0.70, abs=0.01)
+    with pytest.raises(ValueError, match="cannot ramp"):
+        ramp("speed", lambda t: 1.0, 0.1, RunSpec())
