@@ -30,6 +30,9 @@ METACHRONAL_BRANCH = 1.9  # rad, paper Fig. 5, beta = 0.70
 BETA_FAST = 0.62
 BETA_SLOW = 0.70
 BETA_BISTABLE = 0.655
+# rad of score per unit of speed error or slip beyond 10%: walking properly (the sim_core
+# acceptance) outranks a closer Delta31 (0.1 of excess slip costs as much as 3 rad of Delta31)
+WALK_PENALTY = 30.0
 
 
 @dataclass(frozen=True)
@@ -79,7 +82,8 @@ class Evaluation:
             total += min(abs(float(angle_diff(f, METACHRONAL_BRANCH))) for f in bis)
         else:
             total += 2 * math.pi
-        total += 10.0 * max(0.0, self.speed_error - 0.10) + 10.0 * max(0.0, self.max_slip - 0.10)
+        total += WALK_PENALTY * max(0.0, self.speed_error - 0.10)
+        total += WALK_PENALTY * max(0.0, self.max_slip - 0.10)
         return total
 
 
@@ -163,8 +167,14 @@ def calibrate(
     n_init: int = 8,
     on_trial: Callable[[int, float, dict[str, float]], None] | None = None,
     betas: Sequence[float] = (BETA_FAST, BETA_BISTABLE, BETA_SLOW),
+    seed_from: str | None = None,
 ) -> Any:
-    """Run (or resume) an optuna study; returns the study. Needs `optuna` installed."""
+    """Run (or resume) an optuna study; returns the study. Needs `optuna` installed.
+
+    seed_from: the name of an earlier study in the same storage whose evaluated trials are
+    re-scored with the current `Evaluation.score` and added, so a changed score need not
+    throw away the simulations already run.
+    """
     import optuna
 
     base = base or ModelParams()
@@ -172,8 +182,12 @@ def calibrate(
     study = optuna.create_study(
         study_name=study_name, storage=storage, sampler=sampler, load_if_exists=True
     )
-    if len(study.trials) == 0:
+    if len(study.trials) == 0 and seed_from is None:
         study.enqueue_trial({k: getattr(base, k) for k in SEARCH_SPACE})
+    if len(study.trials) == 0 and seed_from is not None:
+        if storage is None:
+            raise ValueError("seed_from needs a persistent storage")
+        _seed_study(study, seed_from, storage)
 
     def objective(trial: optuna.Trial) -> float:
         values = {
@@ -196,6 +210,33 @@ def calibrate(
 
     study.optimize(objective, n_trials=n_trials)
     return study
+
+
+def _seed_study(study: Any, source: str, storage: str) -> None:
+    import optuna
+
+    old = optuna.load_study(study_name=source, storage=storage)
+    dists: dict[str, optuna.distributions.BaseDistribution]
+    dists = {n: optuna.distributions.FloatDistribution(r.low, r.high, log=r.log)
+             for n, r in SEARCH_SPACE.items()}  # fmt: skip
+    for t in old.trials:
+        if t.value is None or not all(k in t.params for k in SEARCH_SPACE):
+            continue
+        attrs = t.user_attrs
+        if attrs.get("unreachable"):
+            value = t.value
+        else:
+            finals = {float(k.split("_", 1)[1]): v for k, v in attrs.items()
+                      if k.startswith("finals_")}  # fmt: skip
+            ev = Evaluation(
+                params=dict(t.params), finals=finals, speed_error=attrs.get("speed_error", 0.0),
+                max_slip=attrs.get("max_slip", 0.0), diverged=0,
+            )  # fmt: skip
+            value = ev.score()
+        study.add_trial(optuna.trial.create_trial(
+            params={k: t.params[k] for k in SEARCH_SPACE}, distributions=dists, value=value,
+            user_attrs=dict(attrs),
+        ))  # fmt: skip
 
 
 @dataclass
