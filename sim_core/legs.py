@@ -70,7 +70,9 @@ def swing_point(geo: np.ndarray, leg: int, phi: float, phi_aep: float, out: np.n
     b = G_PEP + 3 * leg
     d = geo[a] - geo[b]
     if phi < phi_aep:
-        s = phi / phi_aep
+        # coupling can briefly run a phase backwards past 0: hold the tip at the PEP then
+        # (a negative s would also make s**p undefined)
+        s = max(phi, 0.0) / phi_aep
         out[0] = geo[b] + d * 0.5 * (1.0 - math.cos(math.pi * s))
         out[1] = geo[b + 1]
         out[2] = geo[b + 2] + geo[G_HSW] * math.sin(math.pi * s ** geo[G_SHAPE])

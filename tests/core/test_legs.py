@@ -91,3 +91,11 @@ def test_ik_reports_unreachable_targets() -> None:
     q = np.empty(3)
     far = AEP[0] + np.array([0.0, 0.0, -20e-3])
     assert not inverse_kinematics(GEO, 0, far, q)
+
+
+def test_a_phase_run_backwards_past_zero_holds_the_pep() -> None:
+    geo = pack_geometry(ModelParams(swing_shape=1.7))
+    out = np.empty(3)
+    swing_point(geo, 0, -0.05, PHI_AEP, out)
+    assert np.isfinite(out).all()
+    np.testing.assert_allclose(out, PEP[0], atol=1e-12)
