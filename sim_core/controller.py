@@ -3,11 +3,11 @@
 The controller runs once per control period h (= k physics steps) for every simulation of a
 batch, compiled with numba so that a single simulation is not dominated by Python overhead:
 
-1. `plan_block` advances the oscillators over h (eq. 1 without resetting), computes joint
+1. `plan_block` advances the oscillators over h (eq. 1 without resetting) and computes joint
    targets at the start and the end of the period from the leg kinematics and inverse
-   kinematics, and writes one control row per physics substep, interpolated linearly, with the
-   desired velocity folded into the PD set-point (ctrl = q* + (kd/kp) dq*/dt; MuJoCo's actuator
-   then applies kp (q* - q) + kd (dq*/dt - dq/dt), its damping part implicit in time).
+   kinematics: the set-point q*(t0) and the desired velocity (q*(t0 + h) - q*(t0)) / h.
+   MuJoCo's actuators (see model.py) ramp the set-point linearly through the period and apply
+   kp (q* - q) + kd (dq*/dt - dq/dt), the damping part implicit in time.
 2. MuJoCo runs the k substeps (`Batch.rollout`), recording the foot touch sensors each substep.
 3. `apply_events` finds each swing leg's first touch in the period that passes the scuff rule,
    switches it to stance and resets its phase (eq. 4) *at the touchdown instant*: the phase is
@@ -66,12 +66,12 @@ def plan_block(
     k_ipsi: float,
     h: float,
     geo: np.ndarray,
-    ff_ratio: np.ndarray,
-    ctrl: np.ndarray,
+    setpoint: np.ndarray,
+    velocity: np.ndarray,
     phi_next: np.ndarray,
 ) -> None:
-    """Fill ctrl (len(ids), k, 18) and phi_next (n, 6) for the simulations in ids."""
-    nsub = ctrl.shape[1]
+    """For the simulations in ids: set-points q*(t0) and velocities dq*/dt (n, 18), and the
+    phases phi_next (n, 6) at the end of the period without resetting."""
     scratch = np.empty((2, 6))
     tip = np.empty(3)
     q0 = np.empty(3)
@@ -87,10 +87,8 @@ def plan_block(
             )
             for m in range(3):
                 a = 3 * leg + m
-                dq = q1[m] - q0[m]
-                ff = ff_ratio[a] * dq / h
-                for j in range(nsub):
-                    ctrl[r, j, a] = q0[m] + dq * (j / nsub) + ff
+                setpoint[s, a] = q0[m]
+                velocity[s, a] = (q1[m] - q0[m]) / h
 
 
 @njit(cache=True)

@@ -170,19 +170,31 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
         )
 
     gains = {"j1": (p.kp_yaw, p.kd_yaw), "j2": (p.kp_lift, p.kd_lift), "j3": (p.kp_lift, p.kd_lift)}
+    # Two actuators per joint make tau = kp (q* - q) + kd (dq*/dt - dq/dt) with q* ramping
+    # linearly inside each control period, computed by MuJoCo itself:
+    # - "pd": integrator dynamics, act' = ctrl = dq*/dt, so act is the set-point q*, and
+    #   force = kp act - kp q - kd qdot (the damping part implicit in the implicit integrators);
+    # - "ff": the feed-forward kd dq*/dt, a motor with gain kd on the same desired velocity.
+    # The controller writes act = q*(t0) and both ctrls = dq*/dt once per period.
     for name in LEG_NAMES:
         for j in ("j1", "j2", "j3"):
             kp, kd = gains[j]
             act = spec.add_actuator(name=f"{name}_{j}_pd", target=f"{name}_{j}")
             act.trntype = mujoco.mjtTrn.mjTRN_JOINT
-            # force = kp * ctrl - kp * q - kd * qdot: PD about ctrl, whose velocity term the
-            # implicit integrators treat implicitly (stable with large kd at insect scale)
+            act.dyntype = mujoco.mjtDyn.mjDYN_INTEGRATOR
             act.gaintype = mujoco.mjtGain.mjGAIN_FIXED
             act.gainprm[0] = kp
             act.biastype = mujoco.mjtBias.mjBIAS_AFFINE
             act.biasprm[0] = 0.0
             act.biasprm[1] = -kp
             act.biasprm[2] = -kd
+    for name in LEG_NAMES:
+        for j in ("j1", "j2", "j3"):
+            _, kd = gains[j]
+            ff = spec.add_actuator(name=f"{name}_{j}_ff", target=f"{name}_{j}")
+            ff.trntype = mujoco.mjtTrn.mjTRN_JOINT
+            ff.gaintype = mujoco.mjtGain.mjGAIN_FIXED
+            ff.gainprm[0] = kd
     for name in LEG_NAMES:
         spec.add_sensor(
             name=f"{name}_touch",

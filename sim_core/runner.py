@@ -75,8 +75,6 @@ class BatchRunner:
         self.batch = mujoco.batch.Batch(self.model, nsim=n, nthread=nthread if n > 1 else 1)
         self.geo = pack_geometry(self.params)
         p = self.params
-        ratio = np.array([p.kd_yaw / p.kp_yaw, p.kd_lift / p.kp_lift, p.kd_lift / p.kp_lift])
-        self.ff_ratio = np.tile(ratio, 6)
         self._torso_inertia = self.model.body_inertia[TORSO].copy()
 
         self.beta = np.zeros(n)
@@ -95,12 +93,15 @@ class BatchRunner:
         self.td_phase = np.full((n, 6), np.nan)
         self.lo_time = np.full((n, 6), np.nan)
         self.d31_evt = np.full(n, np.nan)
-        self.ctrl = np.zeros((n, self.nsub, self.model.nu))
+        self.setpoint = np.zeros((n, 18))
+        self.velocity = np.zeros((n, 18))
         self.touch = np.zeros((n, self.nsub, self.model.nsensor))
         self.feet = np.zeros((n, self.nsub, self.model.nsite, 3))
         self.prev_height = np.zeros((n, 6))
         self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
         self.qpos = self.batch.bind("qpos")
+        self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
+        self.ctrl = self.batch.bind("ctrl")  # desired joint velocities, twice
         self.qvel = self.batch.bind("qvel")
         self.site_xpos = self.batch.bind("site_xpos")
         self.nblock = 0
@@ -221,16 +222,18 @@ class BatchRunner:
             p.k_ipsilateral,
             self.control_dt,
             self.geo,
-            self.ff_ratio,
-            self.ctrl,
+            self.setpoint,
+            self.velocity,
             self.phi_next,
         )
+        self.act[ids] = self.setpoint[ids]
+        self.ctrl[ids, :18] = self.velocity[ids]
+        self.ctrl[ids, 18:] = self.velocity[ids]
         call_ids = None if m == self.n else ids
         t_plan = clock()
         try:
             self.batch.rollout(
                 self.nsub,
-                control=self.ctrl[:m],
                 record=("sensordata", "site_xpos"),
                 ids=call_ids,
                 out={"sensordata": self.touch[:m], "site_xpos": self.feet[:m]},
