@@ -280,3 +280,50 @@ def return_map(
         xs.extend(d[:-lag].tolist())
         ys.extend(d[lag:].tolist())
     return ReturnMap(beta=beta, lag=lag, x=np.array(xs), y=np.array(ys))
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """Where the runs from many initial values ended at one beta: a branch census."""
+
+    beta: float
+    finals: list[float | None]
+
+    def branch(self, name: str) -> tuple[int, float | None]:
+        """(how many runs settled in the gait `name`, their circular-mean Delta31)."""
+        from sim_core.gait import classify_gait
+
+        hits = [f for f in self.finals if f is not None and classify_gait(f) == name]
+        return len(hits), (circular_mean(hits) if hits else None)
+
+
+def sensitivity(
+    params: ModelParams,
+    names: Sequence[str] | None = None,
+    rel: float = 0.10,
+    betas: Sequence[float] = (BETA_FAST, BETA_SLOW),
+    n_init: int = 8,
+    duration_s: float = 6.0,
+    dt_s: float | None = None,
+) -> dict[str, dict[str, list[Outcome]]]:
+    """Outcomes for each parameter moved by -rel and +rel (and the base, under 'base').
+
+    Every perturbed set runs in one batch call; a perturbation that leaves the model's own
+    bounds is skipped (reported as missing).
+    """
+    names = list(names or SEARCH_SPACE)
+    variants: list[tuple[str, str, ModelParams]] = [("base", "0", params)]
+    for name in names:
+        v = getattr(params, name)
+        for sign, label in ((-1, "-"), (1, "+")):
+            try:
+                variants.append(
+                    (name, label, params.model_copy(update={name: v * (1 + sign * rel)}))
+                )
+            except ValueError:
+                continue
+    out: dict[str, dict[str, list[Outcome]]] = {}
+    for name, label, p in variants:
+        ev = evaluate(p, betas=betas, n_init=n_init, duration_s=duration_s, dt_s=dt_s)
+        out.setdefault(name, {})[label] = [Outcome(b, ev.finals[b]) for b in betas]
+    return out

@@ -256,6 +256,27 @@ def _cmd_converge(args: argparse.Namespace) -> int:
     return 0 if all(report.agree(args.tolerance)) else 1
 
 
+def _add_study(sub: Any) -> None:
+    p = sub.add_parser("study", help="gait-selection evidence for the defaults: figures + JSON")
+    p.add_argument("--out", default="docs/figures", help="output folder")
+    p.add_argument("--quick", action="store_true", help="fewer, shorter runs; no sensitivity")
+    p.add_argument("--no-sensitivity", action="store_true")
+    p.set_defaults(func=_cmd_study)
+
+
+def _cmd_study(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from sim_core.study import run_study
+
+    if args.quick:
+        run_study(Path(args.out), n_init=4, duration_s=2.0, map_inits=6, map_duration_s=1.5,
+                  with_sensitivity=False)  # fmt: skip
+    else:
+        run_study(Path(args.out), with_sensitivity=not args.no_sensitivity)
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="insect-gait", description=__doc__.splitlines()[0] if __doc__ else "")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -265,6 +286,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_calibrate(sub)
     _add_return_map(sub)
     _add_converge(sub)
+    _add_study(sub)
     for ep in entry_points(group="insect_gait.commands"):
         try:
             register = ep.load()

@@ -33,19 +33,19 @@ def fixed_points(centers: np.ndarray, drift: np.ndarray, lag: int = 4) -> list[F
     """Zero crossings of a periodic drift-per-cycle curve d(x) sampled at `centers`.
 
     The lag-cycle map is F(x) = x + lag d(x); a crossing is stable when |F'| < 1 there
-    (paper Sec. III C). NaN bins are skipped; the curve wraps around 2 pi.
+    (paper Sec. III C). Only crossings between two neighbouring sampled (finite) bins count;
+    the curve wraps around 2 pi.
     """
-    ok = np.isfinite(drift)
-    x = np.asarray(centers)[ok]
-    d = np.asarray(drift)[ok]
+    x = np.asarray(centers, dtype=float)
+    d = np.asarray(drift, dtype=float)
     out: list[FixedPoint] = []
     n = x.size
-    if n < 2:
-        return out
     for i in range(n):
         j = (i + 1) % n
-        x0, x1 = x[i], x[j] + (TWO_PI if j == 0 else 0.0)
         d0, d1 = d[i], d[j]
+        if not (np.isfinite(d0) and np.isfinite(d1)):
+            continue  # only neighbouring sampled bins: no crossing invented across a gap
+        x0, x1 = x[i], x[j] + (TWO_PI if j == 0 else 0.0)
         if d0 == 0.0 or (d0 > 0) != (d1 > 0):
             if d0 == d1:
                 continue
