@@ -8,7 +8,7 @@ batch, compiled with numba so that a single simulation is not dominated by Pytho
    kinematics: the set-point q*(t0) and the desired velocity (q*(t0 + h) - q*(t0)) / h.
    MuJoCo's actuators (see model.py) ramp the set-point linearly through the period and apply
    kp (q* - q) + kd (dq*/dt - dq/dt), the damping part implicit in time.
-2. MuJoCo runs the k substeps (`Batch.rollout`), recording the foot touch sensors each substep.
+2. MuJoCo runs the k substeps (`Batch.rollout`), recording the feet's positions each substep.
 3. `apply_events` finds each swing leg's first touch in the period that passes the scuff rule,
    switches it to stance and resets its phase (eq. 4) *at the touchdown instant*: the phase is
    set to phi_AEP plus the advance since the touchdown substep, so the reset does not depend on
@@ -94,7 +94,6 @@ def plan_block(
 @njit(cache=True)
 def apply_events(
     ids: np.ndarray,
-    touch: np.ndarray,
     height: np.ndarray,
     prev_height: np.ndarray,
     phi: np.ndarray,
@@ -104,7 +103,7 @@ def apply_events(
     phi_td: np.ndarray,
     phi_aep: np.ndarray,
     reset: np.ndarray,
-    threshold: float,
+    touch_depth: float,
     scuff_fraction: float,
     interpolate: bool,
     t0: float,
@@ -115,17 +114,18 @@ def apply_events(
     lo_time: np.ndarray,
     d31: np.ndarray,
 ) -> None:
-    """Advance phi to phi_next, applying touchdowns (with eq. 4) and lift-offs found in touch.
+    """Advance phi to phi_next, applying touchdowns (with eq. 4) and lift-offs.
 
-    touch, height: (len(ids), k, 6) touch-sensor force and foot clearance (foot centre height
-    minus its radius) at the start of each substep, i.e. at t0 + j dt. prev_height (n, 6) is the
-    clearance one substep before t0 and is updated here. A touch above `threshold` says that
-    the foot landed; the landing instant is where the clearance crossed zero, interpolated
-    linearly between substeps, so that it does not move with the timestep. Outputs td_time,
+    height: (len(ids), k, 6) foot clearance (foot centre height minus its radius) at the start
+    of each substep, i.e. at t0 + j dt. prev_height (n, 6) is the clearance one substep before
+    t0 and is updated here. The foot touches when its clearance is below -touch_depth (it
+    presses into the ground: the contact is carrying load); the landing instant is where the
+    clearance crossed zero, interpolated linearly between substeps, so that it does not move
+    with the timestep. Outputs td_time,
     td_phase (the phase at touchdown, before any reset), lo_time (n, 6) and d31 (n,) are NaN
     where nothing happened.
     """
-    nsub = touch.shape[1]
+    nsub = height.shape[1]
     h = nsub * dt
     tip = np.empty(3)
     for r in range(ids.shape[0]):
@@ -139,7 +139,7 @@ def apply_events(
             p1 = phi_next[s, leg]
             if stance[s, leg] == 0:
                 for j in range(nsub):
-                    if touch[r, j, leg] <= threshold:
+                    if height[r, j, leg] > -touch_depth:
                         continue
                     ph = p0 + (p1 - p0) * (j / nsub)
                     ph_w = ph - TWO_PI if ph >= TWO_PI else ph

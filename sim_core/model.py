@@ -85,6 +85,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
     opt.integrator = integrator_enum(p.integrator)
     opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
     opt.impratio = p.impratio
+    opt.tolerance = p.solver_tolerance
     opt.gravity = gravity_vector(slope_deg)
 
     world = spec.worldbody
@@ -162,10 +163,10 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
         foot.solref = [p.contact_timeconst, p.contact_dampratio]
         foot.solimp = [0.9, 0.95, p.foot_radius * 0.4, 0.5, 2.0]
         foot.priority = 1  # the foot's contact parameters win over the floor's defaults
-        tibia.add_site(
+        tibia.add_site(  # the foot's centre: its height is the touch sense (controller.py)
             name=f"{name}_foot_site",
             type=mujoco.mjtGeom.mjGEOM_SPHERE,
-            size=[p.foot_radius * 1.5, 0, 0],
+            size=[p.foot_radius * 1.01, 0, 0],
             pos=[p.tibia_length, 0.0, 0.0],
         )
 
@@ -195,13 +196,6 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
             ff.trntype = mujoco.mjtTrn.mjTRN_JOINT
             ff.gaintype = mujoco.mjtGain.mjGAIN_FIXED
             ff.gainprm[0] = kd
-    for name in LEG_NAMES:
-        spec.add_sensor(
-            name=f"{name}_touch",
-            type=mujoco.mjtSensor.mjSENS_TOUCH,
-            objtype=mujoco.mjtObj.mjOBJ_SITE,
-            objname=f"{name}_foot_site",
-        )
     return spec
 
 

@@ -129,8 +129,11 @@ class ModelParams(BaseModel):
     impratio: float = _ours(
         10.0, "elliptic-cone impedance ratio: stops the tiny feet creeping in stance", ge=1
     )
-    touch_threshold: float = _ours(
-        2e-4, "normal force, N, that counts as touchdown: ~2% of one leg's weight share", gt=0
+    touch_depth: float = _ours(
+        1e-7,
+        "foot pressed this far into the ground, m, counts as touch: ~3% of a leg's static "
+        "load (2.7 um carries it); a cutaneous threshold, cheaper than MuJoCo's touch sensor",
+        gt=0,
     )
     scuff_fraction: float = _ours(
         0.5,
@@ -151,6 +154,12 @@ class ModelParams(BaseModel):
         5e-4, "controller update period, s; targets are interpolated per physics step", gt=0
     )
 
+    solver_tolerance: float = _ours(
+        1e-6,
+        "MuJoCo constraint-solver tolerance; the default 1e-8 costs ~7% more for the same "
+        "Delta31 to 1e-4 rad (docs/NUMERICS.md)",
+        gt=0,
+    )
     touchdown_interpolation: bool = Field(
         True,
         description="[invented] landing instant from the interpolated clearance crossing "

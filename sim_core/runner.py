@@ -95,7 +95,6 @@ class BatchRunner:
         self.d31_evt = np.full(n, np.nan)
         self.setpoint = np.zeros((n, 18))
         self.velocity = np.zeros((n, 18))
-        self.touch = np.zeros((n, self.nsub, self.model.nsensor))
         self.feet = np.zeros((n, self.nsub, self.model.nsite, 3))
         self.prev_height = np.zeros((n, 6))
         self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
@@ -234,9 +233,9 @@ class BatchRunner:
         try:
             self.batch.rollout(
                 self.nsub,
-                record=("sensordata", "site_xpos"),
+                record=("site_xpos",),
                 ids=call_ids,
-                out={"sensordata": self.touch[:m], "site_xpos": self.feet[:m]},
+                out={"site_xpos": self.feet[:m]},
             )
         except mujoco.batch.SimulationError as exc:
             for sim in exc.ids:
@@ -245,7 +244,6 @@ class BatchRunner:
         t0 = self.time
         apply_events(
             ids,
-            self.touch[:m],
             self.feet[:m, :, :, 2] - p.foot_radius,
             self.prev_height,
             self.phi,
@@ -255,7 +253,7 @@ class BatchRunner:
             self.phi_td,
             self.phi_aep,
             self.reset_on,
-            p.touch_threshold,
+            p.touch_depth,
             p.scuff_fraction,
             p.touchdown_interpolation,
             t0,

@@ -31,8 +31,8 @@ def _run(phi0: np.ndarray, phi1: np.ndarray, stance: np.ndarray, touch: np.ndarr
     lo = np.empty((1, 6))
     d31 = np.empty(1)
     apply_events(
-        ids, touch[None], height[None], prev, phi, phi_next, st, lp, phi_td,
-        np.array([PHI_AEP]), np.array([reset]), P.touch_threshold, P.scuff_fraction, True,
+        ids, height[None], prev, phi, phi_next, st, lp, phi_td,
+        np.array([PHI_AEP]), np.array([reset]), P.touch_depth, P.scuff_fraction, True,
         1.0, DT, GEO, td, tdp, lo, d31,
     )  # fmt: skip
     return phi[0], st[0], td[0], lo[0], phi_td[0], d31[0]
