@@ -1,0 +1,187 @@
+"""The 3D scene: hexapod meshes sent once, then body poses streamed per frame.
+
+Each MjModel body becomes one viser frame holding its geoms' meshes (boxes, capsules, spheres,
+built with trimesh in the body's frame); a frame update is then 19 small pose messages inside
+one `server.atomic()`. We evaluated mjviser (the mjlab viewer's scene, on PyPI) first: with
+viser 1.1.1 its scene makes the browser client throw "Cannot read properties of undefined
+(reading 'index')" and lose the WebGL context (seen in headless Chromium), so this module maps
+the three primitive geom types the hexapod uses by hand.
+
+Slope. The core tilts gravity, not the floor (slope theta uphill along +x). For the eye we do
+the opposite: every dynamic node lives under one frame, `/bodies`, rotated by the slope about
++y, so the floor grid and the insect tilt together while the camera's "up" stays the true
+vertical. The same frame's translation implements the follow camera: moving the world under a
+still camera keeps orbiting and zooming with the user, where moving each browser's camera
+would fight their mouse.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import trimesh
+import viser
+
+from web.svg import LEG_ORDER, PAIR_COLOURS
+
+# Every dynamic node lives under this node; we own its pose (see the module docstring).
+BODIES_NODE = "/bodies"
+# Insect scale: the body is 4.2 cm long, a tibia 0.3 mm thick.
+CAMERA_POSITION = (-0.045, -0.075, 0.045)
+CAMERA_NEAR, CAMERA_FAR = 5e-4, 20.0
+# viser's default orbit limits (1 cm .. 10 km) would not let one zoom onto a 2 mm femur
+MIN_ORBIT, MAX_ORBIT = 2e-3, 5.0
+
+
+def slope_wxyz(slope_deg: float) -> np.ndarray:
+    """Rotation about +y that lifts +x by `slope_deg` (uphill positive), as wxyz."""
+    half = -math.radians(slope_deg) / 2.0
+    return np.array([math.cos(half), 0.0, math.sin(half), 0.0])
+
+
+def rotate_y(slope_deg: float, v: np.ndarray) -> np.ndarray:
+    th = math.radians(slope_deg)
+    c, s = math.cos(th), math.sin(th)
+    x, y, z = v
+    return np.array([c * x - s * z, y, s * x + c * z])
+
+
+def foot_geom_ids(model: mujoco.MjModel) -> np.ndarray:
+    """Geom ids of the six feet in paper order, found by the core's names `<leg>_foot`."""
+    ids = []
+    for leg in LEG_ORDER:
+        gid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, f"{leg}_foot")
+        if gid < 0:
+            raise ValueError(f"model has no geom named {leg}_foot; cannot mark stance")
+        ids.append(gid)
+    return np.array(ids)
+
+
+def torso_body_id(model: mujoco.MjModel) -> int:
+    """The free-floating body the camera follows: the first child of the world."""
+    for b in range(1, model.nbody):
+        if model.body_parentid[b] == 0:
+            return b
+    raise ValueError("model has no body under the world")
+
+
+class HexapodScene:
+    """Owns every 3D node. Call `update` from the loop thread only."""
+
+    def __init__(self, server: viser.ViserServer, model: mujoco.MjModel) -> None:
+        self.server = server
+        self._feet = foot_geom_ids(model)
+        self._torso = torso_body_id(model)
+        self._slope = 0.0
+        self._follow = True
+        self._frame = server.scene.add_frame(BODIES_NODE, show_axes=False)
+        self._bodies = add_body_meshes(server, model, BODIES_NODE)
+        server.scene.add_grid(
+            f"{BODIES_NODE}/floor",
+            infinite_grid=True,
+            cell_size=0.005,
+            section_size=0.05,
+            cell_color=(190, 190, 190),
+            section_color=(120, 120, 120),
+            fade_distance=0.6,
+            plane_color=(235, 230, 215),
+            plane_opacity=0.6,
+            shadow_opacity=0.25,
+        )
+        r = float(model.geom_size[self._feet[0], 0]) * 2.2
+        self._markers = [
+            server.scene.add_icosphere(
+                f"{BODIES_NODE}/stance/{leg}",
+                radius=r,
+                color=_hex_rgb(PAIR_COLOURS[i // 2]),
+                visible=False,
+            )
+            for i, leg in enumerate(LEG_ORDER)
+        ]
+        self._stance = np.zeros(6, dtype=bool)
+        server.initial_camera.position = CAMERA_POSITION
+        server.initial_camera.look_at = (0.0, 0.0, 0.0)
+        server.initial_camera.near = CAMERA_NEAR
+        server.initial_camera.far = CAMERA_FAR
+        server.initial_camera.min_orbit_distance = MIN_ORBIT
+        server.initial_camera.max_orbit_distance = MAX_ORBIT
+
+        @server.on_client_connect
+        def _(client: viser.ClientHandle) -> None:
+            client.camera.near = CAMERA_NEAR
+            client.camera.far = CAMERA_FAR
+            client.camera.min_orbit_distance = MIN_ORBIT
+            client.camera.max_orbit_distance = MAX_ORBIT
+
+    @property
+    def follow(self) -> bool:
+        return self._follow
+
+    def set_follow(self, follow: bool) -> None:
+        self._follow = follow
+
+    def update(self, data: mujoco.MjData, stance: np.ndarray, slope_deg: float) -> None:
+        """Stream one frame: body poses, stance markers, slope tilt and follow offset."""
+        stance = np.asarray(stance, dtype=bool)
+        with self.server.atomic():
+            if slope_deg != self._slope:
+                self._slope = slope_deg
+                self._frame.wxyz = slope_wxyz(slope_deg)
+            if self._follow:
+                p = data.xpos[self._torso]
+                self._frame.position = -rotate_y(slope_deg, np.array([p[0], p[1], 0.0]))
+            elif np.any(self._frame.position != 0.0):
+                self._frame.position = np.zeros(3)
+            for b, handle in self._bodies.items():
+                handle.position = data.xpos[b]
+                handle.wxyz = data.xquat[b]
+            for i, marker in enumerate(self._markers):
+                if stance[i]:
+                    marker.position = data.geom_xpos[self._feet[i]]
+                if stance[i] != self._stance[i]:
+                    marker.visible = bool(stance[i])
+            self._stance = stance.copy()
+
+
+def geom_mesh(model: mujoco.MjModel, g: int) -> trimesh.Trimesh | None:
+    """A trimesh of geom g in its own frame; None for types the hexapod does not draw."""
+    size = model.geom_size[g]
+    kind = model.geom_type[g]
+    if kind == mujoco.mjtGeom.mjGEOM_BOX:
+        return trimesh.creation.box(extents=2.0 * size)
+    if kind == mujoco.mjtGeom.mjGEOM_CAPSULE:  # along local z, half-length size[1]
+        return trimesh.creation.capsule(height=2.0 * size[1], radius=size[0], count=[12, 12])
+    if kind == mujoco.mjtGeom.mjGEOM_SPHERE:
+        return trimesh.creation.icosphere(subdivisions=2, radius=size[0])
+    return None  # the floor plane: drawn as a grid instead
+
+
+def add_body_meshes(
+    server: viser.ViserServer, model: mujoco.MjModel, root: str
+) -> dict[int, viser.FrameHandle]:
+    """One frame per moving body, its geoms as child meshes; returns body id -> frame."""
+    frames: dict[int, viser.FrameHandle] = {}
+    for b in range(1, model.nbody):
+        frame = server.scene.add_frame(f"{root}/body{b}", show_axes=False)
+        for g in np.flatnonzero(model.geom_bodyid == b):
+            mesh = geom_mesh(model, int(g))
+            if mesh is None:
+                continue
+            rgba = model.geom_rgba[g]
+            server.scene.add_mesh_simple(
+                f"{root}/body{b}/geom{g}",
+                vertices=np.asarray(mesh.vertices, dtype=np.float32),
+                faces=np.asarray(mesh.faces, dtype=np.uint32),
+                color=tuple(int(255 * c) for c in rgba[:3]),
+                position=model.geom_pos[g],
+                wxyz=model.geom_quat[g],
+            )
+        frames[b] = frame
+    return frames
+
+
+def _hex_rgb(colour: str) -> tuple[int, int, int]:
+    c = colour.lstrip("#")
+    return int(c[0:2], 16), int(c[2:4], 16), int(c[4:6], 16)
