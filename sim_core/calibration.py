@@ -168,12 +168,16 @@ def calibrate(
     on_trial: Callable[[int, float, dict[str, float]], None] | None = None,
     betas: Sequence[float] = (BETA_FAST, BETA_BISTABLE, BETA_SLOW),
     seed_from: str | None = None,
+    check_half_dt: bool = True,
 ) -> Any:
     """Run (or resume) an optuna study; returns the study. Needs `optuna` installed.
 
     seed_from: the name of an earlier study in the same storage whose evaluated trials are
     re-scored with the current `Evaluation.score` and added, so a changed score need not
     throw away the simulations already run.
+    check_half_dt: also run every candidate at half the timestep and add the outcome
+    differences to the score (each capped at pi). A first study without it found candidates
+    whose gait selection was an artefact of the timestep (docs/REPRODUCTION.md).
     """
     import optuna
 
@@ -204,12 +208,30 @@ def calibrate(
         trial.set_user_attr("speed_error", ev.speed_error)
         trial.set_user_attr("max_slip", ev.max_slip)
         s = ev.score()
+        if check_half_dt:
+            half = evaluate(params, betas=betas, n_init=n_init, duration_s=duration_s,
+                            dt_s=params.dt / 2)  # fmt: skip
+            gap = outcome_gap(ev, half)
+            trial.set_user_attr("half_dt_gap", gap)
+            s += gap
         if on_trial is not None:
             on_trial(trial.number, s, values)
         return s
 
     study.optimize(objective, n_trials=n_trials)
     return study
+
+
+def outcome_gap(a: Evaluation, b: Evaluation) -> float:
+    """Sum over runs of the Delta31 outcome difference between two evaluations (pi if only
+    one of them settled)."""
+    gap = 0.0
+    for beta, fa in a.finals.items():
+        for x, y in zip(fa, b.finals.get(beta, []), strict=False):
+            if x is None and y is None:
+                continue
+            gap += math.pi if x is None or y is None else abs(float(angle_diff(x, y)))
+    return gap
 
 
 def _seed_study(study: Any, source: str, storage: str) -> None:

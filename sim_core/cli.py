@@ -163,6 +163,9 @@ def _add_calibrate(sub: Any) -> None:
     p.add_argument("--seed", type=int, default=0)
     p.add_argument("--seed-from", default=None, help="re-score an earlier study's trials first")
     p.add_argument(
+        "--no-half-dt-check", action="store_true", help="skip scoring at half the timestep"
+    )
+    p.add_argument(
         "--betas", type=float, nargs="+", default=[0.62, 0.655, 0.70], help="betas to score"
     )
     p.set_defaults(func=_cmd_calibrate)
@@ -191,6 +194,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
         args.trials, storage=args.storage, study_name=args.study, seed=args.seed,
         duration_s=args.duration_s, n_init=args.n_init, on_trial=report,
         betas=tuple(args.betas), seed_from=args.seed_from,
+        check_half_dt=not args.no_half_dt_check,
     )  # fmt: skip
     best = study.best_trial
     print(f"best trial {best.number}: score {best.value:.3f}")

@@ -67,3 +67,11 @@ def test_convergence_rows_and_a_tiny_check() -> None:
     report = convergence_check(betas=(0.66,), inits=(2.5,), duration_s=0.3, dt_s=1e-4)
     assert len(report.rows) == 1 and report.dt_s == 1e-4
     assert "agree" in report.summary()
+
+
+def test_outcome_gap_counts_disagreements() -> None:
+    from sim_core.calibration import outcome_gap
+
+    a = _ev([2.9, None, 1.0], [1.9], [])
+    b = _ev([2.8, 2.0, None], [1.9], [])
+    assert outcome_gap(a, b) == pytest.approx(0.1 + 2 * math.pi)
