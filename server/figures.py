@@ -77,7 +77,8 @@ def figure_png(job: dict[str, Any], result: dict[str, Any]) -> bytes:
         _d31_axis(ax)
         ax.set_title(f"return map: β = {spec.get('beta')}")
     else:
-        pts = [(r["beta"], r["d31"]) for r in records if "beta" in r and "d31" in r]
+        key = "d31_after_transient" if kind == "bifurcation" else "d31_final"
+        pts = [(r["beta"], r[key]) for r in records if r.get(key) is not None]
         ax.scatter([p[0] for p in pts], [p[1] for p in pts], s=6)
         ax.set_xlabel("β")
         ax.set_ylabel("Δ31 (rad)")

@@ -84,32 +84,53 @@ def return_map_job(job: ReturnMapJob, progress: Progress, nthread: int) -> dict[
     }
 
 
-def _experiments(kind: str) -> Any:
-    core = _core()
-    experiments = getattr(core, "experiments", None)
-    if experiments is None:
+def _grid(
+    core: Any, job: SweepJob | BifurcationJob, progress: Progress, nthread: int
+) -> list[tuple[float, float, Any]]:
+    """Every (beta, d31_init) of the job's grid as independent runs, one batch call."""
+    pairs = [(b, d) for b in job.beta_range.values() for d in job.d31_init]
+    specs = [core.RunSpec(beta=b, d31_init=d, **job.run_fields()) for b, d in pairs]
+    results = core.simulate_batch(specs, nthread=nthread, progress=progress)
+    diverged = [
+        f"beta {b:.4g}, d31_init {d:.4g}: {r.error}"
+        for (b, d), r in zip(pairs, results, strict=True)
+        if r.diverged
+    ]
+    if diverged:
         raise JobFailed(
-            f"kind '{kind}' is not available in this build: sim_core.experiments is missing"
+            f"{len(diverged)} of {len(results)} simulation(s) diverged, so the job returns no "
+            "numbers; try a smaller dt_s or another integrator. " + "; ".join(diverged)
         )
-    return experiments
+    return [(b, d, r) for (b, d), r in zip(pairs, results, strict=True)]
 
 
 def sweep_job(job: SweepJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    _experiments("sweep")
-    # The experiments module landed after this adapter was written: refuse rather than guess
-    # its signature. Wire it here (records: one row per beta and d31_init).
-    raise JobFailed(
-        "kind 'sweep' is not available in this build: sim_core.experiments exists but the "
-        "server has no adapter for it yet (server/kinds.py)"
-    )
+    """Final Delta31 and gait for every beta of the grid and every initial Delta31."""
+    core = _core()
+    records = []
+    for beta, d0, res in _grid(core, job, progress, nthread):
+        row = _summary_row(d0, res.summary())
+        row["beta"] = beta
+        records.append(row)
+    return {"kind": "sweep", "records": records}
 
 
 def bifurcation_job(job: BifurcationJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    _experiments("bifurcation")
-    raise JobFailed(
-        "kind 'bifurcation' is not available in this build: sim_core.experiments exists but "
-        "the server has no adapter for it yet (server/kinds.py)"
-    )
+    """Where Delta31 settles after the transient, per beta and initial value (Fig. 8's stable
+    branches); runs still drifting at the end are kept but flagged `settled: false`."""
+    core = _core()
+    records = []
+    for beta, d0, res in _grid(core, job, progress, nthread):
+        after = [float(x) for t, x in zip(res.d31_times_s, res.d31, strict=True)
+                 if t >= job.transient_s]  # fmt: skip
+        mean = core.circular_mean(after) if after else None
+        settled = res.d31_final is not None and res.gait != "other"
+        records.append(
+            {"beta": beta, "d31_init": d0, "d31_after_transient": mean,
+             "n_touchdowns": len(after), "gait": core.classify_gait(mean) if mean is not None
+             else "other", "settled": settled}
+        )  # fmt: skip
+    return {"kind": "bifurcation", "records": records}
 
 
 RUNNERS: dict[str, Callable[[Any, Progress, int], dict[str, Any]]] = {

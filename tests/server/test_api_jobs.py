@@ -74,30 +74,29 @@ def test_return_map_pairs_follow_the_runs(make_server: Callable[..., Server]) ->
         assert c.get(f"/v1/jobs/{job['id']}/figure.png").status_code == 200
 
 
-def test_experiment_kinds_fail_clearly_without_experiments(
+def test_sweep_and_bifurcation_jobs_cover_their_grid(
     make_server: Callable[..., Server],
 ) -> None:
-    import sim_core
-
-    if hasattr(sim_core, "experiments"):
-        pytest.skip("sim_core.experiments exists; this test covers builds without it")
     srv = make_server(workers=1)
     with srv.client() as c:
         for kind in ("sweep", "bifurcation"):
             spec = {
                 "kind": kind,
-                "beta_range": {"start": 0.6, "stop": 0.7, "steps": 2},
-                "duration_s": 0.3,
+                "beta_range": {"start": 0.62, "stop": 0.70, "steps": 2},
+                "d31_init": [2.0, 3.0],
+                "duration_s": 0.5,
             }
             if kind == "bifurcation":
-                spec["transient_s"] = 0.1
+                spec["transient_s"] = 0.2
             job = wait_status(c, submit(c, spec)["id"], {"done", "failed"})
-            assert job["status"] == "failed"
-            assert job["error"] == (
-                f"kind '{kind}' is not available in this build: sim_core.experiments is missing"
-            )
-            r = c.get(f"/v1/jobs/{job['id']}/result")
-            assert r.status_code == 409 and "not available" in r.json()["detail"]
+            assert job["status"] == "done", job["error"]
+            rows = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]["records"]
+            grid = {(round(r["beta"], 3), r["d31_init"]) for r in rows}
+            assert grid == {(0.62, 2.0), (0.62, 3.0), (0.7, 2.0), (0.7, 3.0)}
+            csv = c.get(f"/v1/jobs/{job['id']}/result", params={"format": "csv"})
+            assert csv.status_code == 200 and csv.text.count("\n") >= 5
+            png = c.get(f"/v1/jobs/{job['id']}/figure.png")
+            assert png.status_code == 200 and png.content[:4] == b"\x89PNG"
 
 
 def test_cancel_stops_a_running_job(make_server: Callable[..., Server]) -> None:
