@@ -349,3 +349,34 @@ def sensitivity(
         ev = evaluate(p, betas=betas, n_init=n_init, duration_s=duration_s, dt_s=dt_s)
         out.setdefault(name, {})[label] = [Outcome(b, ev.finals[b]) for b in betas]
     return out
+
+
+def open_loop_drift(
+    params: ModelParams,
+    beta: float,
+    grid: Sequence[float],
+    duration_s: float = 1.5,
+    dt_s: float | None = None,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Delta31 drift per cycle the touchdowns would cause, with Delta31 held fixed.
+
+    Resetting is off, so each run keeps its Delta31; the mean phase jump each leg's touchdown
+    would cause, e_i = phi_AEP - phi_touchdown (after a third of the run), gives the drift
+    1/4 [(e5 + e6) - (e1 + e2)] (middle legs lock to the mean of fore and hind). A cheap,
+    deterministic look at the return map's shape, and at which lever moves it.
+    Returns (drift (len(grid),), jumps (len(grid), 6)).
+    """
+    specs = [RunSpec(beta=beta, d31_init=float(x) % (2 * math.pi), duration_s=duration_s,
+                     phase_reset=False, dt_s=dt_s) for x in grid]  # fmt: skip
+    aep = 2 * math.pi * (1 - beta)
+    jumps = np.full((len(specs), 6), np.nan)
+    for k, res in enumerate(simulate_batch(specs, params)):
+        if res.diverged:
+            continue
+        for leg in range(6):
+            t, ph = res.touchdowns[leg], res.touchdown_phases[leg]
+            sel = ph[t > duration_s / 3]
+            if sel.size:
+                jumps[k, leg] = float(np.mean(angle_diff(aep, sel)))
+    drift = 0.25 * ((jumps[:, 4] + jumps[:, 5]) - (jumps[:, 0] + jumps[:, 1]))
+    return drift, jumps

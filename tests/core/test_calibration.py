@@ -75,3 +75,14 @@ def test_outcome_gap_counts_disagreements() -> None:
     a = _ev([2.9, None, 1.0], [1.9], [])
     b = _ev([2.8, 2.0, None], [1.9], [])
     assert outcome_gap(a, b) == pytest.approx(0.1 + 2 * math.pi)
+
+
+def test_open_loop_drift_shapes_and_a_uniform_hind_bias() -> None:
+    from sim_core.calibration import open_loop_drift
+
+    grid = [2.0, 3.0]
+    base, jumps = open_loop_drift(ModelParams(), 0.66, grid, duration_s=0.9)
+    assert base.shape == (2,) and jumps.shape == (2, 6) and np.isfinite(jumps).all()
+    # centre of mass moved back loads the hind legs: they land earlier, drift goes up
+    back, _ = open_loop_drift(ModelParams(com_offset_x=-3e-3), 0.66, grid, duration_s=0.9)
+    assert (back > base).all()
