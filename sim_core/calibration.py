@@ -15,7 +15,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -68,7 +68,6 @@ class Evaluation:
     speed_error: float  # worst relative speed error against eq. 2 among settled runs
     max_slip: float
     diverged: int
-    extras: dict[str, Any] = field(default_factory=dict)
 
     def score(self) -> float:
         """Lower is better; 0 would be every run on the paper's branch at 0.62 and 0.70."""

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from sim_core.calibration import ReturnMap, initial_values, return_map
-from sim_core.gait import TWO_PI, angle_diff, classify_gait
+from sim_core.gait import TWO_PI, classify_gait
 from sim_core.params import ModelParams
 from sim_core.runner import BatchRunner
 from sim_core.spec import RunSpec
@@ -189,7 +189,3 @@ def hysteresis_width(ramp_down: list[Transition], ramp_up: list[Transition]) -> 
     if not ramp_down or not ramp_up:
         return None
     return abs(ramp_down[0].value - ramp_up[0].value)
-
-
-def branch_distance(d31: float, branch: float) -> float:
-    return abs(float(angle_diff(d31, branch)))

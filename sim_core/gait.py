@@ -86,21 +86,3 @@ def forward_speed(times: np.ndarray, pos: np.ndarray, fraction: float = 0.5) -> 
     if dt <= 0:
         return None
     return float((pos[-1, 0] - pos[i0, 0]) / dt)
-
-
-def footfall_intervals(times: np.ndarray, stance: np.ndarray) -> list[list[tuple[float, float]]]:
-    """Per leg, the (start, end) times of stance bars: the footprint diagram of Fig. 4/6b."""
-    bars: list[list[tuple[float, float]]] = []
-    for leg in range(stance.shape[1]):
-        s = stance[:, leg].astype(np.int8)
-        edges = np.flatnonzero(np.diff(s)) + 1
-        starts = list(edges[s[edges] == 1])
-        ends = list(edges[s[edges] == 0])
-        if s.size and s[0]:
-            starts.insert(0, 0)
-        if s.size and s[-1]:
-            ends.append(s.size - 1)
-        bars.append(
-            [(float(times[a]), float(times[b])) for a, b in zip(starts, ends, strict=False)]
-        )
-    return bars

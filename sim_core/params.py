@@ -166,15 +166,6 @@ class ModelParams(BaseModel):
         "(True) or at the physics step where the touch is sensed (False); see NUMERICS.md",
     )
 
-    # --- derived quantities ------------------------------------------------------------------
-    @property
-    def leg_mass(self) -> float:
-        return self.coxa_mass + self.femur_mass + self.tibia_mass
-
-    @property
-    def total_mass(self) -> float:
-        return self.body_mass + 6 * self.leg_mass
-
 
 def phi_aep(beta: float) -> float:
     """Oscillator phase at the AEP, 2 pi (1 - beta) (Sec. II B 2)."""

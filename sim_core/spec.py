@@ -7,7 +7,7 @@ viewer fill in; inside the core everything is SI.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -84,7 +84,6 @@ class RunResult:
     duty_factor_measured: float | None
     slip_fraction: float | None  # median foot slip per stance / stroke D
     error: str | None = None
-    extras: dict[str, Any] = field(default_factory=dict)
 
     @property
     def diverged(self) -> bool:
