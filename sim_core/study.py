@@ -85,7 +85,20 @@ def run_study(
         log(f"[{time.perf_counter() - t0:5.0f} s] sensitivity done")
     report["wall_s"] = time.perf_counter() - t0
     (out / "study.json").write_text(json.dumps(report, indent=1, default=float))
+    write_bifurcation(report, out / "bifurcation.json")
     return report
+
+
+def write_bifurcation(report: dict[str, Any], path: Path) -> None:
+    """The return maps' fixed points as (beta, Delta31) points, series 'stable'/'unstable': the
+    file the viewer's bifurcation panel draws (web/bifurcation.py reads this shape)."""
+    points = [
+        {"beta": float(beta), "d31": fp["d31"], "branch": "stable" if fp["stable"] else "unstable"}
+        for beta, rm in report["return_maps"].items()
+        for fp in rm["fixed_points"]
+    ]
+    path.write_text(json.dumps({"source": "insect-gait study: return-map fixed points",
+                                "points": points}, indent=1))  # fmt: skip
 
 
 def _census(o: Outcome) -> dict[str, Any]:

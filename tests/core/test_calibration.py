@@ -86,3 +86,17 @@ def test_open_loop_drift_shapes_and_a_uniform_hind_bias() -> None:
     # centre of mass moved back loads the hind legs: they land earlier, drift goes up
     back, _ = open_loop_drift(ModelParams(com_offset_x=-3e-3), 0.66, grid, duration_s=0.9)
     assert (back > base).all()
+
+
+def test_study_writes_its_figures_and_the_viewers_bifurcation_file(tmp_path) -> None:
+    import json
+
+    from sim_core.study import run_study
+
+    report = run_study(tmp_path, n_init=2, duration_s=0.6, map_inits=2, map_duration_s=0.8,
+                       with_sensitivity=False, log=lambda _: None)  # fmt: skip
+    for name in ("fig5_d31_convergence.png", "fig7_return_maps.png", "study.json"):
+        assert (tmp_path / name).stat().st_size > 0
+    bif = json.loads((tmp_path / "bifurcation.json").read_text())
+    n_fixed = sum(len(rm["fixed_points"]) for rm in report["return_maps"].values())
+    assert len(bif["points"]) == n_fixed
