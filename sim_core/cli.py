@@ -281,6 +281,32 @@ def _cmd_study(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_numerics(sub: Any) -> None:
+    p = sub.add_parser("numerics", help="integrator x timestep grid against RK4 at 2e-5 s")
+    p.add_argument("--quick", action="store_true", help="a coarse grid, short runs")
+    p.add_argument("--out", default="docs/figures", help="folder for the charts")
+    p.set_defaults(func=_cmd_numerics)
+
+
+def _cmd_numerics(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from sim_core.numerics import grid_study, plot_grid
+
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    if args.quick:
+        points, ref = grid_study(dts=(1e-3, 2e-4, 1e-4, 5e-5), inits=(3.0,), duration_s=2.0,
+                                 progress=print)  # fmt: skip
+    else:
+        points, ref = grid_study(progress=print)
+    plot_grid(points, out / "numerics_pareto.png", out / "numerics_map.png")
+    rows = [p.__dict__ | {"status": p.status} for p in points]
+    (out / "numerics.json").write_text(json.dumps({"reference": ref, "grid": rows}, indent=1))
+    print(f"wrote {out / 'numerics_pareto.png'}, {out / 'numerics_map.png'}, numerics.json")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="insect-gait", description=__doc__.splitlines()[0] if __doc__ else "")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -291,6 +317,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_return_map(sub)
     _add_converge(sub)
     _add_study(sub)
+    _add_numerics(sub)
     for ep in entry_points(group="insect_gait.commands"):
         try:
             register = ep.load()

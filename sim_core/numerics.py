@@ -9,8 +9,9 @@ diverges at one only, is a disagreement whatever its numbers.
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 
@@ -109,3 +110,146 @@ def convergence_check(
             )
         )
     return ConvergenceReport(integ, dt, control, duration_s, rows)
+
+
+@dataclass(frozen=True)
+class GridPoint:
+    """One (integrator, dt) configuration measured against the reference."""
+
+    integrator: str
+    dt_s: float
+    wall_per_sim_s: float  # wall seconds per simulated second, one simulation
+    error_rad: float | None  # worst |Delta31 outcome - reference| over the runs; None if failed
+    same_gaits: bool
+    failure: str | None  # the guard's reason when any run failed
+
+    @property
+    def status(self) -> str:
+        if self.failure is not None:
+            return "fails"
+        if self.error_rad is not None and self.error_rad <= TOLERANCE_RAD and self.same_gaits:
+            return "ok"
+        return "inaccurate"
+
+
+REFERENCE: tuple[Integrator, float] = ("rk4", 2e-5)  # the paper's integrator and step
+
+
+def grid_study(
+    integrators: Sequence[Integrator] = ("euler", "implicit", "implicitfast", "rk4"),
+    dts: Sequence[float] = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2.5e-5),
+    betas: Sequence[float] = (0.62, 0.70),
+    inits: Sequence[float] = (2.75, 3.53),
+    duration_s: float = 3.0,
+    params: ModelParams | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> tuple[list[GridPoint], list[float | None]]:
+    """Cost and outcome error of each configuration against RK4 at 2e-5 s (the paper's).
+
+    Outcomes are the final Delta31 of runs from the paper's band of initial values; the
+    comparison is run by run. Returns the grid and the reference outcomes.
+    """
+    import time
+
+    p = params or ModelParams()
+
+    def specs(integ: Integrator, dt: float) -> list[RunSpec]:
+        return [RunSpec(beta=b, d31_init=x, duration_s=duration_s, integrator=integ,
+                        dt_s=dt, control_dt_s=max(p.control_dt, dt))
+                for b in betas for x in inits]  # fmt: skip
+
+    ref = [r.d31_final for r in simulate_batch(specs(*REFERENCE), p)]
+    ref_gaits = [classify(r) for r in ref]
+    out: list[GridPoint] = []
+    for integ in integrators:
+        for dt in dts:
+            t0 = time.perf_counter()
+            runs = simulate_batch(specs(integ, dt), p, nthread=1)
+            wall = (time.perf_counter() - t0) / (duration_s * len(runs))
+            failed = [r.error for r in runs if r.diverged]
+            if failed:
+                point = GridPoint(integ, dt, wall, None, False, _failure_kind(failed[0]))
+            else:
+                errs = [
+                    abs(float(angle_diff(r.d31_final, f)))
+                    if r.d31_final is not None and f is not None
+                    else math.pi
+                    for r, f in zip(runs, ref, strict=True)
+                ]
+                gaits = [classify(r.d31_final) for r in runs]
+                point = GridPoint(integ, dt, wall, max(errs), gaits == ref_gaits, None)
+            out.append(point)
+            if progress is not None:
+                progress(f"{integ:12s} dt {dt:8.2g} s: {point.status:10s} "
+                         f"{wall:7.3f} wall s per sim s")  # fmt: skip
+    return out, ref
+
+
+def classify(d31: float | None) -> str:
+    from sim_core.gait import classify_gait
+
+    return classify_gait(d31)
+
+
+def _failure_kind(message: str | None) -> str:
+    text = message or ""
+    for key, kind in (("warning", "unstable (MuJoCo warning)"), ("non-finite", "non-finite"),
+                      ("flipped", "flip"), ("floor", "fall")):  # fmt: skip
+        if key in text:
+            return kind
+    return "failed"
+
+
+def plot_grid(points: Sequence[GridPoint], pareto_path: Path, map_path: Path) -> None:
+    """Pareto chart (cost vs outcome error, failures marked) and the stability map."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    markers = {"euler": "o", "implicit": "s", "implicitfast": "^", "rk4": "D"}
+    for pt in points:
+        y = pt.error_rad if pt.error_rad is not None else math.pi
+        color = {"ok": "tab:green", "inaccurate": "tab:orange", "fails": "tab:red"}[pt.status]
+        ax.scatter(pt.wall_per_sim_s, max(y, 1e-4), marker=markers.get(pt.integrator, "o"),
+                   color=color, s=40)  # fmt: skip
+        ax.annotate(f"{pt.dt_s:g}", (pt.wall_per_sim_s, max(y, 1e-4)), fontsize=6,
+                    xytext=(3, 3), textcoords="offset points")  # fmt: skip
+    ax.axhline(TOLERANCE_RAD, color="k", ls="--", lw=0.8)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("wall seconds per simulated second (one simulation)")
+    ax.set_ylabel("worst Delta31 outcome error vs RK4 2e-5 s (rad)")
+    for name, m in markers.items():
+        ax.scatter([], [], marker=m, color="gray", label=name)
+    for label, c in (("ok", "tab:green"), ("inaccurate", "tab:orange"), ("fails (plotted at pi)",
+                     "tab:red")):  # fmt: skip
+        ax.scatter([], [], color=c, label=label)
+    ax.legend(fontsize=7)
+    ax.set_title("cost against accuracy; dashed: tolerance 0.05 rad; labels: dt (s)", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(pareto_path, dpi=120)
+    plt.close(fig)
+
+    integs = sorted({p.integrator for p in points})
+    dts = sorted({p.dt_s for p in points})
+    code = {"ok": 0, "inaccurate": 1, "fails": 2}
+    grid = np.full((len(integs), len(dts)), np.nan)
+    for pt in points:
+        grid[integs.index(pt.integrator), dts.index(pt.dt_s)] = code[pt.status]
+    fig, ax = plt.subplots(figsize=(7, 2.8))
+    cmap = matplotlib.colors.ListedColormap(["tab:green", "tab:orange", "tab:red"])
+    ax.imshow(grid, cmap=cmap, vmin=0, vmax=2, aspect="auto")
+    ax.set_xticks(range(len(dts)), [f"{d:g}" for d in dts])
+    ax.set_yticks(range(len(integs)), integs)
+    ax.set_xlabel("timestep (s)")
+    for i in range(len(integs)):
+        for j in range(len(dts)):
+            if np.isfinite(grid[i, j]):
+                ax.text(j, i, ["ok", "inacc.", "fails"][int(grid[i, j])], ha="center",
+                        va="center", fontsize=7)  # fmt: skip
+    ax.set_title("stability map: ok (within 0.05 rad, same gaits), inaccurate, fails", fontsize=9)
+    fig.tight_layout()
+    fig.savefig(map_path, dpi=120)
+    plt.close(fig)

@@ -100,3 +100,17 @@ def test_study_writes_its_figures_and_the_viewers_bifurcation_file(tmp_path) -> 
     bif = json.loads((tmp_path / "bifurcation.json").read_text())
     n_fixed = sum(len(rm["fixed_points"]) for rm in report["return_maps"].values())
     assert len(bif["points"]) == n_fixed
+
+
+def test_numerics_grid_reports_a_failing_configuration_as_failed() -> None:
+    from sim_core.numerics import grid_study
+
+    points, _ = grid_study(
+        integrators=("euler", "implicitfast"), dts=(1e-3, 5e-5), betas=(0.66,), inits=(3.0,),
+        duration_s=0.4,
+    )  # fmt: skip
+    status = {(p.integrator, p.dt_s): p for p in points}
+    bad = status[("euler", 1e-3)]
+    assert bad.status == "fails" and bad.error_rad is None and "unstable" in bad.failure
+    good = status[("implicitfast", 5e-5)]
+    assert good.status != "fails" and good.error_rad is not None and good.wall_per_sim_s > 0
