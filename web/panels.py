@@ -31,8 +31,8 @@ from web.requests import (
     StopRamp,
 )
 
-PLAY, PAUSE = "▶ Play", "⏸ Pause"
-RAMP_START, RAMP_STOP = "Ramp β ↓↑", "Stop ramp"
+PLAY, PAUSE = "Play", "Pause"
+RAMP_START, RAMP_STOP = "Ramp β down and up", "Stop ramp"
 
 
 @dataclass(frozen=True)

@@ -138,10 +138,18 @@ def d31_svg(events: Sequence[D31Event], t_now: float, window_s: float, gait: str
     f = Frame(t0, t1, 0.0, TWO_PI)
     out = _open("d31", f"Δ31 over time — gait: {gait}", gait=gait, n_events=str(len(events)))
     out += _y_angle_axis(f) + _reference_lines(f)
-    pts = [(f.x(e.time_s), f.y(e.d31)) for e in events if t0 <= e.time_s <= t1]
-    if len(pts) >= 2:
-        path = " ".join(f"{x:.1f},{y:.1f}" for x, y in pts)
-        out.append(f'<polyline points="{path}" fill="none" stroke="#444" stroke-width="0.6"/>')
+    shown = [e for e in events if t0 <= e.time_s <= t1]
+    pts = [(f.x(e.time_s), f.y(e.d31)) for e in shown]
+    # Delta31 is an angle: a step across 0 = 2 pi is not a swing through pi, so the line breaks
+    segments: list[list[tuple[float, float]]] = []
+    for i, p in enumerate(pts):
+        if i == 0 or abs(shown[i].d31 - shown[i - 1].d31) > math.pi:
+            segments.append([])
+        segments[-1].append(p)
+    for seg in segments:
+        if len(seg) >= 2:
+            path = " ".join(f"{x:.1f},{y:.1f}" for x, y in seg)
+            out.append(f'<polyline points="{path}" fill="none" stroke="#444" stroke-width="0.6"/>')
     for x, y in pts:
         out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="1.6" fill="#222"/>')
     out += _x_ticks(f, _time_ticks(t0, t1), "{:.0f}")

@@ -90,7 +90,7 @@ def test_page_renders_and_the_beta_slider_drives_the_simulation(viewer: str) -> 
     with sync_playwright() as p:
         browser = p.chromium.launch(executable_path=CHROMIUM, args=ARGS)
         try:
-            page = browser.new_page(viewport={"width": 1280, "height": 800})
+            page = browser.new_page(viewport={"width": 1400, "height": 1400})
             errors: list[str] = []
             page.on("pageerror", lambda e: errors.append(str(e)))
             page.goto(viewer)

@@ -119,3 +119,12 @@ def test_svg_panels_carry_their_data() -> None:
     ev = [D31Event(t, 2.0 + 0.1 * t, 0.66) for t in np.linspace(0.1, 0.9, 5)]
     d = d31_svg(ev, 1.0, 1.0, "metachronal")
     assert "metachronal" in d and "<svg" in d
+
+
+def test_d31_line_breaks_where_the_angle_wraps() -> None:
+    from web.footfall import D31Event
+
+    ev = [D31Event(0.1, 6.2, 0.66), D31Event(0.2, 0.05, 0.66), D31Event(0.3, 0.1, 0.66)]
+    d = d31_svg(ev, 1.0, 1.0, "other")
+    assert d.count("<polyline") == 1  # 6.2 -> 0.05 is a wrap, not a line through pi
+    assert d.count("<circle") == 3
