@@ -40,6 +40,7 @@ class Simulation:
         self._hist_t: deque[float] = deque(maxlen=nkeep)
         self._hist_x: deque[float] = deque(maxlen=nkeep)
         self._hist_stance: deque[np.ndarray] = deque(maxlen=nkeep)
+        self._events: list[tuple[float, float]] = []  # grows with the run; never rebuilt
         self._push_history()
 
     # --- controls -----------------------------------------------------------------------------
@@ -123,8 +124,9 @@ class Simulation:
 
     @property
     def d31_events(self) -> list[tuple[float, float]]:
-        r = self._runner
-        return list(zip(r.d31_t[0], r.d31_v[0], strict=True))
+        """(time, Delta31) at each leg-1 touchdown since the last reset; extended in place, so a
+        caller may keep an index into it and read only what is new."""
+        return self._events
 
     @property
     def footfall(self) -> tuple[np.ndarray, np.ndarray]:
@@ -160,6 +162,9 @@ class Simulation:
 
     def _push_history(self) -> None:
         r = self._runner
+        t, v = r.d31_t[0], r.d31_v[0]
+        for k in range(len(self._events), len(v)):
+            self._events.append((t[k], v[k]))
         self._hist_t.append(r.time)
         self._hist_x.append(float(r.qpos[0, 0]))
         self._hist_stance.append(r.stance[0] != 0)
