@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from sim_core.gait import angle_diff
+from sim_core.gait import angle_diff, classify_gait
 from sim_core.params import Integrator, ModelParams
 from sim_core.runner import simulate_batch
 from sim_core.spec import RunSpec
@@ -159,7 +159,7 @@ def grid_study(
                 for b in betas for x in inits]  # fmt: skip
 
     ref = [r.d31_final for r in simulate_batch(specs(*REFERENCE), p)]
-    ref_gaits = [classify(r) for r in ref]
+    ref_gaits = [classify_gait(r) for r in ref]
     out: list[GridPoint] = []
     for integ in integrators:
         for dt in dts:
@@ -176,19 +176,13 @@ def grid_study(
                     else math.pi
                     for r, f in zip(runs, ref, strict=True)
                 ]
-                gaits = [classify(r.d31_final) for r in runs]
+                gaits = [classify_gait(r.d31_final) for r in runs]
                 point = GridPoint(integ, dt, wall, max(errs), gaits == ref_gaits, None)
             out.append(point)
             if progress is not None:
                 progress(f"{integ:12s} dt {dt:8.2g} s: {point.status:10s} "
                          f"{wall:7.3f} wall s per sim s")  # fmt: skip
     return out, ref
-
-
-def classify(d31: float | None) -> str:
-    from sim_core.gait import classify_gait
-
-    return classify_gait(d31)
 
 
 def _failure_kind(message: str | None) -> str:

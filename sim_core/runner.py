@@ -102,7 +102,6 @@ class BatchRunner:
         self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
         self.ctrl = self.batch.bind("ctrl")  # desired joint velocities, twice
         self.qvel = self.batch.bind("qvel")
-        self.site_xpos = self.batch.bind("site_xpos")
         self.nblock = 0
         # wall seconds spent in each part of step_block, for `insect-gait bench`
         self.timers = {"controller": 0.0, "physics": 0.0, "bookkeeping": 0.0}
@@ -280,12 +279,12 @@ class BatchRunner:
         lo = self.lo_time[ids]
         if not (np.isfinite(td).any() or np.isfinite(lo).any()):
             return
-        feet = self.site_xpos[:, :, :2]
+        feet = self.feet[: ids.size, -1, :, :2]  # last recorded substep, row r = ids[r]
         for r, leg in zip(*np.nonzero(np.isfinite(td)), strict=True):
             s = int(ids[r])
             self.touchdowns[s][leg].append(float(td[r, leg]))
             self.touchdown_phases[s][leg].append(float(self.td_phase[s, leg]))
-            self._td_xy[s, leg] = feet[s, leg]
+            self._td_xy[s, leg] = feet[r, leg]
             if leg == 0:
                 self.d31_t[s].append(float(td[r, 0]))
                 self.d31_v[s].append(float(self.d31_evt[s]))
@@ -293,7 +292,7 @@ class BatchRunner:
             s = int(ids[r])
             self.liftoffs[s][leg].append(float(lo[r, leg]))
             if self.touchdowns[s][leg]:
-                slip = float(np.hypot(*(feet[s, leg] - self._td_xy[s, leg])))
+                slip = float(np.hypot(*(feet[r, leg] - self._td_xy[s, leg])))
                 self.slips[s].append(slip / self.params.stroke)
 
     def _guard(self, ids: np.ndarray) -> None:
