@@ -307,6 +307,73 @@ def _cmd_numerics(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_reproduce(sub: Any) -> None:
+    from sim_core.backends import BACKENDS
+    from sim_core.paper_figures import FIGURES
+
+    p = sub.add_parser(
+        "reproduce", help="the paper's Figs. 5-9 + ablation: figures, data, reproduction table"
+    )
+    p.add_argument("--figure", nargs="+", choices=[*FIGURES, "all"], default=["all"],
+                   help="which figures (default all)")  # fmt: skip
+    p.add_argument(
+        "--out", default=None, help="folder (default docs/figures; --quick: out/reproduce-quick)"
+    )
+    p.add_argument("--cache", default="out/cache", help="task result cache folder")
+    p.add_argument("--backend", choices=BACKENDS, default="local",
+                   help="local: process pool on this machine; dask: dask.distributed")  # fmt: skip
+    p.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
+    p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    p.add_argument("--quick", action="store_true", help="tiny sizes: a smoke test, not science")
+    p.add_argument("--doc", default=None,
+                   help="markdown file whose reproduce section to regenerate (default "
+                   "docs/REPRODUCTION.md; none with --quick)")  # fmt: skip
+    p.add_argument("--no-doc", action="store_true", help="do not touch any markdown file")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_reproduce)
+
+
+def _cmd_reproduce(args: argparse.Namespace) -> int:
+    from pathlib import Path
+
+    from sim_core.backends import BackendUnavailable, get_backend
+    from sim_core.paper_figures import Config
+    from sim_core.reproduce import reproduce
+
+    prog = "insect-gait reproduce"
+    if args.workers is not None and args.workers < 1:
+        print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
+        return EXIT_USAGE
+    cfg = Config.quick() if args.quick else Config()
+    out = Path(args.out or ("out/reproduce-quick" if args.quick else "docs/figures"))
+    doc = None
+    if not args.no_doc and (args.doc or not args.quick):
+        doc = Path(args.doc or "docs/REPRODUCTION.md")
+        if not doc.is_file():
+            print(f"{prog}: error: --doc {doc}: no such file", file=sys.stderr)
+            return EXIT_USAGE
+    try:
+        backend = get_backend(args.backend, args.workers, args.address)
+    except BackendUnavailable as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    try:
+        report = reproduce(args.figure, cfg, out, Path(args.cache), backend, doc=doc,
+                           progress=not args.no_progress)  # fmt: skip
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted; finished simulations are cached in {args.cache}: "
+              "run the same command again to resume", file=sys.stderr)  # fmt: skip
+        return 130
+    finally:
+        backend.close()
+    print(report.table)
+    s = report.stats
+    print(f"\nwall time {report.wall_s:.1f} s; {s.computed} of {s.tasks} simulations computed, "
+          f"{s.cached} cached; wrote {len(report.files)} files to {out}"
+          + (f" and the table in {doc}" if doc else ""))  # fmt: skip
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = _Parser(prog="insect-gait", description=__doc__.splitlines()[0] if __doc__ else "")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
@@ -318,6 +385,7 @@ def build_parser() -> argparse.ArgumentParser:
     _add_converge(sub)
     _add_study(sub)
     _add_numerics(sub)
+    _add_reproduce(sub)
     for ep in entry_points(group="insect_gait.commands"):
         try:
             register = ep.load()

@@ -1,0 +1,85 @@
+"""A paper-like toy system standing in for the simulator in the reproduce tests.
+
+Delta31 follows a one-dimensional map, one step per stride: x <- x + g(x) + c(beta), with
+g(x) = -A (x - 1.9)(x - 2.4)(x - 2.9) (stable points at 1.9 and 2.9 rad, unstable at 2.4) and
+a tilt c(beta) proportional to 0.6575 - beta so that the metachronal pair meets in a fold at beta =
+0.645 and the tripod pair at beta = 0.67: the paper's Fig. 8 by construction. Body mass and
+slope act through an effective beta (heavier or uphill -> lower beta -> tripod), and without
+phase resetting Delta31 does not move. `fake_execute` has the signature of
+`sim_core.tasks.execute_chunk`, so the whole reproduce pipeline runs on it in milliseconds.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from sim_core.tasks import Task
+
+A = 0.4
+# the cubic's local extrema are +-A * 0.25 / (3 sqrt 3); the tilt reaches them 0.0125 either
+# side of 0.6575 (the folds) and saturates at 1.5 times that, so the branches stay near 1.9, 2.9
+EXTREMUM = A * 0.25 / (3 * math.sqrt(3))
+MAX_STEP = 0.3  # rad per stride, far from the band
+
+
+def tilt(beta: float) -> float:
+    return EXTREMUM * float(np.clip((0.6575 - beta) / 0.0125, -1.5, 1.5))
+
+
+def drift(x: float, beta: float) -> float:
+    g = -A * (x - 1.9) * (x - 2.4) * (x - 2.9) + tilt(beta)
+    return float(np.clip(g, -MAX_STEP, MAX_STEP))
+
+
+def effective_beta(task: Task, value: float | None) -> float:
+    spec = task.run_spec()
+    beta, mass, slope = spec.beta, spec.body_mass_g, spec.slope_deg
+    if task.ramp is not None and value is not None:
+        if task.ramp.param == "beta":
+            beta = value
+        elif task.ramp.param == "body_mass_g":
+            mass = value
+        else:
+            slope = value
+    return beta + 0.01 * (3.0 - mass) - 0.0015 * slope
+
+
+def fake_run(task: Task) -> dict[str, Any]:
+    spec = task.run_spec()
+    sched = None if task.ramp is None else task.ramp.schedule()
+    x, t = spec.d31_init, 0.0
+    times: list[float] = []
+    d31: list[float] = []
+    values: list[float] = []
+    ramps_beta = task.ramp is not None and task.ramp.param == "beta"
+    while True:
+        commanded = float(sched(t)) if sched is not None and ramps_beta else spec.beta
+        t += 0.034 / (1.0 - commanded)  # one stride, T = T_sw / (1 - beta)
+        if t > spec.duration_s:
+            break
+        value = None if sched is None else float(sched(t))
+        beta = effective_beta(task, value)
+        if spec.phase_reset:
+            x = (x + drift(x, beta)) % (2 * math.pi)
+        times.append(t)
+        d31.append(x)
+        if value is not None:
+            values.append(value)
+    out: dict[str, Any] = {
+        "d31": d31, "d31_times_s": times, "d31_final": d31[-1] if d31 else None, "gait": "other",
+        "speed_cm_s": 100 * (1 - spec.beta) * 2e-3 / (spec.beta * 0.034), "slip_fraction": 0.0,
+        "error": None, "compute_s": 0.0,
+    }  # fmt: skip
+    if sched is not None:
+        out["value"] = values
+        out["touchdowns_s"] = [[s + 0.01 * leg for s in times] for leg in range(6)]
+        out["liftoffs_s"] = [[s + 0.05 + 0.01 * leg for s in times] for leg in range(6)]
+    return out
+
+
+def fake_execute(tasks: Sequence[Task]) -> list[dict[str, Any]]:
+    return [fake_run(t) for t in tasks]
