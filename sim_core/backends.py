@@ -137,8 +137,7 @@ class DaskBackend:
         self._cluster: Any = None
         if address:
             self._client: Any = Client(address)
-            info = self._client.scheduler_info()
-            self.workers = max(1, sum(w.get("nthreads", 1) for w in info["workers"].values()))
+            self.workers = max(1, sum(self._client.nthreads().values()))
         else:
             self.workers = max(1, workers or os.cpu_count() or 1)
             self._cluster = LocalCluster(

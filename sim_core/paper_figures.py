@@ -62,6 +62,7 @@ class PaperValues:
 
 
 PAPER = PaperValues()
+BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch counts as on it
 
 
 @dataclass(frozen=True)
@@ -213,9 +214,6 @@ def _fig5(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     return [FigureData("fig5", {"runs": runs, "summary": summary}, csv, summary)]
 
 
-BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch counts as on it
-
-
 def _series_rows(tag: str, r: dict[str, Any]) -> list[list[Any]]:
     return [[tag, t, v, d] for t, v, d in zip(r["d31_times_s"], r["value"], r["d31"], strict=True)]
 
@@ -267,7 +265,8 @@ def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
         centre, how = switch[0]["time_s"], "detected metachronal-to-tripod transition"
     else:  # no switch: where the ramp passes the paper's transition
         frac = (PAPER.transition_down - r.start) / (r.turn - r.start)
-        centre, how = r.hold_s + frac * r.ramp_s, "no transition detected: paper's beta 0.645"
+        centre = r.hold_s + frac * r.ramp_s
+        how = f"no transition detected: the paper's beta {PAPER.transition_down}"
     w = cfg.footprint_window_s
     t0, t1 = max(0.0, centre - w), centre + w
     stance = stance_intervals(full["touchdowns_s"], full["liftoffs_s"], t0, t1)

@@ -97,3 +97,17 @@ def test_reproduce_cli_quick_ablation(tmp_path: Path, capsys) -> None:
     assert (out / "ablation.png").is_file() and (out / "reproduce_table.md").is_file()
     assert main(args) == 0
     assert "0 of 2 simulations computed" in capsys.readouterr().out
+
+
+@pytest.mark.skipif(not HAS_DASK, reason="dask.distributed not installed (extra 'cluster')")
+def test_reproduce_cli_on_a_running_dask_scheduler(tmp_path: Path, capsys) -> None:
+    from distributed import LocalCluster
+
+    with LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                      dashboard_address=None) as cluster:  # fmt: skip
+        args = ["reproduce", "--quick", "--figure", "ablation", "--backend", "dask",
+                "--address", cluster.scheduler_address, "--out", str(tmp_path / "out"),
+                "--cache", str(tmp_path / "cache"), "--no-progress"]  # fmt: skip
+        assert main(args) == 0
+    out = capsys.readouterr().out
+    assert "`dask` backend with 1 worker(s)" in out and "2 of 2 simulations computed" in out
