@@ -168,6 +168,12 @@ def _add_calibrate(sub: Any) -> None:
     p.add_argument(
         "--betas", type=float, nargs="+", default=[0.62, 0.655, 0.70], help="betas to score"
     )
+    p.add_argument(
+        "--objective",
+        choices=["closed-loop", "drift"],
+        default="closed-loop",
+        help="closed-loop: settled Delta31 of many runs; drift: open-loop drift signs (cheaper)",
+    )
     p.set_defaults(func=_cmd_calibrate)
 
 
@@ -194,7 +200,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
         args.trials, storage=args.storage, study_name=args.study, seed=args.seed,
         duration_s=args.duration_s, n_init=args.n_init, on_trial=report,
         betas=tuple(args.betas), seed_from=args.seed_from,
-        check_half_dt=not args.no_half_dt_check,
+        check_half_dt=not args.no_half_dt_check, objective_name=args.objective,
     )  # fmt: skip
     best = study.best_trial
     print(f"best trial {best.number}: score {best.value:.3f}")

@@ -114,3 +114,14 @@ def test_numerics_grid_reports_a_failing_configuration_as_failed() -> None:
     assert bad.status == "fails" and bad.error_rad is None and "unstable" in bad.failure
     good = status[("implicitfast", 5e-5)]
     assert good.status != "fails" and good.error_rad is not None and good.wall_per_sim_s > 0
+
+
+def test_drift_score_pushes_toward_the_target_the_short_way() -> None:
+    from sim_core.calibration import DRIFT_GRID, drift_score
+    from sim_core.gait import angle_diff
+
+    # a grid point just below the target must count a positive drift as a push toward it
+    assert float(angle_diff(2.9, 2.7)) > 0 > float(angle_diff(2.9, 3.1))
+    assert DRIFT_GRID.size == 18
+    score = drift_score(ModelParams(), targets={0.62: 2.9}, duration_s=0.6)
+    assert set(score) == {0.62} and -1.0 <= score[0.62] <= 1.0
