@@ -67,6 +67,20 @@ class Report:
     summaries: dict[str, Any] = field(default_factory=dict)
 
 
+VIEWER_BIFURCATION = "bifurcation.json"
+
+
+def viewer_bifurcation(fig8_data: dict[str, Any]) -> dict[str, Any]:
+    """Fig. 8's fixed points as the viewer's panel reads them: (beta, d31, stable/unstable)."""
+    points = [
+        {"beta": float(pt["beta"]), "d31": float(fp["d31"]),
+         "branch": "stable" if fp["stable"] else "unstable"}
+        for pt in fig8_data["points"]
+        for fp in pt["fixed_points"]
+    ]  # fmt: skip
+    return {"source": "insect-gait reproduce: Fig. 8 return-map fixed points", "points": points}
+
+
 def _write_csv(path: Path, header: list[str], rows: list[list[Any]]) -> None:
     with path.open("w", newline="") as f:
         w = csv.writer(f)
@@ -121,6 +135,9 @@ def reproduce(
                 files.append(out / f"{stem}.csv")
             draw(fd.name, fd.data, out / f"{fd.name}.png", PAPER)
             files.append(out / f"{fd.name}.png")
+            if fd.name == "fig8":  # the viewer draws the live (beta, Delta31) point on this
+                (out / VIEWER_BIFURCATION).write_text(json.dumps(viewer_bifurcation(fd.data)))
+                files.append(out / VIEWER_BIFURCATION)
             summaries[fd.name] = fd.summary
     wall = time.perf_counter() - t0
     run = {

@@ -241,6 +241,9 @@ def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path)
     names = {p.name for p in (tmp_path / "fig").iterdir()}
     for stem in ("fig5", "fig6a", "fig6b", "fig7", "fig8", "fig9a", "fig9b", "ablation"):
         assert {f"{stem}.png", f"{stem}.json", f"{stem}.csv"} <= names
+    bif = json.loads((tmp_path / "fig" / "bifurcation.json").read_text())["points"]
+    assert {p["branch"] for p in bif} == {"stable", "unstable"}
+    assert {round(p["beta"], 4) for p in bif} == {round(b, 4) for b in Config().bif_betas}
     text = doc.read_text()
     assert "kept text" in text and "stale" not in text and "| paper states |" in text
     assert count.tasks == report.stats.tasks > 400  # 17 betas x 24 starts and more
