@@ -22,6 +22,7 @@ import numpy as np
 from sim_core.params import ModelParams
 
 GRAVITY = 9.81
+TARSUS_MASS = 2e-6  # kg, a sprung tarsus's own mass: ~7% of a tibia, keeps the spring-mass fast
 
 LEG_NAMES: tuple[str, ...] = ("R1", "L1", "R2", "L2", "R3", "L3")
 """Paper order: legs 1, 2 fore (right, left); 3, 4 middle; 5, 6 hind."""
@@ -148,11 +149,27 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
             armature=p.armature,
         )
         _add_link(tibia, f"{name}_tibia", p.tibia_mass, p.tibia_length, 0.15e-3)
-        foot = tibia.add_geom(
+        tip_body, tip_pos = tibia, [p.tibia_length, 0.0, 0.0]
+        if p.tarsus_stiffness > 0:  # a sprung tarsus: the foot slides along the tibia axis
+            tip_body = tibia.add_body(name=f"{name}_tarsus", pos=tip_pos)
+            tip_body.explicitinertial = True
+            tip_body.mass = TARSUS_MASS
+            tip_body.inertia = [1e-13, 1e-13, 1e-13]
+            tip_body.add_joint(
+                name=f"{name}_tarsus",
+                type=mujoco.mjtJoint.mjJNT_SLIDE,
+                axis=[-1.0, 0.0, 0.0],  # positive = compressed toward the tibia
+                stiffness=p.tarsus_stiffness,
+                damping=p.tarsus_damping,
+                range=[-5e-4, 1.5e-3],
+                limited=mujoco.mjtLimited.mjLIMITED_TRUE,
+            )
+            tip_pos = [0.0, 0.0, 0.0]
+        foot = tip_body.add_geom(
             name=f"{name}_foot",
             type=mujoco.mjtGeom.mjGEOM_SPHERE,
             size=[p.foot_radius, 0, 0],
-            pos=[p.tibia_length, 0.0, 0.0],
+            pos=tip_pos,
             contype=1,
             conaffinity=0,
             condim=3,
@@ -163,11 +180,11 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
         foot.solref = [p.contact_timeconst, p.contact_dampratio]
         foot.solimp = [0.9, 0.95, p.foot_radius * 0.4, 0.5, 2.0]
         foot.priority = 1  # the foot's contact parameters win over the floor's defaults
-        tibia.add_site(  # the foot's centre: its height is the touch sense (controller.py)
+        tip_body.add_site(  # the foot's centre: its height is the touch sense (controller.py)
             name=f"{name}_foot_site",
             type=mujoco.mjtGeom.mjGEOM_SPHERE,
             size=[p.foot_radius * 1.01, 0, 0],
-            pos=[p.tibia_length, 0.0, 0.0],
+            pos=tip_pos,
         )
 
     gains = {"j1": (p.kp_yaw, p.kd_yaw), "j2": (p.kp_lift, p.kd_lift), "j3": (p.kp_lift, p.kd_lift)}
@@ -215,6 +232,12 @@ def _add_link(body: mujoco.MjsBody, name: str, mass: float, length: float, radiu
         mass=0.0,
         rgba=[0.55, 0.4, 0.25, 1.0],
     )
+
+
+def leg_qpos_addresses(model: mujoco.MjModel) -> np.ndarray:
+    """qpos index of each leg joint (paper leg order, joints 1-3), whatever else is in qpos."""
+    return np.array([model.jnt_qposadr[model.joint(f"{n}_{j}").id]
+                     for n in LEG_NAMES for j in ("j1", "j2", "j3")])  # fmt: skip
 
 
 def build_model(params: ModelParams | None = None, slope_deg: float = 0.0) -> mujoco.MjModel:

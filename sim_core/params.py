@@ -120,6 +120,15 @@ class ModelParams(BaseModel):
     )
 
     # --- Ground and touch sensing the paper leaves open -----------------------------------------
+    tarsus_stiffness: float = _ours(
+        0.0,
+        "N/m of a sprung tarsus (slide joint along the tibia at each foot), a physical "
+        "viscoelastic foot-ground spring; 0 = rigid foot, no joint (the default)",
+        ge=0,
+    )
+    tarsus_damping: float = _ours(
+        0.0, "N s/m of the sprung tarsus; used only when tarsus_stiffness > 0", ge=0
+    )
     foot_radius: float = _ours(0.25e-3, "tarsus tip sphere; small against the 2 mm stroke", gt=0)
     friction: float = _ours(1.0, "foot-ground friction; claws and pads grip firmly", gt=0)
     contact_timeconst: float = _ours(

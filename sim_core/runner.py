@@ -24,7 +24,7 @@ from sim_core import gait
 from sim_core.controller import apply_events, initial_targets, plan_block
 from sim_core.cpg import initial_phases
 from sim_core.legs import pack_geometry
-from sim_core.model import build_model, gravity_vector
+from sim_core.model import build_model, gravity_vector, leg_qpos_addresses
 from sim_core.params import ModelParams, nominal_speed, omega, phi_aep
 from sim_core.spec import RunResult, RunSpec, SimulationDiverged
 
@@ -190,7 +190,7 @@ class BatchRunner:
         qpos = np.zeros(self.model.nq)
         qpos[2] = p.stand_height - p.attach_z + p.foot_radius
         qpos[3] = 1.0
-        qpos[7:] = q
+        qpos[leg_qpos_addresses(self.model)] = q
         self.qpos[i] = qpos
         qvel = np.zeros(self.model.nv)
         qvel[0] = nominal_speed(self.beta[i], p.stroke, p.swing_duration)

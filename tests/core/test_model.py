@@ -65,3 +65,25 @@ def test_slope_tilts_gravity_uphill_positive() -> None:
     assert g[0] < 0  # walking +x uphill: gravity pulls back
     m = build_model(ModelParams(), slope_deg=-5.0)
     assert m.opt.gravity[0] > 0
+
+
+def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_body() -> None:
+    from sim_core import RunSpec, simulate
+    from sim_core.model import TARSUS_MASS, leg_qpos_addresses
+
+    p = ModelParams(tarsus_stiffness=200.0, tarsus_damping=0.5)
+    m = build_model(p)
+    slides = [j for j in range(m.njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_SLIDE]
+    assert len(slides) == 6 and m.nq == 7 + 24
+    addr = leg_qpos_addresses(m)
+    assert len(set(addr.tolist())) == 18 and not set(addr.tolist()) & {
+        int(m.jnt_qposadr[j]) for j in slides
+    }
+    # Table I masses plus the six tarsi
+    assert m.body_mass.sum() == pytest.approx(
+        sum(build_model(ModelParams()).body_mass) + 6 * TARSUS_MASS
+    )
+    res = simulate(RunSpec(beta=0.66, d31_init=2.9, duration_s=0.5), p)
+    assert not res.diverged
+    assert res.body_pos_m[-1, 2] > p.stand_height / 2  # standing, on compressed tarsi
+    assert res.body_pos_m[-1, 0] > 0.003  # and walking forward
