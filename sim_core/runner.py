@@ -72,6 +72,7 @@ class BatchRunner:
         self.specs = list(specs)
         n = self.n = len(specs)
         self.model = build_model(self.params)
+        self._leg_qpos = leg_qpos_addresses(self.model)  # fixed by the model; used per reset
         self.batch = mujoco.batch.Batch(self.model, nsim=n, nthread=nthread if n > 1 else 1)
         self.geo = pack_geometry(self.params)
         p = self.params
@@ -190,7 +191,7 @@ class BatchRunner:
         qpos = np.zeros(self.model.nq)
         qpos[2] = p.stand_height - p.attach_z + p.foot_radius
         qpos[3] = 1.0
-        qpos[leg_qpos_addresses(self.model)] = q
+        qpos[self._leg_qpos] = q
         self.qpos[i] = qpos
         qvel = np.zeros(self.model.nv)
         qvel[0] = nominal_speed(self.beta[i], p.stroke, p.swing_duration)
