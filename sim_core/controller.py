@@ -29,7 +29,7 @@ import numpy as np
 from numba import njit
 
 from sim_core.cpg import advance_phases
-from sim_core.legs import inverse_kinematics, stance_point, swing_point
+from sim_core.legs import G_AEP, G_LPZ, inverse_kinematics, stance_point, swing_point
 
 TWO_PI = 2.0 * math.pi
 
@@ -156,6 +156,8 @@ def apply_events(
                     ph = p0 + (p1 - p0) * (frac / nsub)
                     ph_w = ph - TWO_PI if ph >= TWO_PI else ph
                     swing_point(geo, leg, ph_w, phi_aep[s], tip)
+                    line_z = geo[G_AEP + 3 * leg + 2]
+                    tip[2] = line_z + geo[G_LPZ] * (tip[2] - line_z)
                     for m in range(3):
                         lp[s, leg, m] = tip[m]
                     stance[s, leg] = 1

@@ -35,7 +35,8 @@ G_LF = 61
 G_LT = 62
 G_HSW = 63
 G_SHAPE = 64
-G_SIZE = 65
+G_LPZ = 65  # share of the landing height kept by the stance line
+G_SIZE = 66
 
 
 def stance_line(p: ModelParams) -> tuple[np.ndarray, np.ndarray]:
@@ -60,6 +61,7 @@ def pack_geometry(p: ModelParams) -> np.ndarray:
     g[G_LT] = p.tibia_length
     g[G_HSW] = p.swing_height
     g[G_SHAPE] = p.swing_shape
+    g[G_LPZ] = p.landing_height_kept
     return g
 
 

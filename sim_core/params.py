@@ -104,6 +104,15 @@ class ModelParams(BaseModel):
         le=5.0,
     )
 
+    landing_height_kept: float = _ours(
+        0.0,
+        "share of the landing point's height above the AEP-PEP line that the stance line "
+        "keeps: 0 = stance runs on the line from LP's fore-aft place (Fig. 3 draws LP on it), "
+        "1 = an early landing stays high; 0 lets sag drive the resets (REPRODUCTION.md)",
+        ge=0,
+        le=1,
+    )
+
     # --- Joint control (PD) the paper leaves open -------------------------------------------------
     kp_yaw: float = _ours(5e-3, "joint 1 stiffness, N m/rad: ~0.01 rad sag under stance load", gt=0)
     kp_lift: float = _ours(5e-3, "joints 2 and 3 stiffness, N m/rad: ~0.1 mm sag under load", gt=0)
