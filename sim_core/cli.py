@@ -302,13 +302,14 @@ def _cmd_numerics(args: argparse.Namespace) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     if args.quick:
-        points, ref = grid_study(dts=(1e-3, 2e-4, 1e-4, 5e-5), inits=(3.0,), duration_s=2.0,
-                                 progress=print)  # fmt: skip
+        points, info = grid_study(dts=(1e-3, 2e-4, 1e-4, 5e-5), inits=(1.0,), duration_s=2.0,
+                                  progress=print, with_batch=False,
+                                  check_reference=False)  # fmt: skip
     else:
-        points, ref = grid_study(progress=print)
+        points, info = grid_study(progress=print)
     plot_grid(points, out / "numerics_pareto.png", out / "numerics_map.png")
-    rows = [p.__dict__ | {"status": p.status} for p in points]
-    (out / "numerics.json").write_text(json.dumps({"reference": ref, "grid": rows}, indent=1))
+    rows = [p.__dict__ | {"status": p.status, "label": p.label} for p in points]
+    (out / "numerics.json").write_text(json.dumps(info | {"grid": rows}, indent=1))
     print(f"wrote {out / 'numerics_pareto.png'}, {out / 'numerics_map.png'}, numerics.json")
     return 0
 

@@ -122,6 +122,13 @@ class GridPoint:
     error_rad: float | None  # worst |Delta31 outcome - reference| over the runs; None if failed
     same_gaits: bool
     failure: str | None  # the guard's reason when any run failed
+    variant: str = ""  # "" = the defaults; "step touchdown" = no touchdown interpolation
+    batch_sim_s_per_wall_s: float | None = None  # BATCH_N simulations on every core
+    max_slip: float | None = None  # worst median foot slip per stance, share of the stroke
+
+    @property
+    def label(self) -> str:
+        return f"{self.integrator} ({self.variant})" if self.variant else self.integrator
 
     @property
     def status(self) -> str:
@@ -133,21 +140,29 @@ class GridPoint:
 
 
 REFERENCE: tuple[Integrator, float] = ("rk4", 2e-5)  # the paper's integrator and step
+REFERENCE_CHECK_DT = 1e-5  # the reference is itself checked against RK4 at this step
+BATCH_N = 16  # simulations in the throughput measurement (1 s each, every core)
+# (label, integrator, parameter overrides): the touchdown-timing variant runs as its own series
+STEP_TOUCHDOWN = ("step touchdown", "implicitfast", {"touchdown_interpolation": False})
 
 
 def grid_study(
     integrators: Sequence[Integrator] = ("euler", "implicit", "implicitfast", "rk4"),
-    dts: Sequence[float] = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2.5e-5),
+    dts: Sequence[float] = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2.5e-5, 1e-5),
     betas: Sequence[float] = (0.62, 0.70),
-    inits: Sequence[float] = (2.75, 3.53),
+    inits: Sequence[float] = (1.0, 1.8, 2.75),
     duration_s: float = 3.0,
     params: ModelParams | None = None,
     progress: Callable[[str], None] | None = None,
-) -> tuple[list[GridPoint], list[float | None]]:
+    with_step_touchdown: bool = True,
+    with_batch: bool = True,
+    check_reference: bool = True,
+) -> tuple[list[GridPoint], dict[str, object]]:
     """Cost and outcome error of each configuration against RK4 at 2e-5 s (the paper's).
 
-    Outcomes are the final Delta31 of runs from the paper's band of initial values; the
-    comparison is run by run. Returns the grid and the reference outcomes.
+    Outcomes are the final Delta31 of runs from initial values below, on and above the model's
+    branch; the comparison is run by run. Returns the grid and a dict with the reference
+    outcomes and, with check_reference, how far RK4 at 1e-5 s is from them.
     """
     import time
 
@@ -158,31 +173,63 @@ def grid_study(
                         dt_s=dt, control_dt_s=max(p.control_dt, dt))
                 for b in betas for x in inits]  # fmt: skip
 
+    def worst_error(finals: Sequence[float | None], against: Sequence[float | None]) -> float:
+        return max(
+            abs(float(angle_diff(a, b))) if a is not None and b is not None else math.pi
+            for a, b in zip(finals, against, strict=True)
+        )
+
     ref = [r.d31_final for r in simulate_batch(specs(*REFERENCE), p)]
     ref_gaits = [classify_gait(r) for r in ref]
+    info: dict[str, object] = {"reference": ref, "reference_config": list(REFERENCE)}
+    if check_reference:
+        finer = simulate_batch(specs(REFERENCE[0], REFERENCE_CHECK_DT), p)
+        if any(r.diverged for r in finer):
+            info["reference_check"] = "rk4 at 1e-5 s failed"
+        else:
+            info["reference_check_error_rad"] = worst_error([r.d31_final for r in finer], ref)
+        if progress is not None:
+            got = info.get("reference_check_error_rad", info.get("reference_check"))
+            progress(f"reference check (rk4 1e-5 vs 2e-5): {got}")
+    variants: list[tuple[str, Integrator, dict[str, object]]] = [("", i, {}) for i in integrators]
+    if with_step_touchdown:
+        variants.append(STEP_TOUCHDOWN)  # type: ignore[arg-type]
     out: list[GridPoint] = []
-    for integ in integrators:
+    for label, integ, over in variants:
+        pv = p.model_copy(update=over) if over else p
         for dt in dts:
             t0 = time.perf_counter()
-            runs = simulate_batch(specs(integ, dt), p, nthread=1)
+            runs = simulate_batch(specs(integ, dt), pv, nthread=1)
             wall = (time.perf_counter() - t0) / (duration_s * len(runs))
             failed = [r.error for r in runs if r.diverged]
             if failed:
-                point = GridPoint(integ, dt, wall, None, False, _failure_kind(failed[0]))
+                point = GridPoint(integ, dt, wall, None, False, _failure_kind(failed[0]), label)
             else:
-                errs = [
-                    abs(float(angle_diff(r.d31_final, f)))
-                    if r.d31_final is not None and f is not None
-                    else math.pi
-                    for r, f in zip(runs, ref, strict=True)
-                ]
-                gaits = [classify_gait(r.d31_final) for r in runs]
-                point = GridPoint(integ, dt, wall, max(errs), gaits == ref_gaits, None)
+                finals = [r.d31_final for r in runs]
+                gaits = [classify_gait(f) for f in finals]
+                slips = [r.slip_fraction for r in runs if r.slip_fraction is not None]
+                thr = None
+                if with_batch:
+                    bspecs = [RunSpec(beta=betas[k % len(betas)], d31_init=1.0 + 0.1 * k,
+                                      duration_s=1.0, integrator=integ, dt_s=dt,
+                                      control_dt_s=max(p.control_dt, dt))
+                              for k in range(BATCH_N)]  # fmt: skip
+                    t1 = time.perf_counter()
+                    simulate_batch(bspecs, pv, nthread=0)
+                    thr = BATCH_N / (time.perf_counter() - t1)
+                point = GridPoint(integ, dt, wall, worst_error(finals, ref), gaits == ref_gaits,
+                                  None, label, thr, max(slips) if slips else None)  # fmt: skip
             out.append(point)
             if progress is not None:
-                progress(f"{integ:12s} dt {dt:8.2g} s: {point.status:10s} "
-                         f"{wall:7.3f} wall s per sim s")  # fmt: skip
-    return out, ref
+                batch = (
+                    ""
+                    if point.batch_sim_s_per_wall_s is None
+                    else (f", batch {point.batch_sim_s_per_wall_s:6.2f} sim s per wall s")
+                )
+                err = "" if point.error_rad is None else f", error {point.error_rad:.3f} rad"
+                progress(f"{point.label:30s} dt {dt:8.2g} s: {point.status:10s} "
+                         f"{wall:7.3f} wall s per sim s{batch}{err}")  # fmt: skip
+    return out, info
 
 
 def _failure_kind(message: str | None) -> str:
@@ -202,11 +249,12 @@ def plot_grid(points: Sequence[GridPoint], pareto_path: Path, map_path: Path) ->
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(7, 4.5))
-    markers = {"euler": "o", "implicit": "s", "implicitfast": "^", "rk4": "D"}
+    markers = {"euler": "o", "implicit": "s", "implicitfast": "^", "rk4": "D",
+               f"implicitfast ({STEP_TOUCHDOWN[0]})": "v"}  # fmt: skip
     for pt in points:
         y = pt.error_rad if pt.error_rad is not None else math.pi
         color = {"ok": "tab:green", "inaccurate": "tab:orange", "fails": "tab:red"}[pt.status]
-        ax.scatter(pt.wall_per_sim_s, max(y, 1e-4), marker=markers.get(pt.integrator, "o"),
+        ax.scatter(pt.wall_per_sim_s, max(y, 1e-4), marker=markers.get(pt.label, "o"),
                    color=color, s=40)  # fmt: skip
         ax.annotate(f"{pt.dt_s:g}", (pt.wall_per_sim_s, max(y, 1e-4)), fontsize=6,
                     xytext=(3, 3), textcoords="offset points")  # fmt: skip
@@ -226,12 +274,12 @@ def plot_grid(points: Sequence[GridPoint], pareto_path: Path, map_path: Path) ->
     fig.savefig(pareto_path, dpi=120)
     plt.close(fig)
 
-    integs = sorted({p.integrator for p in points})
+    integs = sorted({p.label for p in points})
     dts = sorted({p.dt_s for p in points})
     code = {"ok": 0, "inaccurate": 1, "fails": 2}
     grid = np.full((len(integs), len(dts)), np.nan)
     for pt in points:
-        grid[integs.index(pt.integrator), dts.index(pt.dt_s)] = code[pt.status]
+        grid[integs.index(pt.label), dts.index(pt.dt_s)] = code[pt.status]
     fig, ax = plt.subplots(figsize=(7, 2.8))
     cmap = matplotlib.colors.ListedColormap(["tab:green", "tab:orange", "tab:red"])
     ax.imshow(grid, cmap=cmap, vmin=0, vmax=2, aspect="auto")
