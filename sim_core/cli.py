@@ -290,7 +290,9 @@ def _cmd_study(args: argparse.Namespace) -> int:
 def _add_numerics(sub: Any) -> None:
     p = sub.add_parser("numerics", help="integrator x timestep grid against RK4 at 2e-5 s")
     p.add_argument("--quick", action="store_true", help="a coarse grid, short runs")
-    p.add_argument("--out", default="docs/figures", help="folder for the charts")
+    p.add_argument(
+        "--out", default=None, help="folder (default docs/figures; --quick: out/numerics-quick)"
+    )
     p.set_defaults(func=_cmd_numerics)
 
 
@@ -299,7 +301,8 @@ def _cmd_numerics(args: argparse.Namespace) -> int:
 
     from sim_core.numerics import grid_study, plot_grid
 
-    out = Path(args.out)
+    # a quick grid never overwrites the committed full one
+    out = Path(args.out or ("out/numerics-quick" if args.quick else "docs/figures"))
     out.mkdir(parents=True, exist_ok=True)
     if args.quick:
         points, info = grid_study(dts=(1e-3, 2e-4, 1e-4, 5e-5), inits=(1.0,), duration_s=2.0,

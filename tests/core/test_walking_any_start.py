@@ -1,0 +1,28 @@
+"""The sim_core acceptance "it walks from any initial Delta31", measured (slow: ~75 s on 2 cores).
+
+.venv/bin/pytest -m slow tests/core/test_walking_any_start.py
+"""
+
+from __future__ import annotations
+
+import math
+
+import pytest
+
+from sim_core.params import ModelParams, nominal_speed
+from sim_core.runner import simulate_batch
+from sim_core.spec import RunSpec
+
+STARTS = [2 * math.pi * k / 12 + 0.1 for k in range(12)]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("beta", [0.62, 0.70])
+def test_walks_at_eq2_speed_from_every_start(beta: float) -> None:
+    p = ModelParams()
+    v = nominal_speed(beta, p.stroke, p.swing_duration) * 100.0
+    runs = simulate_batch([RunSpec(beta=beta, d31_init=x, duration_s=8.0) for x in STARTS], p)
+    for x, r in zip(STARTS, runs, strict=True):
+        assert not r.diverged, (x, r.error)
+        assert r.speed_cm_s is not None and abs(r.speed_cm_s - v) / v < 0.10, (x, r.speed_cm_s, v)
+        assert r.slip_fraction is not None and r.slip_fraction < 0.10, (x, r.slip_fraction)
