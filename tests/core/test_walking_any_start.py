@@ -1,4 +1,4 @@
-"""The sim_core acceptance "it walks from any initial Delta31", measured (slow: ~75 s on 2 cores).
+"""The sim_core acceptance "it walks from any initial Delta31", measured (slow: ~45 s on 2 cores).
 
 .venv/bin/pytest -m slow tests/core/test_walking_any_start.py
 """
