@@ -23,6 +23,7 @@ import numpy as np
 from sim_core import gait
 from sim_core.controller import apply_events, initial_targets, plan_block
 from sim_core.cpg import initial_phases
+from sim_core.guard import FLIPPED, NON_FINITE, WARNED, guard_codes
 from sim_core.legs import pack_geometry
 from sim_core.model import build_model, gravity_vector, leg_qpos_addresses
 from sim_core.params import ModelParams, nominal_speed, omega, phi_aep
@@ -99,6 +100,8 @@ class BatchRunner:
         self.feet = np.zeros((n, self.nsub, self.model.nsite, 3))
         self.prev_height = np.zeros((n, 6))
         self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
+        self._guard_codes = np.zeros(n, dtype=np.int64)
+        self._guard_up = np.zeros(n)
         self.qpos = self.batch.bind("qpos")
         self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
         self.ctrl = self.batch.bind("ctrl")  # desired joint velocities, twice
@@ -297,32 +300,36 @@ class BatchRunner:
                 self.slips[s].append(slip / self.params.stroke)
 
     def _guard(self, ids: np.ndarray) -> None:
-        q = self.qpos[ids]
-        v = self.qvel[ids]
-        finite = np.isfinite(q).all(axis=1) & np.isfinite(v).all(axis=1)
-        quat = q[:, 3:7]
-        up_z = 1.0 - 2.0 * (quat[:, 1] ** 2 + quat[:, 2] ** 2)
-        low = q[:, 2] < self.params.body_thickness / 2
-        flipped = up_z < MIN_UP_COS
-        warned = (self.batch.warning[ids, :, 1] > self._warn_seen[ids]).any(axis=1)
-        self._warn_seen[ids] = self.batch.warning[ids, :, 1]
-        bad = ~finite | low | flipped | warned
+        codes = self._guard_codes[: ids.size]
+        up_z = self._guard_up[: ids.size]
+        guard_codes(
+            ids,
+            self.qpos,
+            self.qvel,
+            self.batch.warning,
+            self._warn_seen,
+            self.params.body_thickness / 2,
+            MIN_UP_COS,
+            codes,
+            up_z,
+        )
         done = self.time >= self.duration[ids] - 1e-12
         self.active[ids[done]] = False
-        for r in np.flatnonzero(bad):
+        for r in np.flatnonzero(codes):
             s = int(ids[r])
             if self.errors[s] is not None:
                 continue
-            if warned[r]:
+            code = codes[r]
+            if code == WARNED:
                 kinds = self.batch.warning[s, :, 1] > 0
                 names = [mujoco.mjtWarning(k).name for k in np.flatnonzero(kinds)]
                 why = "MuJoCo warning " + ", ".join(names) + " (unstable: state was reset)"
-            elif not finite[r]:
+            elif code == NON_FINITE:
                 why = "non-finite state"
-            elif flipped[r]:
+            elif code == FLIPPED:
                 why = f"body flipped (up-axis z {up_z[r]:.2f} < {MIN_UP_COS})"
             else:
-                why = f"body on the floor (height {q[r, 2] * 1e3:.2f} mm)"
+                why = f"body on the floor (height {self.qpos[s, 2] * 1e3:.2f} mm)"
             self._fail(s, why)
 
     def _fail(self, s: int, why: str) -> None:

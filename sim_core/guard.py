@@ -1,0 +1,60 @@
+"""The divergence guard's per-control-period test, compiled: it runs after every control period
+of every simulation, and as numpy ops it cost ~21 us per period for one simulation (~8% of a
+single run's wall time); compiled it is a few microseconds."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+OK = 0
+WARNED = 1  # a MuJoCo instability warning: MuJoCo has reset the state, so it is garbage
+NON_FINITE = 2
+FLIPPED = 3
+ON_FLOOR = 4
+
+
+@njit(cache=True)
+def guard_codes(
+    ids: np.ndarray,
+    qpos: np.ndarray,
+    qvel: np.ndarray,
+    warnings: np.ndarray,
+    warn_seen: np.ndarray,
+    min_height: float,
+    min_up_cos: float,
+    codes: np.ndarray,
+    up_z: np.ndarray,
+) -> None:
+    """codes[r] and up_z[r] for simulation ids[r]; warn_seen is updated to the new counts.
+
+    Priority when several hold: warning, non-finite, flipped, on the floor.
+    """
+    for r in range(ids.size):
+        s = ids[r]
+        warned = False
+        for k in range(warnings.shape[1]):
+            if warnings[s, k, 1] > warn_seen[s, k]:
+                warned = True
+            warn_seen[s, k] = warnings[s, k, 1]
+        finite = True
+        for j in range(qpos.shape[1]):
+            if not math.isfinite(qpos[s, j]):
+                finite = False
+        for j in range(qvel.shape[1]):
+            if not math.isfinite(qvel[s, j]):
+                finite = False
+        z = 1.0 - 2.0 * (qpos[s, 4] ** 2 + qpos[s, 5] ** 2)
+        up_z[r] = z
+        if warned:
+            codes[r] = WARNED
+        elif not finite:
+            codes[r] = NON_FINITE
+        elif z < min_up_cos:
+            codes[r] = FLIPPED
+        elif qpos[s, 2] < min_height:
+            codes[r] = ON_FLOOR
+        else:
+            codes[r] = OK
