@@ -4,8 +4,6 @@ single run's wall time); compiled it is a few microseconds."""
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
@@ -14,6 +12,12 @@ WARNED = 1  # a MuJoCo instability warning: MuJoCo has reset the state, so it is
 NON_FINITE = 2
 FLIPPED = 3
 ON_FLOOR = 4
+
+
+@njit(cache=True)
+def up_axis_z(quat: np.ndarray) -> float:
+    """z component of the body's up axis for a unit quaternion (w, x, y, z)."""
+    return 1.0 - 2.0 * (quat[1] ** 2 + quat[2] ** 2)
 
 
 @njit(cache=True)
@@ -26,9 +30,8 @@ def guard_codes(
     min_height: float,
     min_up_cos: float,
     codes: np.ndarray,
-    up_z: np.ndarray,
 ) -> None:
-    """codes[r] and up_z[r] for simulation ids[r]; warn_seen is updated to the new counts.
+    """codes[r] for simulation ids[r]; warn_seen is updated to the new counts.
 
     Priority when several hold: warning, non-finite, flipped, on the floor.
     """
@@ -39,20 +42,12 @@ def guard_codes(
             if warnings[s, k, 1] > warn_seen[s, k]:
                 warned = True
             warn_seen[s, k] = warnings[s, k, 1]
-        finite = True
-        for j in range(qpos.shape[1]):
-            if not math.isfinite(qpos[s, j]):
-                finite = False
-        for j in range(qvel.shape[1]):
-            if not math.isfinite(qvel[s, j]):
-                finite = False
-        z = 1.0 - 2.0 * (qpos[s, 4] ** 2 + qpos[s, 5] ** 2)
-        up_z[r] = z
+        finite = np.isfinite(qpos[s]).all() and np.isfinite(qvel[s]).all()
         if warned:
             codes[r] = WARNED
         elif not finite:
             codes[r] = NON_FINITE
-        elif z < min_up_cos:
+        elif up_axis_z(qpos[s, 3:7]) < min_up_cos:
             codes[r] = FLIPPED
         elif qpos[s, 2] < min_height:
             codes[r] = ON_FLOOR

@@ -182,7 +182,6 @@ def grid_study(
         )
 
     ref = [r.d31_final for r in simulate_batch(specs(*REFERENCE), p)]
-    ref_gaits = [classify_gait(r) for r in ref]
     info: dict[str, object] = {"reference": ref, "reference_config": list(REFERENCE)}
     if check_reference:
         finer = simulate_batch(specs(REFERENCE[0], REFERENCE_CHECK_DT), p)
@@ -208,7 +207,6 @@ def grid_study(
                 point = GridPoint(integ, dt, wall, None, False, _failure_kind(failed[0]), label)
             else:
                 finals = [r.d31_final for r in runs]
-                gaits = [classify_gait(f) for f in finals]
                 slips = [r.slip_fraction for r in runs if r.slip_fraction is not None]
                 thr = None
                 if with_batch:
@@ -220,7 +218,7 @@ def grid_study(
                     simulate_batch(bspecs, pv, nthread=0)
                     thr = BATCH_N / (time.perf_counter() - t1)
                 point = GridPoint(integ, dt, wall, worst_error(finals, ref),
-                                  same_gaits(finals, gaits, ref, ref_gaits), None, label, thr,
+                                  same_gaits(finals, ref), None, label, thr,
                                   max(slips) if slips else None, tuple(finals))  # fmt: skip
             out.append(point)
             if progress is not None:
@@ -236,19 +234,15 @@ def grid_study(
 
 
 def same_gaits(
-    finals: Sequence[float | None],
-    gaits: Sequence[str | None],
-    ref: Sequence[float | None],
-    ref_gaits: Sequence[str | None],
-    tol: float = TOLERANCE_RAD,
+    finals: Sequence[float | None], ref: Sequence[float | None], tol: float = TOLERANCE_RAD
 ) -> bool:
     """Every run ends in the reference's gait; two outcomes within `tol` of each other count as
     the same gait even when they straddle the classifier's boundary (2.543 vs 2.526 is one
     state, not two gaits)."""
-    for f, g, r, rg in zip(finals, gaits, ref, ref_gaits, strict=True):
-        if g == rg:
-            continue
-        if f is None or r is None or abs(float(angle_diff(f, r))) > tol:
+    for f, r in zip(finals, ref, strict=True):
+        if f is None or r is None:
+            return False
+        if classify_gait(f) != classify_gait(r) and abs(float(angle_diff(f, r))) > tol:
             return False
     return True
 

@@ -23,7 +23,7 @@ import numpy as np
 from sim_core import gait
 from sim_core.controller import apply_events, initial_targets, plan_block
 from sim_core.cpg import initial_phases
-from sim_core.guard import FLIPPED, NON_FINITE, WARNED, guard_codes
+from sim_core.guard import FLIPPED, NON_FINITE, WARNED, guard_codes, up_axis_z
 from sim_core.legs import pack_geometry
 from sim_core.model import build_model, gravity_vector, leg_qpos_addresses
 from sim_core.params import ModelParams, nominal_speed, omega, phi_aep
@@ -101,7 +101,6 @@ class BatchRunner:
         self.prev_height = np.zeros((n, 6))
         self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
         self._guard_codes = np.zeros(n, dtype=np.int64)
-        self._guard_up = np.zeros(n)
         self.qpos = self.batch.bind("qpos")
         self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
         self.ctrl = self.batch.bind("ctrl")  # desired joint velocities, twice
@@ -301,7 +300,6 @@ class BatchRunner:
 
     def _guard(self, ids: np.ndarray) -> None:
         codes = self._guard_codes[: ids.size]
-        up_z = self._guard_up[: ids.size]
         guard_codes(
             ids,
             self.qpos,
@@ -311,7 +309,6 @@ class BatchRunner:
             self.params.body_thickness / 2,
             MIN_UP_COS,
             codes,
-            up_z,
         )
         done = self.time >= self.duration[ids] - 1e-12
         self.active[ids[done]] = False
@@ -327,7 +324,8 @@ class BatchRunner:
             elif code == NON_FINITE:
                 why = "non-finite state"
             elif code == FLIPPED:
-                why = f"body flipped (up-axis z {up_z[r]:.2f} < {MIN_UP_COS})"
+                up_z = up_axis_z(self.qpos[s, 3:7])
+                why = f"body flipped (up-axis z {up_z:.2f} < {MIN_UP_COS})"
             else:
                 why = f"body on the floor (height {self.qpos[s, 2] * 1e3:.2f} mm)"
             self._fail(s, why)
