@@ -121,6 +121,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
     )
 
     attach = attachment_points(p)
+    tarsus_axes = tarsus_axes_in_tibia(p)
     for i, name in enumerate(LEG_NAMES):
         side = LEG_SIDE[i]
         yaw = -math.pi / 2 if side < 0 else math.pi / 2  # local x points outward
@@ -158,7 +159,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
             tip_body.add_joint(
                 name=f"{name}_tarsus",
                 type=mujoco.mjtJoint.mjJNT_SLIDE,
-                axis=[-1.0, 0.0, 0.0],  # positive = compressed toward the tibia
+                axis=tarsus_axes[i].tolist(),  # positive = compressed (the foot moves up)
                 stiffness=p.tarsus_stiffness,
                 damping=p.tarsus_damping,
                 range=[-5e-4, 1.5e-3],
@@ -214,6 +215,28 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0) -> mujoco.MjSpec:
             ff.gaintype = mujoco.mjtGain.mjGAIN_FIXED
             ff.gainprm[0] = kd
     return spec
+
+
+def tarsus_axes_in_tibia(p: ModelParams) -> np.ndarray:
+    """(6, 3) slide axes of the sprung tarsi in their tibia frames, pointing 'compressed'.
+
+    'tibia': toward the knee, along the tibia. 'vertical': the body's up direction when the
+    leg stands at mid-stance, so the spring carries the load the way a viscoelastic ground
+    does (joint 1 turns about the vertical, so only the tibia's pitch q2 + q3 matters).
+    """
+    if p.tarsus_axis == "tibia":
+        return np.tile([-1.0, 0.0, 0.0], (6, 1))
+    from sim_core.legs import inverse_kinematics, pack_geometry, stance_line  # legs imports us
+
+    geo = pack_geometry(p)
+    aep, pep = stance_line(p)
+    axes = np.zeros((6, 3))
+    q = np.zeros(3)
+    for leg in range(6):
+        inverse_kinematics(geo, leg, (aep[leg] + pep[leg]) / 2, q)
+        pitch = q[1] + q[2]  # tibia above the horizontal, rotation about -y
+        axes[leg] = [math.sin(pitch), 0.0, math.cos(pitch)]
+    return axes
 
 
 def _add_link(body: mujoco.MjsBody, name: str, mass: float, length: float, radius: float) -> None:

@@ -138,6 +138,12 @@ class ModelParams(BaseModel):
     tarsus_damping: float = _ours(
         0.0, "N s/m of the sprung tarsus; used only when tarsus_stiffness > 0", ge=0
     )
+    tarsus_axis: Literal["tibia", "vertical"] = Field(
+        "vertical",
+        description="[invented] direction the sprung tarsus slides: 'vertical' (the body's "
+        "vertical at mid-stance, as the paper's viscoelastic ground pushes) or 'tibia' (along "
+        "the tibia; its sideways component needs friction and lets stance feet slip)",
+    )
     foot_radius: float = _ours(0.25e-3, "tarsus tip sphere; small against the 2 mm stroke", gt=0)
     friction: float = _ours(1.0, "foot-ground friction; claws and pads grip firmly", gt=0)
     contact_timeconst: float = _ours(

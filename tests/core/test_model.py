@@ -87,3 +87,37 @@ def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_
     assert not res.diverged
     assert res.body_pos_m[-1, 2] > p.stand_height / 2  # standing, on compressed tarsi
     assert res.body_pos_m[-1, 0] > 0.003  # and walking forward
+
+
+@pytest.mark.parametrize("axis", ["vertical", "tibia"])
+def test_compressing_a_tarsus_moves_its_foot_up_and_vertical_means_straight_up(axis: str) -> None:
+    from sim_core.model import LEG_NAMES
+
+    p = ModelParams(tarsus_stiffness=15.0, tarsus_damping=0.04, tarsus_axis=axis)
+    m = build_model(p)
+    d = mujoco.MjData(m)
+    runner_qpos = np.zeros(m.nq)
+    runner_qpos[3] = 1.0
+    # the mid-stance posture the vertical axis is defined at
+    from sim_core.legs import inverse_kinematics, pack_geometry, stance_line
+
+    geo = pack_geometry(p)
+    aep, pep = stance_line(p)
+    q = np.zeros(3)
+    for leg, name in enumerate(LEG_NAMES):
+        inverse_kinematics(geo, leg, (aep[leg] + pep[leg]) / 2, q)
+        for k, j in enumerate(("j1", "j2", "j3")):
+            runner_qpos[m.jnt_qposadr[m.joint(f"{name}_{j}").id]] = q[k]
+    d.qpos[:] = runner_qpos
+    mujoco.mj_kinematics(m, d)
+    before = d.site_xpos.copy()
+    for name in LEG_NAMES:
+        d.qpos[m.jnt_qposadr[m.joint(f"{name}_tarsus").id]] = 1e-4
+    mujoco.mj_kinematics(m, d)
+    moved = (d.site_xpos - before)[:6]
+    assert np.all(moved[:, 2] > 0.4e-4)  # compression lifts every foot
+    if axis == "vertical":
+        np.testing.assert_allclose(moved[:, 2], 1e-4, rtol=1e-3)
+        assert np.abs(moved[:, :2]).max() < 1e-7
+    else:  # along the tibia: part of the travel is sideways
+        assert np.abs(moved[:, 1]).min() > 0.3e-4

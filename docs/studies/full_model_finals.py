@@ -1,0 +1,45 @@
+"""Fourth study (docs/REPRODUCTION.md): where 12 starts of the full model end, per beta.
+
+    python docs/studies/full_model_finals.py '{"tarsus_stiffness": 15, "tarsus_damping": 0.04,
+        "swing_height": 0.001}' --betas 0.62 0.70 --duration-s 5 [--dt-s 2.5e-5]
+
+Prints the final Delta31 of each start, the median slip (share of the stroke) and the median
+speed. A scratch study tool kept so that the numbers in the docs can be re-made; the product's
+own commands (`insect-gait study`, `reproduce`) are the supported path.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import numpy as np
+
+from sim_core import ModelParams, RunSpec, simulate_batch
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser()
+    ap.add_argument("overrides", nargs="?", default="{}", help="ModelParams fields as JSON")
+    ap.add_argument("--betas", type=float, nargs="+", default=[0.62, 0.70])
+    ap.add_argument("--duration-s", type=float, default=5.0)
+    ap.add_argument("--dt-s", type=float, default=None)
+    ap.add_argument("--starts", type=int, default=12)
+    a = ap.parse_args()
+    params = ModelParams().model_copy(update=json.loads(a.overrides))
+    n = a.starts
+    starts = np.linspace(0, 2 * np.pi, n, endpoint=False) + np.pi / n
+    specs = [RunSpec(beta=b, d31_init=float(x), duration_s=a.duration_s, dt_s=a.dt_s)
+             for b in a.betas for x in starts]  # fmt: skip
+    results = simulate_batch(specs, params)
+    for b in a.betas:
+        runs = [r for r in results if r.spec.beta == b]
+        ok = [r for r in runs if r.error is None]
+        finals = [round(float(r.d31[-1]), 2) if r.error is None else "failed" for r in runs]
+        slip = np.median([r.slip_fraction for r in ok if r.slip_fraction is not None])
+        speed = np.median([r.speed_cm_s for r in ok if r.speed_cm_s is not None])
+        print(f"beta {b}: finals {finals}  slip {slip:.3f}  speed {speed:.2f} cm/s")
+
+
+if __name__ == "__main__":
+    main()
