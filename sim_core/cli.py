@@ -103,6 +103,8 @@ def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
         print(f"duty factor measured {s['duty_factor_measured']:.3f} (commanded {spec.beta:.3f})")
     if s["slip_fraction"] is not None:
         print(f"foot slip per stance {100 * s['slip_fraction']:.1f}% of the stroke")
+    if s["landing_swing_share"] is not None:
+        print(f"feet land at {s['landing_swing_share']:.2f} of their swing (1 = at the AEP)")
 
 
 def _add_bench(sub: Any) -> None:

@@ -86,3 +86,17 @@ def forward_speed(times: np.ndarray, pos: np.ndarray, fraction: float = 0.5) -> 
     if dt <= 0:
         return None
     return float((pos[-1, 0] - pos[i0, 0]) / dt)
+
+
+def landing_share(
+    times: tuple[np.ndarray, ...], phases: tuple[np.ndarray, ...], phi_aep: float, after_s: float
+) -> float | None:
+    """Median share of the swing done when a foot lands, over every leg's touchdowns after
+    `after_s`: 1 - (phi_AEP - phi_touchdown) / phi_AEP, so 1 is at the AEP and 0.5 is where
+    the scuff window closes (at the default `scuff_fraction`). Phase resets feed on how early
+    feet land; an attractor reached with feet landing in mid-swing is shaped by the swing
+    curve and the scuff rule, not by walking (docs/REPRODUCTION.md, fourth study)."""
+    ph = np.concatenate([p[t > after_s] for t, p in zip(times, phases, strict=True)])
+    if ph.size == 0:
+        return None
+    return float(np.median(1.0 - angle_diff(phi_aep, ph) / phi_aep))

@@ -399,6 +399,8 @@ class BatchRunner:
         speed = gait.forward_speed(times, pos)
         duty = gait.duty_factor(stance)
         slips = self.slips[i]
+        tds = tuple(np.array(t) for t in self.touchdowns[i])
+        tdp = tuple(np.array(t) for t in self.touchdown_phases[i])
         return RunResult(
             **base,
             d31=d31,
@@ -408,14 +410,18 @@ class BatchRunner:
             body_pos_m=pos,
             body_vel_m_s=self.rec_vel[i, :n].copy() if self.record else np.zeros((0, 3)),
             body_quat=self.rec_quat[i, :n].copy() if self.record else np.zeros((0, 4)),
-            touchdowns=tuple(np.array(t) for t in self.touchdowns[i]),
-            touchdown_phases=tuple(np.array(t) for t in self.touchdown_phases[i]),
+            touchdowns=tds,
+            touchdown_phases=tdp,
             liftoffs=tuple(np.array(t) for t in self.liftoffs[i]),
             d31_final=d31_final,
             gait=name,
             speed_cm_s=None if speed is None else speed * 100.0,
             duty_factor_measured=duty,
             slip_fraction=float(np.median(slips)) if slips else None,
+            # against the current beta: a run whose beta was ramped gets a rough figure
+            landing_swing_share=gait.landing_share(
+                tds, tdp, float(self.phi_aep[i]), after_s=float(self.duration[i]) / 3
+            ),
         )
 
 

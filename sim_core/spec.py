@@ -83,6 +83,8 @@ class RunResult:
     speed_cm_s: float | None
     duty_factor_measured: float | None
     slip_fraction: float | None  # median foot slip per stance / stroke D
+    # median share of the swing done at touchdown (1 = at the AEP), `gait.landing_share`
+    landing_swing_share: float | None = None
     error: str | None = None
 
     @property
@@ -99,6 +101,7 @@ class RunResult:
             "speed_cm_s": self.speed_cm_s,
             "duty_factor_measured": self.duty_factor_measured,
             "slip_fraction": self.slip_fraction,
+            "landing_swing_share": self.landing_swing_share,
             "diverged": self.diverged,
             "error": self.error,
         }

@@ -4,8 +4,8 @@
         "swing_height": 0.001}' --betas 0.62 0.70 --duration-s 5 [--dt-s 2.5e-5]
 
 Prints the final Delta31 of each start, the median slip (share of the stroke), the median
-speed and where in the swing the feet land (median over legs and touchdowns after the first
-second; 1 = at the AEP, 0.5 = when the scuff window closes): an attractor reached with feet
+speed and where in the swing the feet land (`RunResult.landing_swing_share`, the median over
+the runs; 1 = at the AEP, 0.5 = when the scuff window closes): an attractor reached with feet
 landing in mid-swing is set by the swing and scuff rule, not by walking mechanics.
 A scratch study tool kept so that the numbers in the docs can be re-made; the product's
 own commands (`insect-gait study`, `reproduce`) are the supported path.
@@ -18,17 +18,7 @@ import json
 
 import numpy as np
 
-from sim_core import ModelParams, RunResult, RunSpec, simulate_batch
-from sim_core.params import phi_aep
-
-
-def landing_point(r: RunResult, after_s: float = 1.0) -> float:
-    """Median share of the swing done at touchdown, 1 - (phi_AEP - phi_td) / phi_AEP."""
-    aep = phi_aep(r.spec.beta)
-    parts = [ph[t > after_s] for t, ph in zip(r.touchdowns, r.touchdown_phases, strict=True)]
-    ph = np.concatenate(parts)
-    jump = (aep - ph + np.pi) % (2 * np.pi) - np.pi
-    return float(np.median(1.0 - jump / aep)) if ph.size else float("nan")
+from sim_core import ModelParams, RunSpec, simulate_batch
 
 
 def main() -> None:
@@ -51,7 +41,7 @@ def main() -> None:
         finals = [round(float(r.d31[-1]), 2) if r.error is None else "failed" for r in runs]
         slip = np.median([r.slip_fraction for r in ok if r.slip_fraction is not None])
         speed = np.median([r.speed_cm_s for r in ok if r.speed_cm_s is not None])
-        land = np.median([landing_point(r) for r in ok])
+        land = np.median([r.landing_swing_share for r in ok if r.landing_swing_share is not None])
         print(
             f"beta {b}: finals {finals}  slip {slip:.3f}  speed {speed:.2f} cm/s  "
             f"feet land at {land:.2f} of the swing"

@@ -103,3 +103,26 @@ def test_live_simulation_matches_batch_and_acts_on_changes() -> None:
     assert st.shape == (t.size, 6)
     sim.reset(d31_init=1.0)
     assert sim.time_s == 0 and sim.beta == 0.62
+
+
+def test_landing_share_reads_where_in_the_swing_feet_land() -> None:
+    from sim_core.gait import landing_share
+
+    aep = 2.0
+    times = tuple(np.array([0.5, 1.5, 2.5]) for _ in range(6))
+    # phases at touchdown: 0.2 rad early (0.9 of the swing) after 1 s; the first one ignored
+    phases = tuple(np.array([0.5, 1.8, 1.8]) for _ in range(6))
+    assert landing_share(times, phases, aep, after_s=1.0) == pytest.approx(0.9)
+    late = tuple(np.array([2.2]) for _ in range(6))  # past the AEP: more than the whole swing
+    assert landing_share(tuple(np.array([2.0]) for _ in range(6)), late, aep, 1.0) > 1.0
+    assert landing_share(times, phases, aep, after_s=5.0) is None
+
+
+def test_the_default_model_lands_its_feet_near_the_aep_and_a_soft_foot_spring_does_not() -> None:
+    """The check that unmasked the fourth study's artefact (docs/REPRODUCTION.md)."""
+    soft = ModelParams(tarsus_stiffness=15.0, tarsus_damping=0.04, swing_height=1e-3)
+    spec = RunSpec(beta=0.62, d31_init=2.5, duration_s=1.5)
+    stiff_res, soft_res = simulate(spec), simulate(spec, soft)
+    assert stiff_res.landing_swing_share is not None and stiff_res.landing_swing_share > 0.95
+    assert soft_res.landing_swing_share is not None and soft_res.landing_swing_share < 0.8
+    assert stiff_res.summary()["landing_swing_share"] == stiff_res.landing_swing_share
