@@ -142,7 +142,7 @@ class ModelParams(BaseModel):
         "vertical",
         description="[invented] direction the sprung tarsus slides: 'vertical' (the body's "
         "vertical at mid-stance, as the paper's viscoelastic ground pushes) or 'tibia' (along "
-        "the tibia; its sideways component needs friction and lets stance feet slip)",
+        "the tibia, as in the second study; part of its travel is sideways)",
     )
     foot_radius: float = _ours(0.25e-3, "tarsus tip sphere; small against the 2 mm stroke", gt=0)
     friction: float = _ours(1.0, "foot-ground friction; claws and pads grip firmly", gt=0)
