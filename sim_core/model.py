@@ -226,17 +226,20 @@ def tarsus_axes_in_tibia(p: ModelParams) -> np.ndarray:
     """
     if p.tarsus_axis == "tibia":
         return np.tile([-1.0, 0.0, 0.0], (6, 1))
+    pitch = mid_stance_angles(p)[:, 1:].sum(axis=1)  # tibia above the horizontal, about -y
+    return np.stack([np.sin(pitch), np.zeros(6), np.cos(pitch)], axis=1)
+
+
+def mid_stance_angles(p: ModelParams) -> np.ndarray:
+    """(6, 3) joint angles (q1, q2, q3) with every tip at the middle of its stance line."""
     from sim_core.legs import inverse_kinematics, pack_geometry, stance_line  # legs imports us
 
     geo = pack_geometry(p)
     aep, pep = stance_line(p)
-    axes = np.zeros((6, 3))
-    q = np.zeros(3)
+    q = np.zeros((6, 3))
     for leg in range(6):
-        inverse_kinematics(geo, leg, (aep[leg] + pep[leg]) / 2, q)
-        pitch = q[1] + q[2]  # tibia above the horizontal, rotation about -y
-        axes[leg] = [math.sin(pitch), 0.0, math.cos(pitch)]
-    return axes
+        inverse_kinematics(geo, leg, (aep[leg] + pep[leg]) / 2, q[leg])
+    return q
 
 
 def _add_link(body: mujoco.MjsBody, name: str, mass: float, length: float, radius: float) -> None:

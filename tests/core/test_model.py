@@ -91,24 +91,13 @@ def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_
 
 @pytest.mark.parametrize("axis", ["vertical", "tibia"])
 def test_compressing_a_tarsus_moves_its_foot_up_and_vertical_means_straight_up(axis: str) -> None:
-    from sim_core.model import LEG_NAMES
+    from sim_core.model import LEG_NAMES, leg_qpos_addresses, mid_stance_angles
 
     p = ModelParams(tarsus_stiffness=15.0, tarsus_damping=0.04, tarsus_axis=axis)
     m = build_model(p)
     d = mujoco.MjData(m)
-    runner_qpos = np.zeros(m.nq)
-    runner_qpos[3] = 1.0
-    # the mid-stance posture the vertical axis is defined at
-    from sim_core.legs import inverse_kinematics, pack_geometry, stance_line
-
-    geo = pack_geometry(p)
-    aep, pep = stance_line(p)
-    q = np.zeros(3)
-    for leg, name in enumerate(LEG_NAMES):
-        inverse_kinematics(geo, leg, (aep[leg] + pep[leg]) / 2, q)
-        for k, j in enumerate(("j1", "j2", "j3")):
-            runner_qpos[m.jnt_qposadr[m.joint(f"{name}_{j}").id]] = q[k]
-    d.qpos[:] = runner_qpos
+    d.qpos[3] = 1.0
+    d.qpos[leg_qpos_addresses(m)] = mid_stance_angles(p).ravel()  # where 'vertical' is defined
     mujoco.mj_kinematics(m, d)
     before = d.site_xpos.copy()
     for name in LEG_NAMES:
