@@ -30,11 +30,13 @@ def guard_codes(
     min_height: float,
     min_up_cos: float,
     codes: np.ndarray,
-) -> None:
-    """codes[r] for simulation ids[r]; warn_seen is updated to the new counts.
+) -> int:
+    """codes[r] for simulation ids[r]; warn_seen is updated to the new counts. Returns how
+    many simulations failed (the caller's loop over failures runs only then).
 
     Priority when several hold: warning, non-finite, flipped, on the floor.
     """
+    failed = 0
     for r in range(ids.size):
         s = ids[r]
         warned = False
@@ -53,3 +55,6 @@ def guard_codes(
             codes[r] = ON_FLOOR
         else:
             codes[r] = OK
+        if codes[r] != OK:
+            failed += 1
+    return failed

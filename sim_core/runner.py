@@ -86,6 +86,7 @@ class BatchRunner:
         self.body_mass_g = np.full(n, p.body_mass * 1e3)
         self.slope_deg = np.zeros(n)
         self.duration = np.array([s.duration_s for s in specs])
+        self._first_end = float(self.duration.min()) - 1e-12  # no run ends before this time
         self.phi = np.zeros((n, 6))
         self.phi_next = np.zeros((n, 6))
         self.stance = np.zeros((n, 6), dtype=np.int8)
@@ -95,8 +96,6 @@ class BatchRunner:
         self.td_phase = np.full((n, 6), np.nan)
         self.lo_time = np.full((n, 6), np.nan)
         self.d31_evt = np.full(n, np.nan)
-        self.setpoint = np.zeros((n, 18))
-        self.velocity = np.zeros((n, 18))
         self.feet = np.zeros((n, self.nsub, self.model.nsite, 3))
         self.prev_height = np.zeros((n, 6))
         self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
@@ -223,13 +222,10 @@ class BatchRunner:
             p.k_ipsilateral,
             self.control_dt,
             self.geo,
-            self.setpoint,
-            self.velocity,
+            self.act,
+            self.ctrl,
             self.phi_next,
         )
-        self.act[ids] = self.setpoint[ids]
-        self.ctrl[ids, :18] = self.velocity[ids]
-        self.ctrl[ids, 18:] = self.velocity[ids]
         call_ids = None if m == self.n else ids
         t_plan = clock()
         try:
@@ -244,9 +240,10 @@ class BatchRunner:
                 self._fail(int(sim), f"MuJoCo error: {self.batch.error(int(sim))}")
         t_phys = clock()
         t0 = self.time
-        apply_events(
+        events = apply_events(
             ids,
-            self.feet[:m, :, :, 2] - p.foot_radius,
+            self.feet[:m, :, :, 2],
+            p.foot_radius,
             self.prev_height,
             self.phi,
             self.phi_next,
@@ -267,7 +264,8 @@ class BatchRunner:
             self.d31_evt,
         )
         self.nblock += 1
-        self._collect_events(ids)
+        if events:
+            self._collect_events(ids)
         t_ctrl = clock()
         if self.record and self.nblock % self.rec_every == 0:
             self._record(ids)
@@ -280,8 +278,6 @@ class BatchRunner:
     def _collect_events(self, ids: np.ndarray) -> None:
         td = self.td_time[ids]
         lo = self.lo_time[ids]
-        if not (np.isfinite(td).any() or np.isfinite(lo).any()):
-            return
         feet = self.feet[: ids.size, -1, :, :2]  # last recorded substep, row r = ids[r]
         for r, leg in zip(*np.nonzero(np.isfinite(td)), strict=True):
             s = int(ids[r])
@@ -300,7 +296,7 @@ class BatchRunner:
 
     def _guard(self, ids: np.ndarray) -> None:
         codes = self._guard_codes[: ids.size]
-        guard_codes(
+        failed = guard_codes(
             ids,
             self.qpos,
             self.qvel,
@@ -310,8 +306,11 @@ class BatchRunner:
             MIN_UP_COS,
             codes,
         )
-        done = self.time >= self.duration[ids] - 1e-12
-        self.active[ids[done]] = False
+        if self.time >= self._first_end:
+            done = self.time >= self.duration[ids] - 1e-12
+            self.active[ids[done]] = False
+        if not failed:
+            return
         for r in np.flatnonzero(codes):
             s = int(ids[r])
             if self.errors[s] is not None:

@@ -30,11 +30,12 @@ def _run(phi0: np.ndarray, phi1: np.ndarray, stance: np.ndarray, touch: np.ndarr
     tdp = np.empty((1, 6))
     lo = np.empty((1, 6))
     d31 = np.empty(1)
-    apply_events(
-        ids, height[None], prev, phi, phi_next, st, lp, phi_td,
+    events = apply_events(
+        ids, height[None], 0.0, prev, phi, phi_next, st, lp, phi_td,
         np.array([PHI_AEP]), np.array([reset]), P.touch_depth, P.scuff_fraction, True,
         1.0, DT, GEO, td, tdp, lo, d31,
     )  # fmt: skip
+    assert events == np.isfinite(td).sum() + np.isfinite(lo).sum()
     return phi[0], st[0], td[0], lo[0], phi_td[0], d31[0]
 
 
