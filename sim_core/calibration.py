@@ -33,6 +33,7 @@ BETA_BISTABLE = 0.655
 # rad of score per unit of speed error or slip beyond 10%: walking properly (the sim_core
 # acceptance) outranks a closer Delta31 (0.1 of excess slip costs as much as 3 rad of Delta31)
 WALK_PENALTY = 30.0
+OBJECTIVES = ("closed-loop", "drift", "pull")
 
 
 @dataclass(frozen=True)
@@ -178,13 +179,20 @@ def calibrate(
     check_half_dt: also run every candidate at half the timestep and add the outcome
     differences to the score (each capped at pi). A first study without it found candidates
     whose gait selection was an artefact of the timestep (docs/REPRODUCTION.md).
-    objective_name: "closed-loop" (settled Delta31 of many runs, `Evaluation.score`) or
+    objective_name: "closed-loop" (settled Delta31 of many runs, `Evaluation.score`),
     "drift" (`drift_score`: the sign of the open-loop drift around the paper's branches, a
-    smoother and ~5x cheaper signal; its winners still need the closed-loop check).
+    smoother and ~5x cheaper signal; its winners still need the closed-loop check) or "pull"
+    (`pull.PullEvaluation.score` over `pull.WIDE_SPACE`: how close short closed-loop runs at
+    0.62 and 0.70 end to the branches, with walking-sanity penalties; betas and the half-step
+    check do not apply, its winners need `evaluate` at dt and dt/2).
     """
-    if objective_name not in ("closed-loop", "drift"):
-        raise ValueError(f"objective_name must be 'closed-loop' or 'drift', not {objective_name!r}")
+    if objective_name not in OBJECTIVES:
+        raise ValueError(f"objective_name must be one of {OBJECTIVES}, not {objective_name!r}")
     import optuna
+
+    from sim_core.pull import WIDE_SPACE, evaluate_pull
+
+    space = WIDE_SPACE if objective_name == "pull" else SEARCH_SPACE
 
     base = base or ModelParams()
     sampler = optuna.samplers.TPESampler(seed=seed, multivariate=True)
@@ -192,7 +200,7 @@ def calibrate(
         study_name=study_name, storage=storage, sampler=sampler, load_if_exists=True
     )
     if len(study.trials) == 0 and seed_from is None:
-        study.enqueue_trial({k: getattr(base, k) for k in SEARCH_SPACE})
+        study.enqueue_trial({k: getattr(base, k) for k in space})
     if len(study.trials) == 0 and seed_from is not None:
         if storage is None:
             raise ValueError("seed_from needs a persistent storage")
@@ -200,13 +208,24 @@ def calibrate(
 
     def objective(trial: optuna.Trial) -> float:
         values = {
-            name: trial.suggest_float(name, r.low, r.high, log=r.log)
-            for name, r in SEARCH_SPACE.items()
+            name: trial.suggest_float(name, r.low, r.high, log=r.log) for name, r in space.items()
         }
         params = base.model_copy(update=values)
         if not reachable(params):
             trial.set_user_attr("unreachable", True)
             return 100.0
+        if objective_name == "pull":
+            pe = evaluate_pull(params, n_init=n_init, duration_s=duration_s)
+            for b, fs in pe.finals.items():
+                trial.set_user_attr(f"finals_{b}", [None if f is None else round(f, 3) for f in fs])
+                trial.set_user_attr(f"landing_share_{b}", pe.landing_share[b])
+                trial.set_user_attr(f"slip_{b}", pe.slip[b])
+                trial.set_user_attr(f"speed_error_{b}", pe.speed_error[b])
+            trial.set_user_attr("closeness", pe.closeness())
+            s = pe.score()
+            if on_trial is not None:
+                on_trial(trial.number, s, values)
+            return s
         if objective_name == "drift":
             parts = drift_score(params)
             for b, v in parts.items():

@@ -172,9 +172,10 @@ def _add_calibrate(sub: Any) -> None:
     )
     p.add_argument(
         "--objective",
-        choices=["closed-loop", "drift"],
+        choices=["closed-loop", "drift", "pull"],
         default="closed-loop",
-        help="closed-loop: settled Delta31 of many runs; drift: open-loop drift signs (cheaper)",
+        help="closed-loop: settled Delta31 of many runs; drift: open-loop drift signs (cheaper);"
+        " pull: how close short runs end to the branches, walking-sanity penalties, wider space",
     )
     p.set_defaults(func=_cmd_calibrate)
 
@@ -184,6 +185,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     from pathlib import Path
 
     from sim_core.calibration import SEARCH_SPACE, calibrate
+    from sim_core.pull import WIDE_SPACE
 
     if args.trials < 1 or args.duration_s <= 0 or args.n_init < 2:
         print("insect-gait calibrate: error: --trials >= 1, --duration-s > 0, --n-init >= 2",
@@ -206,7 +208,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     )  # fmt: skip
     best = study.best_trial
     print(f"best trial {best.number}: score {best.value:.3f}")
-    for k in SEARCH_SPACE:
+    for k in WIDE_SPACE if args.objective == "pull" else SEARCH_SPACE:
         print(f"  {k} = {best.params[k]:.4g}")
     return 0
 
