@@ -83,7 +83,7 @@ def _run(
     num: np.ndarray,
     xs: np.ndarray,
     ys: np.ndarray,
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     k, c, h, p, kept, mass, ip, ir, comx, tsw, scuff, dt, kc, ki, stroke = num
     phi_aep = TWO_PI * (1.0 - beta)
     omega = phi_aep / tsw
@@ -110,6 +110,8 @@ def _run(
     t_out = np.full(MAX_EVENTS, np.nan)
     d_out = np.full(MAX_EVENTS, np.nan)
     nout = 0
+    share_sum = 0.0  # share of the swing done at each touchdown after the first third
+    share_n = 0
     for step in range(int(duration / dt)):
         lhs[:, :] = 0.0
         rhs[0] = weight
@@ -154,6 +156,9 @@ def _run(
                     zf = h * math.sin(math.pi * (max(ph, 0.0) / phi_aep) ** p)
                 if ph >= scuff * phi_aep and zf - w <= 0.0:
                     stance[i] = True
+                    if step * dt > duration / 3.0:
+                        share_sum += ph / phi_aep
+                        share_n += 1
                     phi_td[i] = phi_aep if phase_reset else ph
                     z_land[i] = zf
                     pn = phi_td[i]
@@ -165,7 +170,38 @@ def _run(
                     pn -= TWO_PI  # missed step
             nxt[i] = pn
         phi[:] = nxt
-    return t_out[:nout], d_out[:nout], q
+    share = share_sum / share_n if share_n > 0 else np.nan
+    return t_out[:nout], d_out[:nout], q, share
+
+
+@dataclass(frozen=True)
+class ReducedRun:
+    """Leg-1 touchdown times and Delta31 there, and the mean share of the swing done when a
+    foot lands (after the first third of the run; 1 = at the AEP, as `gait.landing_share`)."""
+
+    times: np.ndarray
+    d31: np.ndarray
+    landing_share: float
+
+
+def run_reduced(
+    beta: float,
+    d31_init: float,
+    duration_s: float = 6.0,
+    params: ReducedParams | None = None,
+    phase_reset: bool = True,
+) -> ReducedRun:
+    """One run; raises FloatingPointError if the body state blew up (the reduced body fell)."""
+    r = params or ReducedParams()
+    num = np.array([r.leg_stiffness, r.leg_damping, r.swing_height, r.swing_shape,
+                    r.landing_height_kept, r.body_mass, r.pitch_inertia, r.roll_inertia, r.com_x,
+                    r.swing_duration, r.scuff_fraction, r.dt, r.k_contralateral,
+                    r.k_ipsilateral, r.stroke])  # fmt: skip
+    t, d, q, share = _run(beta, d31_init, duration_s, phase_reset, num,
+                          np.array(r.foot_x), np.array(r.foot_y))  # fmt: skip
+    if not np.all(np.isfinite(q)) or abs(q[0]) > 1e-2:
+        raise FloatingPointError(f"reduced model diverged (beta {beta}, Delta31 {d31_init})")
+    return ReducedRun(times=t, d31=d, landing_share=float(share))
 
 
 def simulate_reduced(
@@ -176,16 +212,8 @@ def simulate_reduced(
     phase_reset: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(times of leg-1 touchdowns, Delta31 there); raises if the body state blew up."""
-    r = params or ReducedParams()
-    num = np.array([r.leg_stiffness, r.leg_damping, r.swing_height, r.swing_shape,
-                    r.landing_height_kept, r.body_mass, r.pitch_inertia, r.roll_inertia, r.com_x,
-                    r.swing_duration, r.scuff_fraction, r.dt, r.k_contralateral,
-                    r.k_ipsilateral, r.stroke])  # fmt: skip
-    t, d, q = _run(beta, d31_init, duration_s, phase_reset, num,
-                   np.array(r.foot_x), np.array(r.foot_y))  # fmt: skip
-    if not np.all(np.isfinite(q)) or abs(q[0]) > 1e-2:
-        raise FloatingPointError(f"reduced model diverged (beta {beta}, Delta31 {d31_init})")
-    return t, d
+    run = run_reduced(beta, d31_init, duration_s, params, phase_reset)
+    return run.times, run.d31
 
 
 def attractors(

@@ -38,3 +38,16 @@ def test_half_timestep_gives_the_same_finals(beta: float) -> None:
     a = attractors(beta, n_init=4, params=p)
     b = attractors(beta, n_init=4, params=ReducedParams(landing_height_kept=0.0, dt=p.dt / 2))
     assert np.max(np.abs(np.array(a) - np.array(b))) < 0.05
+
+
+def test_landing_share_tells_late_landings_from_mid_swing_ones() -> None:
+    from sim_core.reduced_model import run_reduced
+
+    stiff = run_reduced(0.62, 2.0, 2.0, ReducedParams(landing_height_kept=0.0))
+    soft = ReducedParams(landing_height_kept=0.0, leg_stiffness=12.0, leg_damping=0.04,
+                         swing_height=1.0e-3)  # fmt: skip
+    sagging = run_reduced(0.62, 2.0, 2.0, soft)
+    # 100 N/m legs sag ~0.1 mm under a 0.8 mm swing: feet land late; 12 N/m ~1 mm: mid-swing
+    assert stiff.landing_share > 0.9
+    assert sagging.landing_share < 0.75
+    assert stiff.d31.size == stiff.times.size > 10
