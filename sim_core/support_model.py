@@ -87,3 +87,59 @@ def stable_points(beta: float, grid: np.ndarray, geo: SupportGeometry | None = N
         if np.isfinite(d[k]) and np.isfinite(d[k + 1]) and d[k] > 0 >= d[k + 1]:
             pts.append(0.5 * float(grid[k] + grid[k + 1]))
     return pts
+
+
+def _hull_margin(pts: np.ndarray, c: np.ndarray) -> float:
+    """Signed distance from c to the boundary of the convex hull of pts (> 0 inside)."""
+    order = sorted(map(tuple, pts))
+
+    def cross(o: tuple[float, ...], a: tuple[float, ...], b: tuple[float, ...]) -> float:
+        return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+
+    lower: list[tuple[float, ...]] = []
+    upper: list[tuple[float, ...]] = []
+    for p in order:
+        while len(lower) >= 2 and cross(lower[-2], lower[-1], p) <= 0:
+            lower.pop()
+        lower.append(p)
+    for p in reversed(order):
+        while len(upper) >= 2 and cross(upper[-2], upper[-1], p) <= 0:
+            upper.pop()
+        upper.append(p)
+    hull = np.array(lower[:-1] + upper[:-1])  # counter-clockwise
+    edges = np.roll(hull, -1, axis=0) - hull
+    rel = c - hull
+    dist = (edges[:, 0] * rel[:, 1] - edges[:, 1] * rel[:, 0]) / np.hypot(edges[:, 0], edges[:, 1])
+    return float(dist.min())
+
+
+def static_margin(
+    beta: float,
+    d31: float,
+    geo: SupportGeometry | None = None,
+    stroke: float = 2.0,
+    samples: int = 720,
+) -> tuple[float, int]:
+    """(smallest static stability margin over a cycle, fewest legs in stance) for a gait.
+
+    The margin is how far the centre of mass lies inside the polygon of the stance feet
+    (negative: outside, the body must tip), with every foot on its stance line moving from
+    +stroke/2 to -stroke/2 about its centre over the stance. Three-leg supports other than the
+    two tripods (two legs of one side and the diagonal opposite) leave the centre of mass on or
+    near a diagonal edge; `docs/REPRODUCTION.md` (fifth study) reads the full model against this.
+    """
+    g = geo or SupportGeometry()
+    x, y = g.feet()
+    off = leg_offsets(d31)
+    aep = 1.0 - beta
+    worst, fewest = math.inf, 6
+    for t in np.linspace(0.0, 1.0, samples, endpoint=False):
+        ph = (t + off) % 1.0
+        on = ph >= aep
+        fewest = min(fewest, int(on.sum()))
+        if on.sum() < 3:
+            return -math.inf, fewest
+        frac = (ph[on] - aep) / (1.0 - aep)
+        feet = np.stack([x[on] + stroke * (0.5 - frac), y[on]], axis=1)
+        worst = min(worst, _hull_margin(feet, np.array([g.com_x, 0.0])))
+    return worst, fewest
