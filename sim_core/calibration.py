@@ -170,12 +170,14 @@ def calibrate(
     seed_from: str | None = None,
     check_half_dt: bool = True,
     objective_name: str = "closed-loop",
+    start_from: Sequence[dict[str, float]] = (),
 ) -> Any:
     """Run (or resume) an optuna study; returns the study. Needs `optuna` installed.
 
     seed_from: the name of an earlier study in the same storage whose evaluated trials are
     re-scored with the current `Evaluation.score` and added, so a changed score need not
     throw away the simulations already run.
+    start_from: parameter sets (names of the search space) to evaluate before sampling.
     check_half_dt: also run every candidate at half the timestep and add the outcome
     differences to the score (each capped at pi). A first study without it found candidates
     whose gait selection was an artefact of the timestep (docs/REPRODUCTION.md).
@@ -183,8 +185,9 @@ def calibrate(
     "drift" (`drift_score`: the sign of the open-loop drift around the paper's branches, a
     smoother and ~5x cheaper signal; its winners still need the closed-loop check) or "pull"
     (`pull.PullEvaluation.score` over `pull.WIDE_SPACE`: how close short closed-loop runs at
-    0.62 and 0.70 end to the branches, with walking-sanity penalties; betas and the half-step
-    check do not apply, its winners need `evaluate` at dt and dt/2).
+    0.62 and 0.70 end to the branches, and at 0.655 whether each branch is reached if 0.655 is
+    among `betas`, with walking-sanity penalties; the half-step check does not apply, its
+    winners need `evaluate` at dt and dt/2).
     """
     if objective_name not in OBJECTIVES:
         raise ValueError(f"objective_name must be one of {OBJECTIVES}, not {objective_name!r}")
@@ -201,6 +204,8 @@ def calibrate(
     )
     if len(study.trials) == 0 and seed_from is None:
         study.enqueue_trial({k: getattr(base, k) for k in space})
+    for point in start_from:  # earlier finds to evaluate first (the base fills what they omit)
+        study.enqueue_trial({k: point.get(k, getattr(base, k)) for k in space})
     if len(study.trials) == 0 and seed_from is not None:
         if storage is None:
             raise ValueError("seed_from needs a persistent storage")
@@ -215,7 +220,8 @@ def calibrate(
             trial.set_user_attr("unreachable", True)
             return 100.0
         if objective_name == "pull":
-            pe = evaluate_pull(params, n_init=n_init, duration_s=duration_s)
+            pe = evaluate_pull(params, n_init=n_init, duration_s=duration_s,
+                               bistable=BETA_BISTABLE in betas)  # fmt: skip
             for b, fs in pe.finals.items():
                 trial.set_user_attr(f"finals_{b}", [None if f is None else round(f, 3) for f in fs])
                 trial.set_user_attr(f"landing_share_{b}", pe.landing_share[b])

@@ -168,6 +168,11 @@ def _add_calibrate(sub: Any) -> None:
         "--no-half-dt-check", action="store_true", help="skip scoring at half the timestep"
     )
     p.add_argument(
+        "--start-from",
+        default=None,
+        help="JSON file: a list of parameter sets to evaluate before sampling (warm start)",
+    )
+    p.add_argument(
         "--betas", type=float, nargs="+", default=[0.62, 0.655, 0.70], help="betas to score"
     )
     p.add_argument(
@@ -193,6 +198,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
         return EXIT_USAGE
     if args.storage.startswith("sqlite:///"):
         Path(args.storage.removeprefix("sqlite:///")).parent.mkdir(parents=True, exist_ok=True)
+    start_from = json.loads(Path(args.start_from).read_text()) if args.start_from else []
     t0 = time.perf_counter()
 
     def report(n: int, score: float, values: dict[str, float]) -> None:
@@ -205,6 +211,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
         duration_s=args.duration_s, n_init=args.n_init, on_trial=report,
         betas=tuple(args.betas), seed_from=args.seed_from,
         check_half_dt=not args.no_half_dt_check, objective_name=args.objective,
+        start_from=start_from,
     )  # fmt: skip
     best = study.best_trial
     print(f"best trial {best.number}: score {best.value:.3f}")

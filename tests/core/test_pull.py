@@ -51,3 +51,12 @@ def test_a_tiny_closed_loop_evaluation() -> None:
     assert set(pe.finals) == {0.62, 0.70}
     assert all(len(v) == 2 for v in pe.finals.values())
     assert 0.0 <= pe.closeness() <= 1.0 and pe.penalty() >= 0.0
+
+
+def test_the_bistable_beta_counts_only_when_both_branches_are_reached() -> None:
+    both = _pe([2.9] * 6, [1.9] * 6)
+    both.finals[0.655] = [2.9, 1.9, 2.4, 2.4]
+    one = _pe([2.9] * 6, [1.9] * 6)
+    one.finals[0.655] = [2.9, 2.9, 3.0, 3.0]  # never near 1.9
+    assert both.closeness() == pytest.approx(1.0)
+    assert one.closeness() == pytest.approx((1 + 1 + 0.5) / 3, abs=1e-3)
