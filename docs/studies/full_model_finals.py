@@ -7,8 +7,7 @@ Prints the final Delta31 of each start, the median slip (share of the stroke), t
 speed and where in the swing the feet land (`RunResult.landing_swing_share`, the median over
 the runs; 1 = at the AEP, 0.5 = when the scuff window closes): an attractor reached with feet
 landing in mid-swing is set by the swing and scuff rule, not by walking mechanics.
-`--plot FILE` draws Delta31 over time, one panel per beta (the paper's Fig. 5 construction),
-with the paper's tripod (2.9) and metachronal (1.9) branches dashed.
+`--plot FILE` draws Delta31 per gait cycle, one panel per beta, with `sim_core.plots.plot_fig5`.
 A scratch study tool kept so that the numbers in the docs can be re-made; the product's
 own commands (`insect-gait study`, `reproduce`) are the supported path.
 """
@@ -17,10 +16,12 @@ from __future__ import annotations
 
 import argparse
 import json
+from pathlib import Path
 
 import numpy as np
 
 from sim_core import ModelParams, RunSpec, simulate_batch
+from sim_core.plots import plot_fig5
 
 
 def main() -> None:
@@ -30,7 +31,7 @@ def main() -> None:
     ap.add_argument("--duration-s", type=float, default=5.0)
     ap.add_argument("--dt-s", type=float, default=None)
     ap.add_argument("--starts", type=int, default=12)
-    ap.add_argument("--plot", default=None, help="PNG: Delta31 over time per beta")
+    ap.add_argument("--plot", default=None, help="PNG: Delta31 per cycle, per beta")
     a = ap.parse_args()
     params = ModelParams().model_copy(update=json.loads(a.overrides))
     n = a.starts
@@ -50,30 +51,7 @@ def main() -> None:
             f"feet land at {land:.2f} of the swing"
         )
     if a.plot:
-        _plot(results, a.betas, a.plot, a.overrides)
-
-
-def _plot(results: list, betas: list[float], path: str, title: str) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    fig, axes = plt.subplots(1, len(betas), figsize=(4 * len(betas), 3.6), sharey=True)
-    for ax, b in zip(np.atleast_1d(axes), betas, strict=True):
-        for r in results:
-            if r.spec.beta == b and r.error is None:
-                ax.plot(r.d31_times_s, np.mod(r.d31, 2 * np.pi), lw=0.8)
-        for y, name in ((2.9, "paper tripod"), (1.9, "paper metachronal")):
-            ax.axhline(y, ls="--", c="k", lw=0.7)
-            ax.text(0.02, y + 0.05, name, transform=ax.get_yaxis_transform(), fontsize=7)
-        ax.set_title(f"beta = {b}")
-        ax.set_xlabel("time (s)")
-    np.atleast_1d(axes)[0].set_ylabel("Delta31 (rad)")
-    fig.suptitle(title, fontsize=7)
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    print(f"wrote {path}")
+        plot_fig5({b: [r for r in results if r.spec.beta == b] for b in a.betas}, Path(a.plot))
 
 
 if __name__ == "__main__":
