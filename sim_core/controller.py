@@ -66,14 +66,16 @@ def plan_block(
     k_ipsi: float,
     h: float,
     geo: np.ndarray,
+    lead: np.ndarray,
     act: np.ndarray,
     ctrl: np.ndarray,
     phi_next: np.ndarray,
 ) -> None:
-    """For the simulations in ids: the set-points q*(t0) into MuJoCo's actuator states act
-    (n, 18), the velocities dq*/dt into both halves of its controls ctrl (n, 36), and the
-    phases phi_next (n, 6) at the end of the period without resetting. Writing MuJoCo's
-    arrays here, not through numpy, saves a few microseconds a period (one simulation)."""
+    """For the simulations in ids: the set-points q*(t0) + lead dq*/dt into MuJoCo's actuator
+    states act (n, 18) (lead = kd/kp per joint folds the feed-forward into the set-point, see
+    model.py), the velocities dq*/dt into its controls ctrl (n, 18), and the phases phi_next
+    (n, 6) at the end of the period without resetting. Writing MuJoCo's arrays here, not
+    through numpy, saves a few microseconds a period (one simulation)."""
     scratch = np.empty((2, 6))
     tip = np.empty(3)
     q0 = np.empty(3)
@@ -90,9 +92,8 @@ def plan_block(
             for m in range(3):
                 a = 3 * leg + m
                 v = (q1[m] - q0[m]) / h
-                act[s, a] = q0[m]
+                act[s, a] = q0[m] + lead[a] * v
                 ctrl[s, a] = v
-                ctrl[s, 18 + a] = v
 
 
 @njit(cache=True)

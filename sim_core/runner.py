@@ -25,7 +25,7 @@ from sim_core.controller import apply_events, initial_targets, plan_block
 from sim_core.cpg import initial_phases
 from sim_core.guard import FLIPPED, NON_FINITE, WARNED, guard_codes, up_axis_z
 from sim_core.legs import pack_geometry
-from sim_core.model import build_model, gravity_vector, leg_qpos_addresses
+from sim_core.model import build_model, gravity_vector, leg_qpos_addresses, servo_leads
 from sim_core.params import ModelParams, nominal_speed, omega, phi_aep
 from sim_core.spec import RunResult, RunSpec, SimulationDiverged
 
@@ -76,6 +76,7 @@ class BatchRunner:
         self._leg_qpos = leg_qpos_addresses(self.model)  # fixed by the model; used per reset
         self.batch = mujoco.batch.Batch(self.model, nsim=n, nthread=nthread if n > 1 else 1)
         self.geo = pack_geometry(self.params)
+        self._lead = servo_leads(self.params)
         p = self.params
         self._torso_inertia = self.model.body_inertia[TORSO].copy()
 
@@ -102,7 +103,7 @@ class BatchRunner:
         self._guard_codes = np.zeros(n, dtype=np.int64)
         self.qpos = self.batch.bind("qpos")
         self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
-        self.ctrl = self.batch.bind("ctrl")  # desired joint velocities, twice
+        self.ctrl = self.batch.bind("ctrl")  # desired joint velocities
         self.qvel = self.batch.bind("qvel")
         self.nblock = 0
         # wall seconds spent in each part of step_block, for `insect-gait bench`
@@ -222,6 +223,7 @@ class BatchRunner:
             p.k_ipsilateral,
             self.control_dt,
             self.geo,
+            self._lead,
             self.act,
             self.ctrl,
             self.phi_next,

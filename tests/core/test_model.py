@@ -35,7 +35,7 @@ def test_link_lengths_match_table_1(model: mujoco.MjModel) -> None:
 
 def test_three_hinges_per_leg_and_a_pd_actuator_each(model: mujoco.MjModel) -> None:
     assert model.njnt == 1 + 18
-    assert model.nu == 36 and model.na == 18  # a PD servo and a feed-forward per joint
+    assert model.nu == 18 and model.na == 18  # one PD servo per joint (feed-forward in act)
     assert all(model.jnt_type[1:] == mujoco.mjtJoint.mjJNT_HINGE)
     # joint 1 turns about the vertical, joints 2 and 3 about a horizontal axis
     for leg in leg_names():
