@@ -28,7 +28,7 @@ MAX_LIST = 1000  # hard cap on list lengths; the per-deployment cap is Settings.
 JobStatus = Literal["queued", "running", "done", "failed", "cancelled"]
 JOB_STATUSES: tuple[str, ...] = ("queued", "running", "done", "failed", "cancelled")
 FINISHED: frozenset[str] = frozenset({"done", "failed", "cancelled"})
-Integrator = Literal["euler", "implicit", "implicitfast", "rk4"]
+Integrator = Literal["euler", "implicit", "implicitfast", "rk4", "discrete"]
 
 
 def _num(x: float) -> str:

@@ -317,8 +317,9 @@ def _cmd_numerics(args: argparse.Namespace) -> int:
     out.mkdir(parents=True, exist_ok=True)
     if args.quick:
         points, info = grid_study(dts=(1e-3, 2e-4, 1e-4, 5e-5), inits=(1.0,), duration_s=2.0,
-                                  progress=print, with_batch=False,
-                                  check_reference=False)  # fmt: skip
+                                  progress=print, with_batch=False, check_reference=False,
+                                  drift_reference=("implicitfast", 2.5e-5),
+                                  drift_d31s=(1.9, 2.9))  # fmt: skip
     else:
         points, info = grid_study(progress=print)
     plot_grid(points, out / "numerics_pareto.png", out / "numerics_map.png")

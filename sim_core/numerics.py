@@ -21,6 +21,48 @@ from sim_core.runner import simulate_batch
 from sim_core.spec import RunSpec
 
 TOLERANCE_RAD = 0.05  # the issue's tolerance on Delta31 outcomes
+# Where the return map's drift is probed (rad): just below the metachronal branch and across the
+# slow, nearly neutral region above it, where walking is regular. Not lower: near Delta31 = 1
+# (legs 1, 3 and 5 nearly in phase) landings are irregular and the drift jumps between runs
+# (0.12-0.36 rad/cycle at beta 0.62 for dt 2.5e-5..1e-4 s), so an error there is not a rate.
+DRIFT_D31 = (1.9, 2.5, 2.9, 3.5)
+DRIFT_REFERENCE: tuple[Integrator, float] = ("rk4", 1e-5)  # converged: docs/NUMERICS.md
+
+
+def drift_rates(
+    integrator: Integrator,
+    dt_s: float,
+    params: ModelParams | None = None,
+    betas: Sequence[float] = (0.62, 0.70),
+    d31s: Sequence[float] = DRIFT_D31,
+    duration_s: float = 2.0,
+    settle_s: float = 0.5,
+    nthread: int = 0,
+) -> np.ndarray:
+    """Delta31 drift per gait cycle (rad) that the touchdowns would cause, at fixed Delta31.
+
+    With phase resetting off, Delta31 stays where it was put, so every configuration sees the
+    same gait; the mean phase jump e_i that leg i's touchdowns would cause (phi_AEP minus the
+    phase at touchdown, after `settle_s`) gives the drift 1/4 [(e5 + e6) - (e1 + e2)]: the
+    return map's slope field, Delta31_{n+1} - Delta31_n, to first order in the jumps. Unlike a
+    final Delta31 after a fixed time, it is well conditioned where the map is nearly neutral:
+    there a run's final value integrates every small error, and this measures the error's
+    rate. Shape (len(betas), len(d31s)); NaN where a run failed.
+    """
+    p = params or ModelParams()
+    specs = [RunSpec(beta=b, d31_init=x, duration_s=duration_s, phase_reset=False,
+                     integrator=integrator, dt_s=dt_s, control_dt_s=max(p.control_dt, dt_s))
+             for b in betas for x in d31s]  # fmt: skip
+    out = np.full(len(specs), np.nan)
+    for k, (spec, res) in enumerate(zip(specs, simulate_batch(specs, p, nthread=nthread),
+                                        strict=True)):  # fmt: skip
+        if res.diverged:
+            continue
+        aep = 2.0 * math.pi * (1.0 - spec.beta)
+        jumps = [float(np.mean(angle_diff(aep, ph[t > settle_s])))
+                 for t, ph in zip(res.touchdowns, res.touchdown_phases, strict=True)]  # fmt: skip
+        out[k] = 0.25 * ((jumps[4] + jumps[5]) - (jumps[0] + jumps[1]))
+    return out.reshape(len(betas), len(d31s))
 
 
 @dataclass(frozen=True)
@@ -127,6 +169,8 @@ class GridPoint:
     batch_sim_s_per_wall_s: float | None = None  # BATCH_N simulations on every core
     max_slip: float | None = None  # worst median foot slip per stance, share of the stroke
     finals: tuple[float | None, ...] = ()  # each run's final Delta31, in the grid's run order
+    # worst |drift per cycle - the converged reference's| over the probed Delta31 (rad/cycle)
+    drift_error: float | None = None
 
     @property
     def label(self) -> str:
@@ -149,7 +193,7 @@ STEP_TOUCHDOWN = ("step touchdown", "implicitfast", {"touchdown_interpolation": 
 
 
 def grid_study(
-    integrators: Sequence[Integrator] = ("euler", "implicit", "implicitfast", "rk4"),
+    integrators: Sequence[Integrator] = ("euler", "implicit", "implicitfast", "rk4", "discrete"),
     dts: Sequence[float] = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2.5e-5, 1e-5),
     betas: Sequence[float] = (0.62, 0.70),
     inits: Sequence[float] = (1.0, 1.8, 2.75),
@@ -159,12 +203,16 @@ def grid_study(
     with_step_touchdown: bool = True,
     with_batch: bool = True,
     check_reference: bool = True,
+    drift_reference: tuple[Integrator, float] | None = DRIFT_REFERENCE,
+    drift_d31s: Sequence[float] = DRIFT_D31,
 ) -> tuple[list[GridPoint], dict[str, object]]:
     """Cost and outcome error of each configuration against RK4 at 2e-5 s (the paper's).
 
     Outcomes are the final Delta31 of runs from initial values below, on and above the model's
-    branch; the comparison is run by run. Returns the grid and a dict with the reference
-    outcomes and, with check_reference, how far RK4 at 1e-5 s is from them.
+    branch; the comparison is run by run. With drift_reference, each configuration that runs
+    also gets its return-map drift error (`drift_rates`) against that configuration's drift.
+    Returns the grid and a dict with the reference outcomes and, with check_reference, how far
+    RK4 at 1e-5 s is from them.
     """
     import time
 
@@ -192,6 +240,14 @@ def grid_study(
         if progress is not None:
             got = info.get("reference_check_error_rad", info.get("reference_check"))
             progress(f"reference check (rk4 1e-5 vs 2e-5): {got}")
+    ref_drift = None
+    if drift_reference is not None:
+        ref_drift = drift_rates(*drift_reference, p, betas, drift_d31s)
+        info["drift_reference_config"] = list(drift_reference)
+        info["drift_reference"] = ref_drift.tolist()
+        info["drift_d31s"] = list(drift_d31s)
+        if progress is not None:
+            progress(f"drift reference {drift_reference}: {np.round(ref_drift, 4).tolist()}")
     variants: list[tuple[str, Integrator, dict[str, object]]] = [("", i, {}) for i in integrators]
     if with_step_touchdown:
         variants.append(STEP_TOUCHDOWN)  # type: ignore[arg-type]
@@ -217,9 +273,15 @@ def grid_study(
                     t1 = time.perf_counter()
                     simulate_batch(bspecs, pv, nthread=0)
                     thr = BATCH_N / (time.perf_counter() - t1)
+                drift_err = None
+                if ref_drift is not None:
+                    drift = drift_rates(integ, dt, pv, betas, drift_d31s)
+                    drift_err = float(np.max(np.abs(drift - ref_drift)))  # NaN if a probe failed
+                    drift_err = None if math.isnan(drift_err) else drift_err
                 point = GridPoint(integ, dt, wall, worst_error(finals, ref),
                                   same_gaits(finals, ref), None, label, thr,
-                                  max(slips) if slips else None, tuple(finals))  # fmt: skip
+                                  max(slips) if slips else None, tuple(finals),
+                                  drift_err)  # fmt: skip
             out.append(point)
             if progress is not None:
                 batch = (
@@ -228,6 +290,8 @@ def grid_study(
                     else (f", batch {point.batch_sim_s_per_wall_s:6.2f} sim s per wall s")
                 )
                 err = "" if point.error_rad is None else f", error {point.error_rad:.3f} rad"
+                if point.drift_error is not None:
+                    err += f", drift error {point.drift_error:.4f} rad/cycle"
                 progress(f"{point.label:30s} dt {dt:8.2g} s: {point.status:10s} "
                          f"{wall:7.3f} wall s per sim s{batch}{err}")  # fmt: skip
     return out, info
@@ -263,28 +327,37 @@ def plot_grid(points: Sequence[GridPoint], pareto_path: Path, map_path: Path) ->
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, ax = plt.subplots(figsize=(7, 4.5))
-    markers = {"euler": "o", "implicit": "s", "implicitfast": "^", "rk4": "D",
+    fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.8))
+    markers = {"euler": "o", "implicit": "s", "implicitfast": "^", "rk4": "D", "discrete": "P",
                f"implicitfast ({STEP_TOUCHDOWN[0]})": "v"}  # fmt: skip
+    colors = {"ok": "tab:green", "inaccurate": "tab:orange", "fails": "tab:red"}
     for pt in points:
         y = pt.error_rad if pt.error_rad is not None else math.pi
-        color = {"ok": "tab:green", "inaccurate": "tab:orange", "fails": "tab:red"}[pt.status]
-        ax.scatter(pt.wall_per_sim_s, max(y, 1e-4), marker=markers.get(pt.label, "o"),
-                   color=color, s=40)  # fmt: skip
+        kw = {"marker": markers.get(pt.label, "o"), "color": colors[pt.status], "s": 40}
+        ax.scatter(pt.wall_per_sim_s, max(y, 1e-4), **kw)
         ax.annotate(f"{pt.dt_s:g}", (pt.wall_per_sim_s, max(y, 1e-4)), fontsize=6,
                     xytext=(3, 3), textcoords="offset points")  # fmt: skip
+        if pt.drift_error is not None:
+            ax2.scatter(pt.wall_per_sim_s, max(pt.drift_error, 1e-5), **kw)
+            ax2.annotate(f"{pt.dt_s:g}", (pt.wall_per_sim_s, max(pt.drift_error, 1e-5)),
+                         fontsize=6, xytext=(3, 3), textcoords="offset points")  # fmt: skip
     ax.axhline(TOLERANCE_RAD, color="k", ls="--", lw=0.8)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("wall seconds per simulated second (one simulation)")
+    for a in (ax, ax2):
+        a.set_xscale("log")
+        a.set_yscale("log")
+        a.set_xlabel("wall seconds per simulated second (one simulation)")
     ax.set_ylabel("worst Delta31 outcome error vs RK4 2e-5 s (rad)")
+    ax2.set_ylabel("worst return-map drift error vs RK4 1e-5 s (rad per cycle)")
     for name, m in markers.items():
         ax.scatter([], [], marker=m, color="gray", label=name)
     for label, c in (("ok", "tab:green"), ("inaccurate", "tab:orange"), ("fails (plotted at pi)",
                      "tab:red")):  # fmt: skip
         ax.scatter([], [], color=c, label=label)
     ax.legend(fontsize=7)
-    ax.set_title("cost against accuracy; dashed: tolerance 0.05 rad; labels: dt (s)", fontsize=9)
+    ax.set_title("outcomes after a fixed time; dashed: tolerance 0.05 rad; labels: dt (s)",
+                 fontsize=9)  # fmt: skip
+    ax2.set_title("drift per gait cycle at fixed Delta31 (well conditioned); configurations "
+                  "that run", fontsize=9)  # fmt: skip
     fig.tight_layout()
     fig.savefig(pareto_path, dpi=120)
     plt.close(fig)

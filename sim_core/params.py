@@ -15,8 +15,8 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-Integrator = Literal["euler", "implicit", "implicitfast", "rk4"]
-INTEGRATORS: tuple[Integrator, ...] = ("euler", "implicit", "implicitfast", "rk4")
+Integrator = Literal["euler", "implicit", "implicitfast", "rk4", "discrete"]
+INTEGRATORS: tuple[Integrator, ...] = ("euler", "implicit", "implicitfast", "rk4", "discrete")
 
 PAPER = "paper"
 INVENTED = "invented"

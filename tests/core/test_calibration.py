@@ -107,7 +107,7 @@ def test_numerics_grid_reports_a_failing_configuration_as_failed() -> None:
 
     points, _ = grid_study(
         integrators=("euler", "implicitfast"), dts=(1e-3, 5e-5), betas=(0.66,), inits=(3.0,),
-        duration_s=0.4, with_batch=False, check_reference=False,
+        duration_s=0.4, with_batch=False, check_reference=False, drift_reference=None,
     )  # fmt: skip
     status = {(p.label, p.dt_s): p for p in points}
     assert ("implicitfast (step touchdown)", 5e-5) in status  # the touchdown-timing series
@@ -115,6 +115,22 @@ def test_numerics_grid_reports_a_failing_configuration_as_failed() -> None:
     assert bad.status == "fails" and bad.error_rad is None and "unstable" in bad.failure
     good = status[("implicitfast", 5e-5)]
     assert good.status != "fails" and good.error_rad is not None and good.wall_per_sim_s > 0
+
+
+def test_drift_error_shrinks_with_the_timestep_and_a_failed_probe_is_nan() -> None:
+    from sim_core.numerics import drift_rates
+
+    def probe(dt: float) -> np.ndarray:
+        return drift_rates("implicitfast", dt, betas=(0.62,), d31s=(1.9, 2.5))
+
+    ref, coarse, fine = probe(2.5e-5), probe(1e-4), probe(5e-5)
+    assert ref.shape == (1, 2) and np.isfinite(ref).all()
+    # below the metachronal branch (2.05 at beta 0.62) the map pulls up, above it down
+    assert ref[0, 0] > 0 > ref[0, 1]
+    # first-order integrator: halving the step shrinks the error (measured ~0.0025 -> 0.0009)
+    assert np.abs(coarse - ref).max() > np.abs(fine - ref).max()
+    failed = drift_rates("euler", 1e-3, betas=(0.62,), d31s=(1.9,), duration_s=0.6)
+    assert np.isnan(failed).all()
 
 
 def test_drift_score_pushes_toward_the_target_the_short_way() -> None:
