@@ -304,28 +304,51 @@ def _add_numerics(sub: Any) -> None:
     p.add_argument(
         "--out", default=None, help="folder (default docs/figures; --quick: out/numerics-quick)"
     )
+    p.add_argument("--doc", default=None,
+                   help="markdown file whose numerics section to regenerate (default "
+                   "docs/NUMERICS.md; none with --quick)")  # fmt: skip
+    p.add_argument("--no-doc", action="store_true", help="do not touch any markdown file")
+    p.add_argument("--from-json", default=None, metavar="PATH",
+                   help="redraw figures and table from a numerics.json; no simulation")  # fmt: skip
     p.set_defaults(func=_cmd_numerics)
 
 
 def _cmd_numerics(args: argparse.Namespace) -> int:
     from pathlib import Path
 
-    from sim_core.numerics import grid_study, plot_grid
+    from sim_core.numerics import grid_study
+    from sim_core.numerics_report import load_grid, plot_grid, update_numerics_doc
 
+    prog = "insect-gait numerics"
     # a quick grid never overwrites the committed full one
     out = Path(args.out or ("out/numerics-quick" if args.quick else "docs/figures"))
+    doc = None
+    if not args.no_doc and (args.doc or not args.quick):
+        doc = Path(args.doc or "docs/NUMERICS.md")
+        if not doc.is_file():
+            print(f"{prog}: error: --doc {doc}: no such file", file=sys.stderr)
+            return EXIT_USAGE
     out.mkdir(parents=True, exist_ok=True)
-    if args.quick:
+    if args.from_json:
+        try:
+            points, info = load_grid(Path(args.from_json))
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            print(f"{prog}: error: --from-json {args.from_json}: {exc}", file=sys.stderr)
+            return EXIT_USAGE
+    elif args.quick:
         points, info = grid_study(dts=(1e-3, 2e-4, 1e-4, 5e-5), inits=(1.0,), duration_s=2.0,
                                   progress=print, with_batch=False, check_reference=False,
                                   drift_reference=("implicitfast", 2.5e-5),
                                   drift_d31s=(1.9, 2.9))  # fmt: skip
     else:
         points, info = grid_study(progress=print)
-    plot_grid(points, out / "numerics_pareto.png", out / "numerics_map.png")
+    plot_grid(points, out / "numerics_pareto.png", out / "numerics_map.png", info)
     rows = [p.__dict__ | {"status": p.status, "label": p.label} for p in points]
     (out / "numerics.json").write_text(json.dumps(info | {"grid": rows}, indent=1))
     print(f"wrote {out / 'numerics_pareto.png'}, {out / 'numerics_map.png'}, numerics.json")
+    if doc is not None:
+        doc.write_text(update_numerics_doc(doc.read_text(), points, info))
+        print(f"updated the grid table in {doc}")
     return 0
 
 

@@ -15,6 +15,8 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
+from sim_core.docsections import replace_section
+
 Integrator = Literal["euler", "implicit", "implicitfast", "rk4", "discrete"]
 INTEGRATORS: tuple[Integrator, ...] = ("euler", "implicit", "implicitfast", "rk4", "discrete")
 
@@ -227,12 +229,6 @@ def parameter_markdown(params: ModelParams | None = None) -> str:
     return "\n".join(lines)
 
 
-DOC_BEGIN = "<!-- params:begin -->"
-DOC_END = "<!-- params:end -->"
-
-
 def update_parameter_doc(text: str, params: ModelParams | None = None) -> str:
     """Replace the table between the params markers of a markdown document."""
-    head, rest = text.split(DOC_BEGIN, 1)
-    _, tail = rest.split(DOC_END, 1)
-    return f"{head}{DOC_BEGIN}\n{parameter_markdown(params)}\n{DOC_END}{tail}"
+    return replace_section(text, "params", parameter_markdown(params))

@@ -23,13 +23,13 @@ from typing import Any
 from sim_core.analysis import PAPER_WINDOW
 from sim_core.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.cache import ResultCache
+from sim_core.docsections import markers, replace_section
 from sim_core.gait import classify_gait
 from sim_core.paper_figures import BRANCH_TOL, FIGURES, PAPER, Config, analyse, figure_tasks
 from sim_core.params import ModelParams
 from sim_core.tasks import Task, code_fingerprint, execute_chunk, params_hash
 
-DOC_BEGIN = "<!-- reproduce:begin -->"
-DOC_END = "<!-- reproduce:end -->"
+DOC_BEGIN, DOC_END = markers("reproduce")
 STATE_FILE = "reproduce.json"
 TABLE_FILE = "reproduce_table.md"
 BETA_TOL = 0.01  # transitions and range ends within this (in beta) count as reproduced
@@ -347,8 +347,4 @@ def render_table(summaries: dict[str, Any], run: dict[str, Any], identity: dict[
 
 def update_doc(text: str, table: str) -> str:
     """Replace what lies between the reproduce markers (both must be present, in order)."""
-    if DOC_BEGIN not in text or DOC_END not in text.split(DOC_BEGIN, 1)[1]:
-        raise ValueError(f"the document has no {DOC_BEGIN} ... {DOC_END} section")
-    head, rest = text.split(DOC_BEGIN, 1)
-    _, tail = rest.split(DOC_END, 1)
-    return f"{head}{DOC_BEGIN}\n{table}\n{DOC_END}{tail}"
+    return replace_section(text, "reproduce", table)
