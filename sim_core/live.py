@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 
 from sim_core import gait
+from sim_core.model import build_model
 from sim_core.params import ModelParams
 from sim_core.runner import BatchRunner
 from sim_core.spec import RunSpec
@@ -35,7 +36,10 @@ class Simulation:
     def _build(self) -> None:
         self._runner = BatchRunner([self._spec], self._params, nthread=1, record=False)
         self._runner.duration[:] = np.inf
-        self._data = mujoco.MjData(self._runner.model)
+        self._state = mujoco.MjData(self._runner.model)
+        # drawing needs the visual geoms the physics leaves out; same bodies and joints
+        self._render_model = build_model(self._runner.params, visual=True)
+        self._data = mujoco.MjData(self._render_model)
         nkeep = int(self._history_s / self._runner.control_dt) + 1
         self._hist_t: deque[float] = deque(maxlen=nkeep)
         self._hist_x: deque[float] = deque(maxlen=nkeep)
@@ -100,13 +104,18 @@ class Simulation:
 
     @property
     def model(self) -> mujoco.MjModel:
-        return self._runner.model
+        """The hexapod with its visual geoms, for drawing (the physics runs without them)."""
+        return self._render_model
 
     @property
     def data(self) -> mujoco.MjData:
-        """A snapshot of the current state with body/geom poses computed, for rendering."""
-        self._runner.batch.get_data(0, self._data)
-        mujoco.mj_kinematics(self._runner.model, self._data)
+        """A snapshot of the current state with body/geom poses of `model` computed, for
+        rendering."""
+        self._runner.batch.get_data(0, self._state)
+        self._data.qpos[:] = self._state.qpos
+        self._data.qvel[:] = self._state.qvel
+        self._data.time = self._state.time
+        mujoco.mj_kinematics(self._render_model, self._data)
         return self._data
 
     @property

@@ -72,7 +72,7 @@ class BatchRunner:
         self.params = base.model_copy(update={"integrator": self.integrator, "dt": self.dt})
         self.specs = list(specs)
         n = self.n = len(specs)
-        self.model = build_model(self.params)
+        self.model = build_model(self.params, visual=False)  # drawing: Simulation.model
         self._leg_qpos = leg_qpos_addresses(self.model)  # fixed by the model; used per reset
         self.batch = mujoco.batch.Batch(self.model, nsim=n, nthread=nthread if n > 1 else 1)
         self.geo = pack_geometry(self.params)

@@ -110,3 +110,23 @@ def test_compressing_a_tarsus_moves_its_foot_up_and_vertical_means_straight_up(a
         assert np.abs(moved[:, :2]).max() < 1e-7
     else:  # along the tibia: part of the travel is sideways
         assert np.abs(moved[:, 1]).min() > 0.3e-4
+
+
+def test_physics_model_drops_only_what_drawing_needs() -> None:
+    full, bare = build_model(), build_model(visual=False)
+    assert bare.ngeom == 1 + 6 and full.ngeom > bare.ngeom  # the floor and the feet collide
+    assert (bare.nq, bare.nv, bare.nu, bare.nbody) == (full.nq, full.nv, full.nu, full.nbody)
+    np.testing.assert_array_equal(bare.body_mass, full.body_mass)
+    np.testing.assert_array_equal(bare.body_inertia, full.body_inertia)
+    np.testing.assert_array_equal(bare.body_pos, full.body_pos)
+
+
+def test_live_simulation_draws_the_visual_model_at_the_physics_state() -> None:
+    from sim_core import RunSpec, Simulation
+
+    sim = Simulation(RunSpec(beta=0.66))
+    sim.advance(0.05)
+    data = sim.data
+    assert sim.model.ngeom > 7  # body box and leg capsules to draw
+    np.testing.assert_allclose(data.qpos[:3], sim._runner.qpos[0, :3])
+    assert data.xpos[1, 0] > 0  # poses computed for drawing
