@@ -64,3 +64,23 @@ def test_from_json_with_a_bad_file_is_a_usage_error(tmp_path: Path, capsys) -> N
 def test_a_doc_without_the_section_is_refused() -> None:
     with pytest.raises(ValueError, match="numerics:begin"):
         update_numerics_doc("no markers", [OK], INFO)
+
+
+def test_quick_grid_end_to_end(tmp_path: Path) -> None:
+    """`insect-gait numerics --quick` as a user runs it (~1 minute on 2 cores): figures and
+    data written, a known-failing configuration reported as failed with its kind, the default
+    one running, and no document touched."""
+    doc = Path(__file__).resolve().parents[2] / "docs" / "NUMERICS.md"
+    before = doc.read_text()
+    assert main(["numerics", "--quick", "--out", str(tmp_path)]) == 0
+    points, info = load_grid(tmp_path / "numerics.json")
+    cell = {(p.label, p.dt_s): p for p in points}
+    bad = cell[("implicitfast", 1e-3)]
+    assert bad.status == "fails" and bad.failure and bad.error_rad is None
+    good = cell[("implicitfast", 5e-5)]
+    assert good.status != "fails" and good.error_rad is not None
+    assert good.drift_error is not None and good.drift_error < 0.01
+    assert isinstance(info["reference_wall_per_sim_s"], float)
+    for name in ("numerics_pareto.png", "numerics_map.png"):
+        assert (tmp_path / name).stat().st_size > 0
+    assert doc.read_text() == before
