@@ -13,6 +13,7 @@ import math
 import sys
 from collections.abc import Sequence
 from importlib.metadata import entry_points
+from pathlib import Path
 from typing import Any
 
 from pydantic import ValidationError
@@ -138,8 +139,6 @@ def _cmd_params(args: argparse.Namespace) -> int:
     from sim_core.params import parameter_markdown, parameter_table, update_parameter_doc
 
     if args.update_doc:
-        from pathlib import Path
-
         path = Path(args.update_doc)
         path.write_text(update_parameter_doc(path.read_text()))
         return 0
@@ -187,7 +186,6 @@ def _add_calibrate(sub: Any) -> None:
 
 def _cmd_calibrate(args: argparse.Namespace) -> int:
     import time
-    from pathlib import Path
 
     from sim_core.calibration import SEARCH_SPACE, calibrate
     from sim_core.pull import WIDE_SPACE
@@ -286,8 +284,6 @@ def _add_study(sub: Any) -> None:
 
 
 def _cmd_study(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
     from sim_core.study import run_study
 
     if args.quick:
@@ -296,6 +292,17 @@ def _cmd_study(args: argparse.Namespace) -> int:
     else:
         run_study(Path(args.out), with_sensitivity=not args.no_sensitivity)
     return 0
+
+
+def _doc_to_update(args: argparse.Namespace, default: str) -> Path | None:
+    """The markdown file a generating command rewrites its section of: --doc, else `default`
+    for a full run; none with --no-doc, or with --quick unless --doc names one."""
+    if args.no_doc or not (args.doc or not args.quick):
+        return None
+    doc = Path(args.doc or default)
+    if not doc.is_file():
+        raise FileNotFoundError(f"--doc {doc}: no such file")
+    return doc
 
 
 def _add_numerics(sub: Any) -> None:
@@ -314,20 +321,17 @@ def _add_numerics(sub: Any) -> None:
 
 
 def _cmd_numerics(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
     from sim_core.numerics import grid_study
     from sim_core.numerics_report import load_grid, plot_grid, update_numerics_doc
 
     prog = "insect-gait numerics"
     # a quick grid never overwrites the committed full one
     out = Path(args.out or ("out/numerics-quick" if args.quick else "docs/figures"))
-    doc = None
-    if not args.no_doc and (args.doc or not args.quick):
-        doc = Path(args.doc or "docs/NUMERICS.md")
-        if not doc.is_file():
-            print(f"{prog}: error: --doc {doc}: no such file", file=sys.stderr)
-            return EXIT_USAGE
+    try:
+        doc = _doc_to_update(args, "docs/NUMERICS.md")
+    except FileNotFoundError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     out.mkdir(parents=True, exist_ok=True)
     if args.from_json:
         try:
@@ -379,8 +383,6 @@ def _add_reproduce(sub: Any) -> None:
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> int:
-    from pathlib import Path
-
     from sim_core.backends import BackendUnavailable, get_backend
     from sim_core.paper_figures import Config
     from sim_core.reproduce import reproduce
@@ -391,12 +393,11 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         return EXIT_USAGE
     cfg = Config.quick() if args.quick else Config()
     out = Path(args.out or ("out/reproduce-quick" if args.quick else "docs/figures"))
-    doc = None
-    if not args.no_doc and (args.doc or not args.quick):
-        doc = Path(args.doc or "docs/REPRODUCTION.md")
-        if not doc.is_file():
-            print(f"{prog}: error: --doc {doc}: no such file", file=sys.stderr)
-            return EXIT_USAGE
+    try:
+        doc = _doc_to_update(args, "docs/REPRODUCTION.md")
+    except FileNotFoundError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     try:
         backend = get_backend(args.backend, args.workers, args.address)
     except BackendUnavailable as exc:
