@@ -106,6 +106,9 @@ def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
         print(f"foot slip per stance {100 * s['slip_fraction']:.1f}% of the stroke")
     if s["landing_swing_share"] is not None:
         print(f"feet land at {s['landing_swing_share']:.2f} of their swing (1 = at the AEP)")
+    if s["retouches_per_stance"] is not None:
+        print(f"stance feet leave and re-touch the ground {s['retouches_per_stance']:.2f} times "
+              "per stance")  # fmt: skip
 
 
 def _add_bench(sub: Any) -> None:

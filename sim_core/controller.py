@@ -119,6 +119,9 @@ def apply_events(
     td_phase: np.ndarray,
     lo_time: np.ndarray,
     d31: np.ndarray,
+    lift_clearance: float,
+    lifted: np.ndarray,
+    retouches: np.ndarray,
 ) -> int:
     """Advance phi to phi_next, applying touchdowns (with eq. 4) and lift-offs; returns how
     many happened (touchdowns plus lift-offs, so the caller can skip its bookkeeping at 0).
@@ -132,6 +135,10 @@ def apply_events(
     with the timestep. Outputs td_time,
     td_phase (the phase at touchdown, before any reset), lo_time (n, 6) and d31 (n,) are NaN
     where nothing happened.
+
+    Contact chatter is counted, not acted on: a stance foot that rises more than
+    lift_clearance above the ground is marked in lifted (n, 6), and when it presses into the
+    ground again retouches (n,) counts one more re-touch.
     """
     nsub = height.shape[1]
     h = nsub * dt
@@ -146,6 +153,15 @@ def apply_events(
             lo_time[s, leg] = np.nan
             p0 = phi[s, leg]
             p1 = phi_next[s, leg]
+            if stance[s, leg] != 0:
+                for j in range(nsub):
+                    c = height[r, j, leg] - radius
+                    if lifted[s, leg]:
+                        if c < -touch_depth:
+                            lifted[s, leg] = False
+                            retouches[s] += 1
+                    elif c > lift_clearance:
+                        lifted[s, leg] = True
             if stance[s, leg] == 0:
                 for j in range(nsub):
                     if height[r, j, leg] - radius > -touch_depth:
@@ -170,6 +186,7 @@ def apply_events(
                     for m in range(3):
                         lp[s, leg, m] = tip[m]
                     stance[s, leg] = 1
+                    lifted[s, leg] = False
                     events += 1
                     td_time[s, leg] = t0 + frac * dt
                     td_phase[s, leg] = ph_w

@@ -36,8 +36,8 @@ def grid_markdown(points: Sequence[GridPoint], info: Mapping[str, object]) -> st
     lines += [
         "| configuration | dt (s) | status | outcome error (rad) | drift error (rad/cycle) "
         "| wall s per sim s | cheaper than the paper's RK4 | batch sim s per wall s "
-        "| worst slip | failure |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "| worst slip | re-touches per stance | failure |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
 
     def num(x: float | None, fmt: str) -> str:
@@ -56,7 +56,8 @@ def grid_markdown(points: Sequence[GridPoint], info: Mapping[str, object]) -> st
             f"| {num(None if pt.status == 'fails' else pt.wall_per_sim_s, '.3f')} | {ratio} "
             f"| {num(pt.batch_sim_s_per_wall_s, '.2f')} "
             f"| {num(None if pt.max_slip is None else 100 * pt.max_slip, '.1f')}"
-            f"{'' if pt.max_slip is None else '%'} | {pt.failure or ''} |"
+            f"{'' if pt.max_slip is None else '%'} | {num(pt.max_retouches, '.2f')} "
+            f"| {pt.failure or ''} |"
         )
     return "\n".join(lines)
 

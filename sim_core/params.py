@@ -161,6 +161,12 @@ class ModelParams(BaseModel):
         "load (2.7 um carries it); a cutaneous threshold, cheaper than MuJoCo's touch sensor",
         gt=0,
     )
+    lift_clearance: float = _ours(
+        1e-5,
+        "a stance foot this far above the ground, m, has left it: counts contact chatter "
+        "(RunResult.retouches_per_stance); 2x the stance penetration, 0.5% of the stroke",
+        gt=0,
+    )
     scuff_fraction: float = _ours(
         0.5,
         "touches in swing before s = phi/phi_AEP reaches this are ignored as scuffs",

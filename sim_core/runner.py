@@ -97,6 +97,8 @@ class BatchRunner:
         self.td_phase = np.full((n, 6), np.nan)
         self.lo_time = np.full((n, 6), np.nan)
         self.d31_evt = np.full(n, np.nan)
+        self._lifted = np.zeros((n, 6), dtype=np.bool_)
+        self.retouches = np.zeros(n, dtype=np.int64)  # stance feet that left and came back
         self.feet = np.zeros((n, self.nsub, self.model.nsite, 3))
         self.prev_height = np.zeros((n, 6))
         self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
@@ -200,6 +202,8 @@ class BatchRunner:
         self.qvel[i] = qvel
         self.active[i] = True
         self.errors[i] = None
+        self._lifted[i] = False
+        self.retouches[i] = 0
 
     # --- stepping ---------------------------------------------------------------------------
     def step_block(self) -> None:
@@ -264,6 +268,9 @@ class BatchRunner:
             self.td_phase,
             self.lo_time,
             self.d31_evt,
+            p.lift_clearance,
+            self._lifted,
+            self.retouches,
         )
         self.nblock += 1
         if events:
@@ -419,6 +426,9 @@ class BatchRunner:
             speed_cm_s=None if speed is None else speed * 100.0,
             duty_factor_measured=duty,
             slip_fraction=float(np.median(slips)) if slips else None,
+            retouches_per_stance=(
+                float(self.retouches[i]) / ntd if (ntd := sum(len(t) for t in tds)) else None
+            ),
             # against the current beta: a run whose beta was ramped gets a rough figure
             landing_swing_share=gait.landing_share(
                 tds, tdp, float(self.phi_aep[i]), after_s=float(self.duration[i]) / 3

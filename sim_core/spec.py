@@ -85,6 +85,9 @@ class RunResult:
     slip_fraction: float | None  # median foot slip per stance / stroke D
     # median share of the swing done at touchdown (1 = at the AEP), `gait.landing_share`
     landing_swing_share: float | None = None
+    # stance feet that rose more than `lift_clearance` and pressed in again, per touchdown:
+    # ~0.1-0.4 on the defaults, > 2 where a coarse step makes the contact chatter
+    retouches_per_stance: float | None = None
     error: str | None = None
 
     @property
@@ -102,6 +105,7 @@ class RunResult:
             "duty_factor_measured": self.duty_factor_measured,
             "slip_fraction": self.slip_fraction,
             "landing_swing_share": self.landing_swing_share,
+            "retouches_per_stance": self.retouches_per_stance,
             "diverged": self.diverged,
             "error": self.error,
         }

@@ -33,7 +33,8 @@ def _run(phi0: np.ndarray, phi1: np.ndarray, stance: np.ndarray, touch: np.ndarr
     events = apply_events(
         ids, height[None], 0.0, prev, phi, phi_next, st, lp, phi_td,
         np.array([PHI_AEP]), np.array([reset]), P.touch_depth, P.scuff_fraction, True,
-        1.0, DT, GEO, td, tdp, lo, d31,
+        1.0, DT, GEO, td, tdp, lo, d31, P.lift_clearance, np.zeros((1, 6), np.bool_),
+        np.zeros(1, np.int64),
     )  # fmt: skip
     assert events == np.isfinite(td).sum() + np.isfinite(lo).sum()
     return phi[0], st[0], td[0], lo[0], phi_td[0], d31[0]
@@ -89,3 +90,27 @@ def test_missed_step_starts_a_new_swing() -> None:
     phi, st, td, _, _, _ = _run(phi0, phi0 + 0.01, np.zeros(6, bool), np.zeros((NSUB, 6)), True)
     assert st.sum() == 0 and np.isnan(td).all()
     np.testing.assert_allclose(phi, 0.006, atol=1e-12)
+
+
+def _retouches(clearance: np.ndarray) -> int:
+    """Re-touches counted for leg 0 in stance over one period with the given clearances."""
+    phi = np.full((1, 6), PHI_AEP + 0.1)
+    height = np.zeros((1, NSUB, 6))
+    height[0, :, 0] = clearance
+    count = np.zeros(1, np.int64)
+    apply_events(
+        np.array([0]), height, 0.0, np.zeros((1, 6)), phi, phi + 0.01,
+        np.ones((1, 6), np.int8), np.zeros((1, 6, 3)), np.full((1, 6), PHI_AEP),
+        np.array([PHI_AEP]), np.array([True]), P.touch_depth, P.scuff_fraction, True, 1.0, DT,
+        GEO, np.empty((1, 6)), np.empty((1, 6)), np.empty((1, 6)), np.empty(1),
+        P.lift_clearance, np.zeros((1, 6), np.bool_), count,
+    )  # fmt: skip
+    return int(count[0])
+
+
+def test_a_stance_foot_that_leaves_the_ground_and_comes_back_is_a_retouch() -> None:
+    pressed, up = -1e-5, 3 * P.lift_clearance
+    assert _retouches(np.array([pressed, up, up, pressed, pressed, up, pressed, 0, 0, 0])) == 2
+    # hovering below the lift clearance, or leaving without coming back, is no re-touch
+    assert _retouches(np.full(NSUB, 0.5 * P.lift_clearance) * np.resize([1, -1], NSUB)) == 0
+    assert _retouches(np.array([pressed] * 5 + [up] * 5)) == 0
