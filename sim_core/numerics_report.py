@@ -20,6 +20,16 @@ from sim_core.numerics import STEP_TOUCHDOWN, TARGET_SPEEDUP, TOLERANCE_RAD, Gri
 SECTION = "numerics"  # the generated section of docs/NUMERICS.md
 
 
+def _short_kind(failure: str) -> str:
+    """'contact chatter' -> 'chatter', 'unstable (MuJoCo warning)' -> 'unstable', 'flip'..."""
+    return "chatter" if "chatter" in failure else failure.split()[0]
+
+
+def _ran(pt: GridPoint) -> bool:
+    """Every run went the whole way (it may still fail, e.g. by chattering): its cost counts."""
+    return pt.error_rad is not None and pt.wall_per_sim_s > 0
+
+
 def grid_markdown(points: Sequence[GridPoint], info: Mapping[str, object]) -> str:
     """The grid as a markdown table, one row per configuration, with its speed-up against the
     paper's RK4 at 2e-5 s when the reference was timed."""
@@ -46,14 +56,14 @@ def grid_markdown(points: Sequence[GridPoint], info: Mapping[str, object]) -> st
     for pt in points:
         ratio = (
             f"{ref_cost / pt.wall_per_sim_s:.1f}x"
-            if isinstance(ref_cost, float) and pt.status != "fails" and pt.wall_per_sim_s > 0
+            if isinstance(ref_cost, float) and _ran(pt)
             else "-"
         )
         status = f"**{pt.status}**" if pt.status == "ok" else pt.status
         lines.append(
             f"| {pt.label} | {pt.dt_s:g} | {status} | {num(pt.error_rad, '.3f')} "
             f"| {num(pt.drift_error, '.4f')} "
-            f"| {num(None if pt.status == 'fails' else pt.wall_per_sim_s, '.3f')} | {ratio} "
+            f"| {num(pt.wall_per_sim_s if _ran(pt) else None, '.3f')} | {ratio} "
             f"| {num(pt.batch_sim_s_per_wall_s, '.2f')} "
             f"| {num(None if pt.max_slip is None else 100 * pt.max_slip, '.1f')}"
             f"{'' if pt.max_slip is None else '%'} | {num(pt.max_retouches, '.2f')} "
@@ -163,10 +173,12 @@ def plot_grid(
             if np.isfinite(grid[i, j]):
                 text = ["ok", "inacc.", "fails"][int(grid[i, j])]
                 pt = by_cell[(integs[i], dts[j])]
-                if isinstance(ref_cost, float) and pt.status != "fails" and pt.wall_per_sim_s > 0:
+                if pt.failure:
+                    text += f": {_short_kind(pt.failure)}"
+                if isinstance(ref_cost, float) and _ran(pt):
                     text += f"\n{ref_cost / pt.wall_per_sim_s:.1f}x"
                 ax.text(j, i, text, ha="center", va="center", fontsize=7)
-    title = "stability map: ok (within 0.05 rad, same gaits), inaccurate, fails"
+    title = "stability map: ok (within 0.05 rad, same gaits), inaccurate, fails (why)"
     if isinstance(ref_cost, float):
         title += "\nNx: how many times cheaper than the paper's RK4 at 2e-5 s (one simulation)"
     ax.set_title(title, fontsize=9)
