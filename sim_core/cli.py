@@ -325,7 +325,7 @@ def _add_numerics(sub: Any) -> None:
 
 def _cmd_numerics(args: argparse.Namespace) -> int:
     from sim_core.numerics import grid_study
-    from sim_core.numerics_report import load_grid, plot_grid, update_numerics_doc
+    from sim_core.numerics_report import load_grid, plot_grid, save_grid, update_numerics_doc
 
     prog = "insect-gait numerics"
     # a quick grid never overwrites the committed full one
@@ -350,8 +350,7 @@ def _cmd_numerics(args: argparse.Namespace) -> int:
     else:
         points, info = grid_study(progress=print)
     plot_grid(points, out / "numerics_pareto.png", out / "numerics_map.png", info)
-    rows = [p.__dict__ | {"status": p.status, "label": p.label} for p in points]
-    (out / "numerics.json").write_text(json.dumps(info | {"grid": rows}, indent=1))
+    save_grid(out / "numerics.json", points, info)
     print(f"wrote {out / 'numerics_pareto.png'}, {out / 'numerics_map.png'}, numerics.json")
     if doc is not None:
         doc.write_text(update_numerics_doc(doc.read_text(), points, info))

@@ -36,7 +36,6 @@ class Simulation:
     def _build(self) -> None:
         self._runner = BatchRunner([self._spec], self._params, nthread=1, record=False)
         self._runner.duration[:] = np.inf
-        self._state = mujoco.MjData(self._runner.model)
         # drawing needs the visual geoms the physics leaves out; same bodies and joints
         self._render_model = build_model(self._runner.params, visual=True)
         self._data = mujoco.MjData(self._render_model)
@@ -111,10 +110,10 @@ class Simulation:
     def data(self) -> mujoco.MjData:
         """A snapshot of the current state with body/geom poses of `model` computed, for
         rendering."""
-        self._runner.batch.get_data(0, self._state)
-        self._data.qpos[:] = self._state.qpos
-        self._data.qvel[:] = self._state.qvel
-        self._data.time = self._state.time
+        r = self._runner
+        self._data.qpos[:] = r.qpos[0]  # same bodies and joints: the physics state is ours
+        self._data.qvel[:] = r.qvel[0]
+        self._data.time = r.time
         mujoco.mj_kinematics(self._render_model, self._data)
         return self._data
 

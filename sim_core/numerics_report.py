@@ -30,6 +30,11 @@ def _ran(pt: GridPoint) -> bool:
     return pt.error_rad is not None and pt.wall_per_sim_s > 0
 
 
+def _speedup(pt: GridPoint, ref_cost: object) -> float | None:
+    """How many times cheaper than the timed reference, where pt's runs went the whole way."""
+    return ref_cost / pt.wall_per_sim_s if isinstance(ref_cost, float) and _ran(pt) else None
+
+
 def grid_markdown(points: Sequence[GridPoint], info: Mapping[str, object]) -> str:
     """The grid as a markdown table, one row per configuration, with its speed-up against the
     paper's RK4 at 2e-5 s when the reference was timed."""
@@ -54,11 +59,8 @@ def grid_markdown(points: Sequence[GridPoint], info: Mapping[str, object]) -> st
         return "-" if x is None else format(x, fmt)
 
     for pt in points:
-        ratio = (
-            f"{ref_cost / pt.wall_per_sim_s:.1f}x"
-            if isinstance(ref_cost, float) and _ran(pt)
-            else "-"
-        )
+        speedup = _speedup(pt, ref_cost)
+        ratio = "-" if speedup is None else f"{speedup:.1f}x"
         status = f"**{pt.status}**" if pt.status == "ok" else pt.status
         lines.append(
             f"| {pt.label} | {pt.dt_s:g} | {status} | {num(pt.error_rad, '.3f')} "
@@ -70,6 +72,12 @@ def grid_markdown(points: Sequence[GridPoint], info: Mapping[str, object]) -> st
             f"| {pt.failure or ''} |"
         )
     return "\n".join(lines)
+
+
+def save_grid(path: Path, points: Sequence[GridPoint], info: Mapping[str, object]) -> None:
+    """numerics.json: the info dict plus one row per configuration (with status and label)."""
+    rows = [dataclasses.asdict(p) | {"status": p.status, "label": p.label} for p in points]
+    path.write_text(json.dumps(dict(info) | {"grid": rows}, indent=1))
 
 
 def load_grid(path: Path) -> tuple[list[GridPoint], dict[str, object]]:
@@ -175,8 +183,8 @@ def plot_grid(
                 pt = by_cell[(integs[i], dts[j])]
                 if pt.failure:
                     text += f": {_short_kind(pt.failure)}"
-                if isinstance(ref_cost, float) and _ran(pt):
-                    text += f"\n{ref_cost / pt.wall_per_sim_s:.1f}x"
+                if (speedup := _speedup(pt, ref_cost)) is not None:
+                    text += f"\n{speedup:.1f}x"
                 ax.text(j, i, text, ha="center", va="center", fontsize=7)
     title = "stability map: ok (within 0.05 rad, same gaits), inaccurate, fails (why)"
     if isinstance(ref_cost, float):

@@ -409,6 +409,7 @@ class BatchRunner:
         slips = self.slips[i]
         tds = tuple(np.array(t) for t in self.touchdowns[i])
         tdp = tuple(np.array(t) for t in self.touchdown_phases[i])
+        ntd = sum(t.size for t in tds)
         return RunResult(
             **base,
             d31=d31,
@@ -426,9 +427,7 @@ class BatchRunner:
             speed_cm_s=None if speed is None else speed * 100.0,
             duty_factor_measured=duty,
             slip_fraction=float(np.median(slips)) if slips else None,
-            retouches_per_stance=(
-                float(self.retouches[i]) / ntd if (ntd := sum(len(t) for t in tds)) else None
-            ),
+            retouches_per_stance=float(self.retouches[i]) / ntd if ntd else None,
             # against the current beta: a run whose beta was ramped gets a rough figure
             landing_swing_share=gait.landing_share(
                 tds, tdp, float(self.phi_aep[i]), after_s=float(self.duration[i]) / 3

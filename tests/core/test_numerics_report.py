@@ -3,24 +3,17 @@ redraws without simulating."""
 
 from __future__ import annotations
 
-import json
 from pathlib import Path
 
 import pytest
 
 from sim_core.cli import main
 from sim_core.numerics import GridPoint
-from sim_core.numerics_report import grid_markdown, load_grid, update_numerics_doc
+from sim_core.numerics_report import grid_markdown, load_grid, save_grid, update_numerics_doc
 
 OK = GridPoint("implicitfast", 5e-5, 0.5, 0.03, True, None, "", 6.0, 0.01, (2.05, 1.7), 0.0006)
 FAILED = GridPoint("rk4", 1e-3, 0.001, None, False, "flip")
 INFO: dict[str, object] = {"reference_wall_per_sim_s": 2.5, "reference_drift_error": 0.0024}
-
-
-def _save(path: Path, points: list[GridPoint], info: dict[str, object]) -> None:
-    # the same shape as `insect-gait numerics` writes
-    rows = [p.__dict__ | {"status": p.status, "label": p.label} for p in points]
-    path.write_text(json.dumps(info | {"grid": rows}))
 
 
 def test_table_gives_the_speed_up_only_where_a_configuration_runs() -> None:
@@ -34,14 +27,14 @@ def test_table_gives_the_speed_up_only_where_a_configuration_runs() -> None:
 
 def test_saved_grid_round_trips(tmp_path: Path) -> None:
     path = tmp_path / "numerics.json"
-    _save(path, [OK, FAILED], INFO)
+    save_grid(path, [OK, FAILED], INFO)
     points, info = load_grid(path)
     assert points == [OK, FAILED] and info == INFO
 
 
 def test_from_json_redraws_figures_and_the_doc_section(tmp_path: Path) -> None:
     grid = tmp_path / "numerics.json"
-    _save(grid, [OK, FAILED], INFO)
+    save_grid(grid, [OK, FAILED], INFO)
     doc = tmp_path / "NUMERICS.md"
     doc.write_text("intro\n<!-- numerics:begin -->\nold\n<!-- numerics:end -->\nrest\n")
     out = tmp_path / "figs"
