@@ -19,6 +19,7 @@ from sim_core.model import build_model, leg_names
 from sim_core.params import INTEGRATORS, ModelParams, nominal_speed, parameter_table
 from sim_core.runner import simulate, simulate_batch
 from sim_core.spec import RunResult, RunSpec, SimulationDiverged
+from sim_core.sweep import SweepResult, sweep
 
 __all__ = [
     "INTEGRATORS",
@@ -27,6 +28,7 @@ __all__ = [
     "RunSpec",
     "Simulation",
     "SimulationDiverged",
+    "SweepResult",
     "build_model",
     "circular_mean",
     "classify_gait",
@@ -35,4 +37,5 @@ __all__ = [
     "parameter_table",
     "simulate",
     "simulate_batch",
+    "sweep",
 ]
