@@ -14,7 +14,7 @@ from __future__ import annotations
 import argparse
 
 from sim_core import ModelParams
-from sim_core.numerics import drift_rates
+from sim_core.numerics.convergence import drift_rates
 
 DTS = (2e-4, 1e-4, 5e-5, 2.5e-5)
 

@@ -13,13 +13,14 @@ Public API (server/ and web/ use only these names):
     sim.advance(0.1); sim.set_beta(0.63)
 """
 
-from sim_core.gait import circular_mean, classify_gait
-from sim_core.live import Simulation
-from sim_core.model import build_model, leg_names
-from sim_core.params import INTEGRATORS, ModelParams, nominal_speed, parameter_table
-from sim_core.runner import simulate, simulate_batch
-from sim_core.spec import RunResult, RunSpec, SimulationDiverged
-from sim_core.sweep import SweepResult, sweep
+from sim_core.model.anatomy import leg_names
+from sim_core.model.gait import circular_mean, classify_gait
+from sim_core.model.live import Simulation
+from sim_core.model.mjspec import build_model
+from sim_core.model.params import INTEGRATORS, ModelParams, nominal_speed, parameter_table
+from sim_core.model.runner import simulate, simulate_batch
+from sim_core.model.spec import RunResult, RunSpec, SimulationDiverged
+from sim_core.paper.sweep import SweepResult, sweep
 
 __all__ = [
     "INTEGRATORS",

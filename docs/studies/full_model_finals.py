@@ -7,7 +7,7 @@ Prints the final Delta31 of each start, the median slip (share of the stroke), t
 speed and where in the swing the feet land (`RunResult.landing_swing_share`, the median over
 the runs; 1 = at the AEP, 0.5 = when the scuff window closes): an attractor reached with feet
 landing in mid-swing is set by the swing and scuff rule, not by walking mechanics.
-`--plot FILE` draws Delta31 per gait cycle, one panel per beta, with `sim_core.plots.plot_fig5`.
+`--plot FILE` draws Delta31 per gait cycle, one panel per beta, with `sim_core.studies.study_plots.plot_fig5`.
 A scratch study tool kept so that the numbers in the docs can be re-made; the product's
 own commands (`insect-gait study`, `reproduce`) are the supported path.
 """
@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 
 from sim_core import ModelParams, RunSpec, simulate_batch
-from sim_core.plots import plot_fig5
+from sim_core.studies.study_plots import plot_fig5
 
 
 def main() -> None:

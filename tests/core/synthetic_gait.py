@@ -6,7 +6,7 @@ a tilt c(beta) proportional to 0.6575 - beta so that the metachronal pair meets 
 0.645 and the tripod pair at beta = 0.67: the paper's Fig. 8 by construction. Body mass and
 slope act through an effective beta (heavier or uphill -> lower beta -> tripod), and without
 phase resetting Delta31 does not move. `fake_execute` has the signature of
-`sim_core.tasks.execute_chunk`, so the whole reproduce pipeline runs on it in milliseconds.
+`sim_core.runs.tasks.execute_chunk`, so the whole reproduce pipeline runs on it in milliseconds.
 """
 
 from __future__ import annotations
@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.tasks import Task
+from sim_core.runs.tasks import Task
 
 A = 0.4
 # the cubic's local extrema are +-A * 0.25 / (3 sqrt 3); the tilt reaches them 0.0125 either

@@ -6,14 +6,14 @@ import numpy as np
 import pytest
 
 from sim_core import ModelParams
-from sim_core.calibration import (
+from sim_core.studies.calibrate import (
     SEARCH_SPACE,
     Evaluation,
     ReturnMap,
     reachable,
     return_map,
 )
-from sim_core.numerics import ConvergenceRow, convergence_check
+from sim_core.numerics.convergence import ConvergenceRow, convergence_check
 
 
 def _ev(fast: list[float | None], slow: list[float | None], bis: list[float | None]) -> Evaluation:
@@ -70,7 +70,7 @@ def test_convergence_rows_and_a_tiny_check() -> None:
 
 
 def test_outcome_gap_counts_disagreements() -> None:
-    from sim_core.calibration import outcome_gap
+    from sim_core.studies.calibrate import outcome_gap
 
     a = _ev([2.9, None, 1.0], [1.9], [])
     b = _ev([2.8, 2.0, None], [1.9], [])
@@ -78,7 +78,7 @@ def test_outcome_gap_counts_disagreements() -> None:
 
 
 def test_open_loop_drift_shapes_and_a_uniform_hind_bias() -> None:
-    from sim_core.calibration import open_loop_drift
+    from sim_core.studies.calibrate import open_loop_drift
 
     grid = [2.0, 3.0]
     base, jumps = open_loop_drift(ModelParams(), 0.66, grid, duration_s=0.9)
@@ -91,7 +91,7 @@ def test_open_loop_drift_shapes_and_a_uniform_hind_bias() -> None:
 def test_study_writes_its_figures_and_the_viewers_bifurcation_file(tmp_path) -> None:
     import json
 
-    from sim_core.study import run_study
+    from sim_core.studies.study import run_study
 
     report = run_study(tmp_path, n_init=2, duration_s=0.6, map_inits=2, map_duration_s=0.8,
                        with_sensitivity=False, log=lambda _: None)  # fmt: skip
@@ -103,7 +103,7 @@ def test_study_writes_its_figures_and_the_viewers_bifurcation_file(tmp_path) -> 
 
 
 def test_numerics_grid_reports_a_failing_configuration_as_failed() -> None:
-    from sim_core.numerics import grid_study
+    from sim_core.numerics.convergence import grid_study
 
     points, _ = grid_study(
         integrators=("euler", "implicitfast"), dts=(1e-3, 5e-5), betas=(0.66,), inits=(3.0,),
@@ -118,7 +118,7 @@ def test_numerics_grid_reports_a_failing_configuration_as_failed() -> None:
 
 
 def test_drift_error_shrinks_with_the_timestep_and_a_failed_probe_is_nan() -> None:
-    from sim_core.numerics import drift_rates
+    from sim_core.numerics.convergence import drift_rates
 
     def probe(dt: float) -> np.ndarray:
         return drift_rates("implicitfast", dt, betas=(0.62,), d31s=(1.9, 2.5))
@@ -134,8 +134,8 @@ def test_drift_error_shrinks_with_the_timestep_and_a_failed_probe_is_nan() -> No
 
 
 def test_drift_score_pushes_toward_the_target_the_short_way() -> None:
-    from sim_core.calibration import DRIFT_GRID, drift_score
-    from sim_core.gait import angle_diff
+    from sim_core.studies.calibrate import DRIFT_GRID, drift_score
+    from sim_core.model.gait import angle_diff
 
     # a grid point just below the target must count a positive drift as a push toward it
     assert float(angle_diff(2.9, 2.7)) > 0 > float(angle_diff(2.9, 3.1))
@@ -145,7 +145,7 @@ def test_drift_score_pushes_toward_the_target_the_short_way() -> None:
 
 
 def test_a_chattering_configuration_is_reported_as_failed_with_its_kind() -> None:
-    from sim_core.numerics import grid_study
+    from sim_core.numerics.convergence import grid_study
 
     points, info = grid_study(
         integrators=("implicitfast",), dts=(5e-4, 5e-5), betas=(0.62,), inits=(2.0,),

@@ -5,8 +5,8 @@ import math
 import numpy as np
 
 from sim_core import ModelParams
-from sim_core.controller import apply_events
-from sim_core.legs import pack_geometry
+from sim_core.model.controller import apply_events
+from sim_core.model.legs import pack_geometry
 
 P = ModelParams()
 GEO = pack_geometry(P)

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from sim_core.cpg import (
+from sim_core.model.cpg import (
     advance_phases,
     coupling,
     coupling_matrices,

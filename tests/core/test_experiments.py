@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from sim_core import RunSpec
-from sim_core.experiments import (
+from sim_core.paper.experiments import (
     detect_transitions,
     fixed_points,
     hysteresis_width,

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from sim_core import ModelParams, build_model
-from sim_core.legs import (
+from sim_core.model.legs import (
     forward_kinematics,
     inverse_kinematics,
     pack_geometry,

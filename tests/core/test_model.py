@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from sim_core import ModelParams, build_model, leg_names
-from sim_core.model import gravity_vector
+from sim_core.model.mjspec import gravity_vector
 
 
 @pytest.fixture(scope="module")
@@ -69,7 +69,7 @@ def test_slope_tilts_gravity_uphill_positive() -> None:
 
 def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_body() -> None:
     from sim_core import RunSpec, simulate
-    from sim_core.model import TARSUS_MASS, leg_qpos_addresses
+    from sim_core.model.mjspec import TARSUS_MASS, leg_qpos_addresses
 
     p = ModelParams(tarsus_stiffness=200.0, tarsus_damping=0.5)
     m = build_model(p)
@@ -91,7 +91,8 @@ def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_
 
 @pytest.mark.parametrize("axis", ["vertical", "tibia"])
 def test_compressing_a_tarsus_moves_its_foot_up_and_vertical_means_straight_up(axis: str) -> None:
-    from sim_core.model import LEG_NAMES, leg_qpos_addresses, mid_stance_angles
+    from sim_core.model.anatomy import LEG_NAMES
+    from sim_core.model.mjspec import leg_qpos_addresses, mid_stance_angles
 
     p = ModelParams(tarsus_stiffness=15.0, tarsus_damping=0.04, tarsus_axis=axis)
     m = build_model(p)

@@ -7,9 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from sim_core.cli import main
-from sim_core.numerics import GridPoint
-from sim_core.numerics_report import grid_markdown, load_grid, save_grid, update_numerics_doc
+from sim_core.cli.main import main
+from sim_core.numerics.convergence import GridPoint
+from sim_core.numerics.report import grid_markdown, load_grid, save_grid, update_numerics_doc
 
 OK = GridPoint("implicitfast", 5e-5, 0.5, 0.03, True, None, "", 6.0, 0.01, (2.05, 1.7), 0.0006)
 FAILED = GridPoint("rk4", 1e-3, 0.001, None, False, "flip")

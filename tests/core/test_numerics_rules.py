@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from sim_core.gait import classify_gait
-from sim_core.numerics import same_gaits
+from sim_core.model.gait import classify_gait
+from sim_core.numerics.convergence import same_gaits
 
 
 def test_outcomes_straddling_the_classifier_boundary_are_one_gait() -> None:

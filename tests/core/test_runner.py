@@ -106,7 +106,7 @@ def test_live_simulation_matches_batch_and_acts_on_changes() -> None:
 
 
 def test_landing_share_reads_where_in_the_swing_feet_land() -> None:
-    from sim_core.gait import landing_share
+    from sim_core.model.gait import landing_share
 
     aep = 2.0
     times = tuple(np.array([0.5, 1.5, 2.5]) for _ in range(6))

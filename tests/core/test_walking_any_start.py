@@ -9,9 +9,9 @@ import math
 
 import pytest
 
-from sim_core.params import ModelParams, nominal_speed
-from sim_core.runner import simulate_batch
-from sim_core.spec import RunSpec
+from sim_core.model.params import ModelParams, nominal_speed
+from sim_core.model.runner import simulate_batch
+from sim_core.model.spec import RunSpec
 
 STARTS = [2 * math.pi * k / 12 + 0.1 for k in range(12)]
 

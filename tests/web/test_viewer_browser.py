@@ -53,7 +53,7 @@ def viewer(tmp_path: Path):
         pytest.skip("no chromium on PATH (apt-get install chromium); CI runs this test")
     port = _free_port()
     proc = subprocess.Popen(
-        [sys.executable, "-m", "sim_core.cli", "viewer", "--port", str(port)],
+        [sys.executable, "-m", "sim_core.cli.main", "viewer", "--port", str(port)],
         cwd=tmp_path,
         stdout=subprocess.PIPE,
         stderr=subprocess.STDOUT,

@@ -1,0 +1,27 @@
+"""What every command family shares: the one-line argparse error, exit codes, and which
+markdown file a generating command rewrites."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+EXIT_USAGE = 2
+
+
+class Parser(argparse.ArgumentParser):
+    """argparse that reports errors in one line and exits 2 (never a traceback)."""
+
+    def error(self, message: str) -> None:  # type: ignore[override]
+        self.exit(EXIT_USAGE, f"{self.prog}: error: {message}\n")
+
+
+def doc_to_update(args: argparse.Namespace, default: str) -> Path | None:
+    """The markdown file a generating command rewrites its section of: --doc, else `default`
+    for a full run; none with --no-doc, or with --quick unless --doc names one."""
+    if args.no_doc or not (args.doc or not args.quick):
+        return None
+    doc = Path(args.doc or default)
+    if not doc.is_file():
+        raise FileNotFoundError(f"--doc {doc}: no such file")
+    return doc

@@ -1,0 +1,110 @@
+"""`bench`, `converge` and `numerics`: what the numerics cost and how far to trust them."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from sim_core.cli.common import EXIT_USAGE, doc_to_update
+from sim_core.model.params import INTEGRATORS
+
+
+def _add_bench(sub: Any) -> None:
+    p = sub.add_parser("bench", help="speed of one and many simulations, side by side")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--sim-seconds", type=float, default=2.0, help="per measurement")
+    p.add_argument("--nsim", type=int, default=32, help="batch size")
+    p.set_defaults(func=_cmd_bench)
+
+
+def _cmd_bench(args: argparse.Namespace) -> int:
+    from sim_core.numerics.bench import run_bench
+
+    if args.sim_seconds <= 0 or args.nsim < 1:
+        print("insect-gait bench: error: --sim-seconds > 0 and --nsim >= 1", file=sys.stderr)
+        return EXIT_USAGE
+    report = run_bench(sim_seconds=args.sim_seconds, nsim=args.nsim, verbose=not args.json)
+    if args.json:
+        print(json.dumps(report))
+    return 0
+
+
+def _add_converge(sub: Any) -> None:
+    p = sub.add_parser("converge", help="same gait outcomes at dt and dt/2? (default numerics)")
+    p.add_argument("--dt-s", type=float, default=None)
+    p.add_argument("--integrator", choices=INTEGRATORS, default=None)
+    p.add_argument("--duration-s", type=float, default=6.0)
+    p.add_argument("--tolerance", type=float, default=0.05, help="rad")
+    p.set_defaults(func=_cmd_converge)
+
+
+def _cmd_converge(args: argparse.Namespace) -> int:
+    from sim_core.numerics.convergence import convergence_check
+
+    if (args.dt_s is not None and args.dt_s <= 0) or args.duration_s <= 0:
+        print("insect-gait converge: error: --dt-s and --duration-s must be > 0", file=sys.stderr)
+        return EXIT_USAGE
+    report = convergence_check(
+        dt_s=args.dt_s, integrator=args.integrator, duration_s=args.duration_s
+    )
+    print(report.summary(args.tolerance))
+    return 0 if all(report.agree(args.tolerance)) else 1
+
+
+def _add_numerics(sub: Any) -> None:
+    p = sub.add_parser("numerics", help="integrator x timestep grid against RK4 at 2e-5 s")
+    p.add_argument("--quick", action="store_true", help="a coarse grid, short runs")
+    p.add_argument(
+        "--out", default=None, help="folder (default docs/figures; --quick: out/numerics-quick)"
+    )
+    p.add_argument("--doc", default=None,
+                   help="markdown file whose numerics section to regenerate (default "
+                   "docs/NUMERICS.md; none with --quick)")  # fmt: skip
+    p.add_argument("--no-doc", action="store_true", help="do not touch any markdown file")
+    p.add_argument("--from-json", default=None, metavar="PATH",
+                   help="redraw figures and table from a numerics.json; no simulation")  # fmt: skip
+    p.set_defaults(func=_cmd_numerics)
+
+
+def _cmd_numerics(args: argparse.Namespace) -> int:
+    from sim_core.numerics.convergence import grid_study
+    from sim_core.numerics.report import load_grid, plot_grid, save_grid, update_numerics_doc
+
+    prog = "insect-gait numerics"
+    # a quick grid never overwrites the committed full one
+    out = Path(args.out or ("out/numerics-quick" if args.quick else "docs/figures"))
+    try:
+        doc = doc_to_update(args, "docs/NUMERICS.md")
+    except FileNotFoundError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    out.mkdir(parents=True, exist_ok=True)
+    if args.from_json:
+        try:
+            points, info = load_grid(Path(args.from_json))
+        except (OSError, ValueError, KeyError, TypeError) as exc:
+            print(f"{prog}: error: --from-json {args.from_json}: {exc}", file=sys.stderr)
+            return EXIT_USAGE
+    elif args.quick:
+        points, info = grid_study(dts=(1e-3, 2e-4, 1e-4, 5e-5), inits=(1.0,), duration_s=2.0,
+                                  progress=print, with_batch=False, check_reference=False,
+                                  drift_reference=("implicitfast", 2.5e-5),
+                                  drift_d31s=(1.9, 2.9))  # fmt: skip
+    else:
+        points, info = grid_study(progress=print)
+    plot_grid(points, out / "numerics_pareto.png", out / "numerics_map.png", info)
+    save_grid(out / "numerics.json", points, info)
+    print(f"wrote {out / 'numerics_pareto.png'}, {out / 'numerics_map.png'}, numerics.json")
+    if doc is not None:
+        doc.write_text(update_numerics_doc(doc.read_text(), points, info))
+        print(f"updated the grid table in {doc}")
+    return 0
+
+
+def register(sub: Any) -> None:
+    _add_bench(sub)
+    _add_converge(sub)
+    _add_numerics(sub)

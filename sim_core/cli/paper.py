@@ -1,0 +1,102 @@
+"""`reproduce` (the paper's Figs. 5-9) and its old name `study`."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+from typing import Any
+
+from sim_core.cli.common import EXIT_USAGE, doc_to_update
+
+
+def _add_reproduce(sub: Any) -> None:
+    from sim_core.paper.figures import FIGURES
+    from sim_core.runs.backends import BACKENDS
+
+    p = sub.add_parser(
+        "reproduce", help="the paper's Figs. 5-9 + ablation: figures, data, reproduction table"
+    )
+    p.add_argument("--figure", nargs="+", choices=[*FIGURES, "all"], default=["all"],
+                   help="which figures (default all)")  # fmt: skip
+    p.add_argument(
+        "--out", default=None, help="folder (default docs/figures; --quick: out/reproduce-quick)"
+    )
+    p.add_argument("--cache", default="out/cache", help="task result cache folder")
+    p.add_argument("--backend", choices=BACKENDS, default="local",
+                   help="local: process pool on this machine; dask: dask.distributed")  # fmt: skip
+    p.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
+    p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    p.add_argument("--quick", action="store_true", help="tiny sizes: a smoke test, not science")
+    p.add_argument("--doc", default=None,
+                   help="markdown file whose reproduce section to regenerate (default "
+                   "docs/REPRODUCTION.md; none with --quick)")  # fmt: skip
+    p.add_argument("--no-doc", action="store_true", help="do not touch any markdown file")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_reproduce)
+
+
+def _cmd_reproduce(args: argparse.Namespace) -> int:
+    from sim_core.paper.figures import Config
+    from sim_core.paper.reproduce import reproduce
+    from sim_core.runs.backends import BackendUnavailable, get_backend
+
+    prog = "insect-gait reproduce"
+    if args.workers is not None and args.workers < 1:
+        print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
+        return EXIT_USAGE
+    cfg = Config.quick() if args.quick else Config()
+    out = Path(args.out or ("out/reproduce-quick" if args.quick else "docs/figures"))
+    try:
+        doc = doc_to_update(args, "docs/REPRODUCTION.md")
+    except FileNotFoundError as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    try:
+        backend = get_backend(args.backend, args.workers, args.address)
+    except BackendUnavailable as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    try:
+        report = reproduce(args.figure, cfg, out, Path(args.cache), backend, doc=doc,
+                           progress=not args.no_progress)  # fmt: skip
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted; finished simulations are cached in {args.cache}: "
+              "run the same command again to resume", file=sys.stderr)  # fmt: skip
+        return 130
+    finally:
+        backend.close()
+    print(report.table)
+    s = report.stats
+    print(f"\nwall time {report.wall_s:.1f} s; {s.computed} of {s.tasks} simulations computed, "
+          f"{s.cached} cached; wrote {len(report.files)} files to {out}"
+          + (f" and the table in {doc}" if doc else ""))  # fmt: skip
+    return 0
+
+
+def _add_study(sub: Any) -> None:
+    p = sub.add_parser(
+        "study", help="old name of `reproduce --figure 5 7` followed by `sensitivity`"
+    )
+    p.add_argument("--out", default=None, help="folder (default as for reproduce)")
+    p.add_argument("--quick", action="store_true", help="tiny sizes; no sensitivity")
+    p.add_argument("--no-sensitivity", action="store_true")
+    p.set_defaults(func=_cmd_study)
+
+
+def _cmd_study(args: argparse.Namespace) -> int:
+    from sim_core.studies.sensitivity import run_sensitivity
+
+    rc = _cmd_reproduce(argparse.Namespace(
+        figure=["5", "7"], out=args.out, cache="out/cache", backend="local", address=None,
+        workers=None, quick=args.quick, doc=None, no_doc=True, no_progress=False,
+    ))  # fmt: skip
+    if rc != 0 or args.quick or args.no_sensitivity:
+        return rc
+    run_sensitivity(Path(args.out or "docs/figures"))
+    return 0
+
+
+def register(sub: Any) -> None:
+    _add_reproduce(sub)
+    _add_study(sub)

@@ -1,0 +1,100 @@
+"""`calibrate` and `sensitivity`: searches and robustness studies of the open parameters."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from sim_core.cli.common import EXIT_USAGE
+
+
+def _add_calibrate(sub: Any) -> None:
+    p = sub.add_parser(
+        "calibrate", help="search the open parameters for the paper's gait selection"
+    )
+    p.add_argument("--trials", type=int, default=50)
+    p.add_argument("--storage", default="sqlite:///out/calibration.db", help="optuna storage URL")
+    p.add_argument("--study", default="gait-selection")
+    p.add_argument("--duration-s", type=float, default=6.0, help="per run")
+    p.add_argument("--n-init", type=int, default=8, help="initial Delta31 values per beta")
+    p.add_argument("--seed", type=int, default=0)
+    p.add_argument("--seed-from", default=None, help="re-score an earlier study's trials first")
+    p.add_argument(
+        "--no-half-dt-check", action="store_true", help="skip scoring at half the timestep"
+    )
+    p.add_argument(
+        "--start-from",
+        default=None,
+        help="JSON file: a list of parameter sets to evaluate before sampling (warm start)",
+    )
+    p.add_argument(
+        "--betas", type=float, nargs="+", default=[0.62, 0.655, 0.70], help="betas to score"
+    )
+    p.add_argument(
+        "--objective",
+        choices=["closed-loop", "drift", "pull"],
+        default="closed-loop",
+        help="closed-loop: settled Delta31 of many runs; drift: open-loop drift signs (cheaper);"
+        " pull: how close short runs end to the branches, walking-sanity penalties, wider space",
+    )
+    p.set_defaults(func=_cmd_calibrate)
+
+
+def _cmd_calibrate(args: argparse.Namespace) -> int:
+    import time
+
+    from sim_core.studies.calibrate import SEARCH_SPACE, calibrate
+    from sim_core.studies.space import WIDE_SPACE
+
+    if args.trials < 1 or args.duration_s <= 0 or args.n_init < 2:
+        print("insect-gait calibrate: error: --trials >= 1, --duration-s > 0, --n-init >= 2",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_USAGE
+    if args.storage.startswith("sqlite:///"):
+        Path(args.storage.removeprefix("sqlite:///")).parent.mkdir(parents=True, exist_ok=True)
+    start_from = json.loads(Path(args.start_from).read_text()) if args.start_from else []
+    t0 = time.perf_counter()
+
+    def report(n: int, score: float, values: dict[str, float]) -> None:
+        shown = " ".join(f"{k}={v:.3g}" for k, v in values.items())
+        print(f"[{time.perf_counter() - t0:7.0f} s] trial {n}: score {score:.3f}  {shown}",
+              flush=True)  # fmt: skip
+
+    study = calibrate(
+        args.trials, storage=args.storage, study_name=args.study, seed=args.seed,
+        duration_s=args.duration_s, n_init=args.n_init, on_trial=report,
+        betas=tuple(args.betas), seed_from=args.seed_from,
+        check_half_dt=not args.no_half_dt_check, objective_name=args.objective,
+        start_from=start_from,
+    )  # fmt: skip
+    best = study.best_trial
+    print(f"best trial {best.number}: score {best.value:.3f}")
+    for k in WIDE_SPACE if args.objective == "pull" else SEARCH_SPACE:
+        print(f"  {k} = {best.params[k]:.4g}")
+    return 0
+
+
+def _add_sensitivity(sub: Any) -> None:
+    p = sub.add_parser("sensitivity", help="+-10%% of each open parameter: tornado chart + JSON")
+    p.add_argument("--out", default="docs/figures", help="output folder")
+    p.add_argument("--n-init", type=int, default=8, help="initial Delta31 values per beta")
+    p.add_argument("--duration-s", type=float, default=6.0, help="per run")
+    p.set_defaults(func=_cmd_sensitivity)
+
+
+def _cmd_sensitivity(args: argparse.Namespace) -> int:
+    from sim_core.studies.sensitivity import run_sensitivity
+
+    if args.n_init < 1 or args.duration_s <= 0:
+        print("insect-gait sensitivity: error: --n-init >= 1, --duration-s > 0", file=sys.stderr)
+        return EXIT_USAGE
+    run_sensitivity(Path(args.out), n_init=args.n_init, duration_s=args.duration_s)
+    return 0
+
+
+def register(sub: Any) -> None:
+    _add_calibrate(sub)
+    _add_sensitivity(sub)

@@ -1,0 +1,161 @@
+"""`run`, `params` and `return-map`: one walk, the parameters, one return map."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import sys
+from pathlib import Path
+from typing import Any
+
+from pydantic import ValidationError
+
+from sim_core.cli.common import EXIT_USAGE
+from sim_core.model.params import INTEGRATORS
+from sim_core.model.spec import RunSpec
+
+
+def _add_run(sub: Any) -> None:
+    p = sub.add_parser("run", help="simulate one walk and report Delta31 and the gait")
+    p.add_argument("--beta", type=float, required=True, help="duty factor in (0.5, 1)")
+    p.add_argument("--d31-init", type=float, default=2.0 * math.pi / 3.0, help="rad")
+    p.add_argument("--duration-s", type=float, default=5.0)
+    p.add_argument("--body-mass-g", type=float, default=3.0)
+    p.add_argument("--slope-deg", type=float, default=0.0, help="uphill positive")
+    p.add_argument("--integrator", choices=INTEGRATORS, default=None)
+    p.add_argument("--dt-s", type=float, default=None, help="physics timestep")
+    p.add_argument("--control-dt-s", type=float, default=None, help="controller period")
+    p.add_argument("--no-phase-reset", action="store_true", help="disable eq. 4")
+    p.add_argument("--json", action="store_true", help="print one JSON object")
+    p.set_defaults(func=_cmd_run)
+
+
+def _spec_from_args(args: argparse.Namespace) -> RunSpec:
+    return RunSpec(
+        beta=args.beta,
+        d31_init=args.d31_init % (2 * math.pi) if math.isfinite(args.d31_init) else args.d31_init,
+        duration_s=args.duration_s,
+        body_mass_g=args.body_mass_g,
+        slope_deg=args.slope_deg,
+        phase_reset=not args.no_phase_reset,
+        integrator=args.integrator,
+        dt_s=args.dt_s,
+        control_dt_s=args.control_dt_s,
+    )
+
+
+def _validation_message(exc: ValidationError) -> str:
+    parts = []
+    for err in exc.errors():
+        field = ".".join(str(x) for x in err["loc"]) or "arguments"
+        parts.append(f"--{field.replace('_', '-')}: {err['msg']}")
+    return "; ".join(parts)
+
+
+def _cmd_run(args: argparse.Namespace) -> int:
+    from sim_core.model.runner import simulate
+
+    try:
+        spec = _spec_from_args(args)
+    except ValidationError as exc:
+        print(f"insect-gait run: error: {_validation_message(exc)}", file=sys.stderr)
+        return EXIT_USAGE
+    result = simulate(spec)
+    summary = result.summary()
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        _print_summary(result.summary(), spec)
+    return 0 if not result.diverged else 1
+
+
+def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
+    from sim_core.model.params import ModelParams, nominal_speed
+
+    p = ModelParams()
+    v_nom = nominal_speed(spec.beta, p.stroke, p.swing_duration) * 100
+    if s["diverged"]:
+        print(f"DIVERGED: {s['error']}")
+        return
+    d31 = s["d31"]
+    print(f"beta {spec.beta:.3f}  d31_init {spec.d31_init:.3f} rad  duration {spec.duration_s} s")
+    print(f"Delta31 at leg-1 touchdowns ({len(d31)}): " + " ".join(f"{x:.2f}" for x in d31[-12:]))
+    final = "n/a" if s["d31_final"] is None else f"{s['d31_final']:.3f} rad"
+    print(f"final Delta31 {final}  gait {s['gait']}")
+    if s["speed_cm_s"] is not None:
+        print(f"speed {s['speed_cm_s']:.2f} cm/s (eq. 2: {v_nom:.2f})")
+    if s["duty_factor_measured"] is not None:
+        print(f"duty factor measured {s['duty_factor_measured']:.3f} (commanded {spec.beta:.3f})")
+    if s["slip_fraction"] is not None:
+        print(f"foot slip per stance {100 * s['slip_fraction']:.1f}% of the stroke")
+    if s["landing_swing_share"] is not None:
+        print(f"feet land at {s['landing_swing_share']:.2f} of their swing (1 = at the AEP)")
+    if s["retouches_per_stance"] is not None:
+        print(f"stance feet leave and re-touch the ground {s['retouches_per_stance']:.2f} times "
+              "per stance")  # fmt: skip
+
+
+def _add_params(sub: Any) -> None:
+    p = sub.add_parser("params", help="every model parameter with its origin and reason")
+    p.add_argument("--json", action="store_true")
+    p.add_argument("--update-doc", metavar="MD", help="rewrite the table in this markdown file")
+    p.set_defaults(func=_cmd_params)
+
+
+def _cmd_params(args: argparse.Namespace) -> int:
+    from sim_core.model.params import parameter_markdown, parameter_table, update_parameter_doc
+
+    if args.update_doc:
+        path = Path(args.update_doc)
+        path.write_text(update_parameter_doc(path.read_text()))
+        return 0
+    if args.json:
+        rows = [
+            {"name": n, "value": v, "origin": o, "reason": r} for n, v, o, r in parameter_table()
+        ]
+        print(json.dumps(rows, indent=1))
+    else:
+        print(parameter_markdown())
+    return 0
+
+
+def _add_return_map(sub: Any) -> None:
+    p = sub.add_parser("return-map", help="Delta31(n) -> Delta31(n+4) drift from many starts")
+    p.add_argument("--beta", type=float, required=True)
+    p.add_argument("--n-init", type=int, default=16)
+    p.add_argument("--duration-s", type=float, default=3.0)
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_return_map)
+
+
+def _cmd_return_map(args: argparse.Namespace) -> int:
+    import numpy as np
+
+    from sim_core.paper.protocols import initial_values, return_map
+
+    if not 0.5 < args.beta < 1 or args.n_init < 1 or args.duration_s <= 0:
+        print("insect-gait return-map: error: beta in (0.5, 1), --n-init >= 1, --duration-s > 0",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_USAGE
+    inits = initial_values(args.n_init).tolist()
+    rm = return_map(None, beta=args.beta, inits=inits, duration_s=args.duration_s)
+    centers, drift = rm.drift_per_cycle()
+    if args.json:
+        drift_list = [None if np.isnan(d) else float(d) for d in drift]
+        obj = {"beta": args.beta, "x": rm.x.tolist(), "y": rm.y.tolist()}
+        obj.update({"bin_centers": centers.tolist(), "drift_per_cycle": drift_list})
+        print(json.dumps(obj))
+        return 0
+    print(f"beta {args.beta}: {rm.x.size} pairs; mean drift of Delta31 per cycle by bin")
+    for c, d in zip(centers, drift, strict=True):
+        bar = "" if np.isnan(d) else ("+" if d > 0 else "-") * min(40, int(abs(d) / 0.005))
+        shown = "   n/a" if np.isnan(d) else f"{d:+.3f}"
+        print(f"  {c:5.2f} rad  {shown}  {bar}")
+    return 0
+
+
+def register(sub: Any) -> None:
+    _add_run(sub)
+    _add_params(sub)
+    _add_return_map(sub)

@@ -1,0 +1,145 @@
+"""Gait measures: Delta31 statistics, gait names, speed, duty factor, footfall data.
+
+The paper reads the gait from one number, Delta31 = phi3 - phi1 at leg-1 touchdown: pi for the
+tripod, 2 pi / 3 for the metachronal gait (Sec. II B 5), with the model's branches at 2.9 and
+1.9 rad (Fig. 5). The classifier's windows sit around those ideal values and meet nowhere.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+
+TWO_PI = 2.0 * math.pi
+TRIPOD = math.pi
+METACHRONAL = 2.0 * math.pi / 3.0
+# Half-widths of the classification windows (rad). Tripod covers [2.54, 3.74] (the paper's
+# tripod branch 2.9 inside), metachronal [1.59, 2.49] (branch 1.9 inside); the gap between them
+# (2.49..2.54) and everything else is "other".
+TRIPOD_HALF_WIDTH = 0.6
+METACHRONAL_HALF_WIDTH = 0.45
+# THE settled rule, used everywhere (RunResult.d31_final, the reproduction's finals, the
+# calibration objectives): the last SETTLED_LAST leg-1 touchdowns (about 8 gait cycles) spread
+# less than SETTLED_STD (circular std, rad).
+SETTLED_STD = 0.15
+SETTLED_LAST = 8
+
+
+def wrap(x: np.ndarray | float) -> np.ndarray:
+    """Map angles to [0, 2 pi)."""
+    return np.mod(np.asarray(x, dtype=float), TWO_PI)
+
+
+def angle_diff(a: np.ndarray | float, b: np.ndarray | float) -> np.ndarray:
+    """Signed smallest difference a - b, in (-pi, pi]."""
+    d = np.mod(np.asarray(a, dtype=float) - np.asarray(b, dtype=float) + math.pi, TWO_PI)
+    return d - math.pi
+
+
+def circular_mean(angles: np.ndarray | list[float]) -> float:
+    a = np.asarray(angles, dtype=float)
+    if a.size == 0:
+        raise ValueError("circular mean of no angles")
+    return float(wrap(math.atan2(np.sin(a).mean(), np.cos(a).mean())))
+
+
+def circular_std(angles: np.ndarray | list[float]) -> float:
+    a = np.asarray(angles, dtype=float)
+    r = math.hypot(np.sin(a).mean(), np.cos(a).mean())
+    return math.sqrt(max(0.0, -2.0 * math.log(max(r, 1e-300))))
+
+
+def classify_gait(d31: float | None) -> str:
+    """'tripod', 'metachronal' or 'other' from a settled Delta31 (rad)."""
+    if d31 is None or not math.isfinite(d31):
+        return "other"
+    if abs(float(angle_diff(d31, TRIPOD))) <= TRIPOD_HALF_WIDTH:
+        return "tripod"
+    if abs(float(angle_diff(d31, METACHRONAL))) <= METACHRONAL_HALF_WIDTH:
+        return "metachronal"
+    return "other"
+
+
+def final_d31(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:
+    """Circular mean of the last SETTLED_LAST Delta31 samples and the gait; the gait is
+    'other' if those samples have not settled (spread more than SETTLED_STD), and the mean is
+    None with fewer than 3 samples. The one definition of where a run ends."""
+    d = np.asarray(d31, dtype=float)
+    if d.size < 3:
+        return None, "other"
+    tail = d[-SETTLED_LAST:]
+    mean = circular_mean(tail)
+    if circular_std(tail) > SETTLED_STD:
+        return mean, "other"
+    return mean, classify_gait(mean)
+
+
+def settled_mean(d31: np.ndarray | Sequence[float]) -> float | None:
+    """Where a run has settled (`final_d31`'s mean), or None if it has not."""
+    d = np.asarray(d31, dtype=float)
+    mean, _ = final_d31(d)
+    if mean is None or circular_std(d[-SETTLED_LAST:]) > SETTLED_STD:
+        return None
+    return mean
+
+
+def settled_gait(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:
+    """(settled mean or None, gait; 'other' if not settled)."""
+    mean = settled_mean(d31)
+    return mean, classify_gait(mean)
+
+
+def phase_jumps(
+    times: Sequence[np.ndarray], phases: Sequence[np.ndarray], phi_aep: float, after_s: float
+) -> np.ndarray:
+    """(6,) mean phase jump e_i = phi_AEP - phi_touchdown each leg's touchdowns after `after_s`
+    cause (eq. 4; e > 0 when the leg lands early); NaN for a leg with none."""
+    out = np.full(6, np.nan)
+    for leg, (t, ph) in enumerate(zip(times, phases, strict=True)):
+        sel = np.asarray(ph)[np.asarray(t) > after_s]
+        if sel.size:
+            out[leg] = float(np.mean(angle_diff(phi_aep, sel)))
+    return out
+
+
+def drift_per_cycle(jumps: np.ndarray) -> np.ndarray:
+    """Delta31 drift per gait cycle from the legs' phase jumps (..., 6): 1/4 [(e5 + e6) -
+    (e1 + e2)]. With K13 = K53 = 0 the middle oscillators lock to the mean of fore and hind,
+    so only the fore and hind resets last (shared/notes/gait-mechanism.md)."""
+    j = np.asarray(jumps, dtype=float)
+    return 0.25 * ((j[..., 4] + j[..., 5]) - (j[..., 0] + j[..., 1]))
+
+
+def duty_factor(stance: np.ndarray, fraction: float = 0.5) -> float | None:
+    """Mean stance fraction over the last `fraction` of the record, all legs."""
+    if stance.shape[0] < 4:
+        return None
+    tail = stance[int(stance.shape[0] * (1.0 - fraction)) :]
+    return float(tail.mean())
+
+
+def forward_speed(times: np.ndarray, pos: np.ndarray, fraction: float = 0.5) -> float | None:
+    """Mean speed along x (m/s) over the last `fraction` of the record."""
+    if times.shape[0] < 4:
+        return None
+    i0 = int(times.shape[0] * (1.0 - fraction))
+    dt = times[-1] - times[i0]
+    if dt <= 0:
+        return None
+    return float((pos[-1, 0] - pos[i0, 0]) / dt)
+
+
+def landing_share(
+    times: tuple[np.ndarray, ...], phases: tuple[np.ndarray, ...], phi_aep: float, after_s: float
+) -> float | None:
+    """Median share of the swing done when a foot lands, over every leg's touchdowns after
+    `after_s`: 1 - (phi_AEP - phi_touchdown) / phi_AEP, so 1 is at the AEP and 0.5 is where
+    the scuff window closes (at the default `scuff_fraction`). Phase resets feed on how early
+    feet land; an attractor reached with feet landing in mid-swing is shaped by the swing
+    curve and the scuff rule, not by walking (docs/REPRODUCTION.md, fourth study)."""
+    ph = np.concatenate([p[t > after_s] for t, p in zip(times, phases, strict=True)])
+    if ph.size == 0:
+        return None
+    return float(np.median(1.0 - angle_diff(phi_aep, ph) / phi_aep))

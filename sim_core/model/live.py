@@ -1,0 +1,178 @@
+"""A live, steppable simulation: the viewer's engine, and a notebook's.
+
+It is a batch of one (`BatchRunner`), so what it shows is what `simulate` computes; beta, body
+mass and slope change between control periods without a restart. It keeps only a short history
+(footfall, Delta31, body x) so that it can run forever. Not thread-safe: one thread owns it.
+"""
+
+from __future__ import annotations
+
+from collections import deque
+
+import mujoco
+import numpy as np
+
+from sim_core.model import gait
+from sim_core.model.mjspec import build_model
+from sim_core.model.params import ModelParams
+from sim_core.model.runner import BatchRunner
+from sim_core.model.spec import RunSpec
+
+
+class Simulation:
+    """One hexapod walking in real time; see docs/CORE_API.md for the contract."""
+
+    def __init__(
+        self,
+        spec: RunSpec | None = None,
+        params: ModelParams | None = None,
+        history_s: float = 20.0,
+    ) -> None:
+        self._spec = spec or RunSpec()
+        self._params = params
+        self._history_s = history_s
+        self._build()
+
+    def _build(self) -> None:
+        self._runner = BatchRunner([self._spec], self._params, nthread=1, record=False)
+        self._runner.duration[:] = np.inf
+        # drawing needs the visual geoms the physics leaves out; same bodies and joints
+        self._render_model = build_model(self._runner.params, visual=True)
+        self._data = mujoco.MjData(self._render_model)
+        nkeep = int(self._history_s / self._runner.control_dt) + 1
+        self._hist_t: deque[float] = deque(maxlen=nkeep)
+        self._hist_x: deque[float] = deque(maxlen=nkeep)
+        self._hist_stance: deque[np.ndarray] = deque(maxlen=nkeep)
+        self._events: list[tuple[float, float]] = []  # grows with the run; never rebuilt
+        self._push_history()
+
+    # --- controls -----------------------------------------------------------------------------
+    def advance(self, sim_seconds: float) -> None:
+        """Simulate `sim_seconds` more, in whole control periods (at least one)."""
+        r = self._runner
+        nblocks = max(1, round(sim_seconds / r.control_dt))
+        for _ in range(nblocks):
+            if r.errors[0] is not None:
+                raise RuntimeError(r.errors[0])
+            r.step_block()
+            self._push_history()
+        if r.errors[0] is not None:
+            raise RuntimeError(r.errors[0])
+
+    def set_beta(self, beta: float) -> None:
+        self._runner.set_beta(0, beta)
+
+    def set_body_mass_g(self, mass_g: float) -> None:
+        self._runner.set_body_mass_g(0, mass_g)
+
+    def set_slope_deg(self, slope_deg: float) -> None:
+        self._runner.set_slope_deg(0, slope_deg)
+
+    def reset(self, d31_init: float | None = None) -> None:
+        """Start over with a new initial Delta31; beta, mass and slope are kept."""
+        keep = {"beta": self.beta, "body_mass_g": self.body_mass_g, "slope_deg": self.slope_deg}
+        if d31_init is not None:
+            keep["d31_init"] = d31_init
+        self._spec = self._spec.model_copy(update=keep)
+        self._build()
+
+    # --- state --------------------------------------------------------------------------------
+    @property
+    def error(self) -> str | None:
+        return self._runner.errors[0]
+
+    @property
+    def time_s(self) -> float:
+        return self._runner.time
+
+    @property
+    def beta(self) -> float:
+        return float(self._runner.beta[0])
+
+    @property
+    def body_mass_g(self) -> float:
+        return float(self._runner.body_mass_g[0])
+
+    @property
+    def slope_deg(self) -> float:
+        return float(self._runner.slope_deg[0])
+
+    @property
+    def control_dt_s(self) -> float:
+        return self._runner.control_dt
+
+    @property
+    def model(self) -> mujoco.MjModel:
+        """The hexapod with its visual geoms, for drawing (the physics runs without them)."""
+        return self._render_model
+
+    @property
+    def data(self) -> mujoco.MjData:
+        """A snapshot of the current state with body/geom poses of `model` computed, for
+        rendering."""
+        r = self._runner
+        self._data.qpos[:] = r.qpos[0]  # same bodies and joints: the physics state is ours
+        self._data.qvel[:] = r.qvel[0]
+        self._data.time = r.time
+        mujoco.mj_kinematics(self._render_model, self._data)
+        return self._data
+
+    @property
+    def stance(self) -> np.ndarray:
+        return self._runner.stance[0] != 0
+
+    @property
+    def phases(self) -> np.ndarray:
+        return self._runner.phi[0].copy()
+
+    @property
+    def d31_now(self) -> float:
+        p = self._runner.phi[0]
+        return float(gait.wrap(p[2] - p[0]))
+
+    @property
+    def d31_events(self) -> list[tuple[float, float]]:
+        """(time, Delta31) at each leg-1 touchdown since the last reset; extended in place, so a
+        caller may keep an index into it and read only what is new."""
+        return self._events
+
+    @property
+    def footfall(self) -> tuple[np.ndarray, np.ndarray]:
+        """(times (T,), stance (T, 6) bool) over the kept history."""
+        return np.array(self._hist_t), np.array(self._hist_stance).reshape(-1, 6)
+
+    def _recent(self, window_s: float = 1.0) -> int:
+        t = self._hist_t
+        n = len(t)
+        k = n - 1
+        while k > 0 and t[-1] - t[k] < window_s:
+            k -= 1
+        return k
+
+    @property
+    def speed_cm_s(self) -> float | None:
+        k = self._recent()
+        if len(self._hist_t) < 2 or self._hist_t[-1] - self._hist_t[k] <= 0:
+            return None
+        return 100.0 * (self._hist_x[-1] - self._hist_x[k]) / (self._hist_t[-1] - self._hist_t[k])
+
+    @property
+    def duty_factor(self) -> float | None:
+        k = self._recent()
+        if len(self._hist_t) - k < 4:
+            return None
+        return float(np.array(list(self._hist_stance)[k:]).mean())
+
+    @property
+    def gait(self) -> str:
+        d31 = np.array(self._runner.d31_v[0][-4:])
+        return gait.final_d31(d31)[1]
+
+    def _push_history(self) -> None:
+        r = self._runner
+        t, v = r.d31_t[0], r.d31_v[0]
+        for k in range(len(self._events), len(v)):
+            self._events.append((t[k], v[k]))
+        self._hist_t.append(r.time)
+        self._hist_x.append(float(r.qpos[0, 0]))
+        self._hist_stance.append(r.stance[0] != 0)

@@ -1,0 +1,478 @@
+"""Run one or many simulations: MuJoCo's `Batch` for the physics, the compiled controller between.
+
+A single simulation is a batch of one, so that `simulate` and `simulate_batch` share every line
+and give bit-identical results (`mujoco.batch` is bit-identical to one MjData per simulation at
+any thread count, and the controller treats each simulation independently).
+
+Every control period the runner checks each simulation: finite state, body above the floor,
+not flipped, no MuJoCo warning. A simulation that fails stops there and reports a
+`SimulationDiverged` message naming the time, integrator and timestep; it returns no numbers.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Sequence
+from typing import Any
+
+import mujoco
+import mujoco.batch
+import numpy as np
+
+from sim_core.model import gait
+from sim_core.model.controller import apply_events, initial_targets, plan_block
+from sim_core.model.cpg import initial_phases
+from sim_core.model.guard import FLIPPED, NON_FINITE, WARNED, guard_codes, up_axis_z
+from sim_core.model.legs import pack_geometry
+from sim_core.model.mjspec import build_model, gravity_vector, leg_qpos_addresses, servo_leads
+from sim_core.model.params import ModelParams, nominal_speed, omega, phi_aep
+from sim_core.model.spec import RunResult, RunSpec, SimulationDiverged
+
+TORSO = 1  # body id of the torso (world is 0)
+# Guard: the body box touching the floor, or tilted past 60 degrees, is a fall, not walking.
+MIN_UP_COS = 0.5
+RECORD_DT = 2e-3  # record period of the time series, s (footfall resolution: 6% of T_sw)
+
+ProgressFn = Callable[[float], None]
+
+
+def resolve_numerics(spec: RunSpec, params: ModelParams) -> tuple[str, float, float, int]:
+    """(integrator, dt, control_dt, substeps per control period) for a spec."""
+    integrator = spec.integrator or params.integrator
+    dt = spec.dt_s or params.dt
+    control_dt = spec.control_dt_s or max(params.control_dt, dt)
+    nsub = max(1, round(control_dt / dt))
+    return integrator, dt, nsub * dt, nsub
+
+
+class BatchRunner:
+    """n simulations of one model stepped together; the engine under every public entry point.
+
+    All simulations share the integrator, timestep and control period (a batch steps them in
+    lock-step); beta, body mass, slope and the phase-reset switch are per simulation and may
+    change between control periods (`set_beta`, `set_body_mass_g`, `set_slope_deg`).
+    """
+
+    def __init__(
+        self,
+        specs: Sequence[RunSpec],
+        params: ModelParams | None = None,
+        nthread: int = 0,
+        record_dt: float = RECORD_DT,
+        record: bool = True,
+    ) -> None:
+        if not specs:
+            raise ValueError("no simulations to run")
+        base = params or ModelParams()
+        numerics = {resolve_numerics(s, base) for s in specs}
+        if len(numerics) != 1:
+            raise ValueError("one BatchRunner needs one (integrator, dt, control_dt); group specs")
+        self.integrator, self.dt, self.control_dt, self.nsub = numerics.pop()
+        self.params = base.model_copy(update={"integrator": self.integrator, "dt": self.dt})
+        self.specs = list(specs)
+        n = self.n = len(specs)
+        self.model = build_model(self.params, visual=False)  # drawing: Simulation.model
+        self._leg_qpos = leg_qpos_addresses(self.model)  # fixed by the model; used per reset
+        self.batch = mujoco.batch.Batch(self.model, nsim=n, nthread=nthread if n > 1 else 1)
+        self.geo = pack_geometry(self.params)
+        self._lead = servo_leads(self.params)
+        p = self.params
+        self._torso_inertia = self.model.body_inertia[TORSO].copy()
+
+        self.beta = np.zeros(n)
+        self.omega = np.zeros(n)
+        self.phi_aep = np.zeros(n)
+        self.reset_on = np.ones(n, dtype=np.bool_)
+        self.body_mass_g = np.full(n, p.body_mass * 1e3)
+        self.slope_deg = np.zeros(n)
+        self.duration = np.array([s.duration_s for s in specs])
+        self._first_end = float(self.duration.min()) - 1e-12  # no run ends before this time
+        self.phi = np.zeros((n, 6))
+        self.phi_next = np.zeros((n, 6))
+        self.stance = np.zeros((n, 6), dtype=np.int8)
+        self.lp = np.zeros((n, 6, 3))
+        self.phi_td = np.zeros((n, 6))
+        self.td_time = np.full((n, 6), np.nan)
+        self.td_phase = np.full((n, 6), np.nan)
+        self.lo_time = np.full((n, 6), np.nan)
+        self.d31_evt = np.full(n, np.nan)
+        self._lifted = np.zeros((n, 6), dtype=np.bool_)
+        self.retouches = np.zeros(n, dtype=np.int64)  # stance feet that left and came back
+        self.feet = np.zeros((n, self.nsub, self.model.nsite, 3))
+        self.prev_height = np.zeros((n, 6))
+        self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
+        self._guard_codes = np.zeros(n, dtype=np.int64)
+        self.qpos = self.batch.bind("qpos")
+        self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
+        self.ctrl = self.batch.bind("ctrl")  # desired joint velocities
+        self.qvel = self.batch.bind("qvel")
+        self.nblock = 0
+        # wall seconds spent in each part of step_block, for `insect-gait bench`
+        self.timers = {"controller": 0.0, "physics": 0.0, "bookkeeping": 0.0}
+        self.active = np.ones(n, dtype=np.bool_)
+        self.errors: list[str | None] = [None] * n
+        self.touchdowns: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
+        # phase of each touchdown before resetting: phi_AEP minus it is the reset's jump
+        self.touchdown_phases: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
+        self.liftoffs: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
+        self.d31_t: list[list[float]] = [[] for _ in range(n)]
+        self.d31_v: list[list[float]] = [[] for _ in range(n)]
+        self.slips: list[list[float]] = [[] for _ in range(n)]
+        self._td_xy = np.zeros((n, 6, 2))
+
+        self.record = record
+        self.rec_every = max(1, round(record_dt / self.control_dt))
+        self.rec_n = 0
+        if record:
+            nrec = math.ceil(self.duration.max() / (self.rec_every * self.control_dt)) + 2
+            self.rec_t = np.zeros(nrec)
+            self.rec_stance = np.zeros((n, nrec, 6), dtype=np.bool_)
+            self.rec_pos = np.zeros((n, nrec, 3))
+            self.rec_vel = np.zeros((n, nrec, 3))
+            self.rec_quat = np.zeros((n, nrec, 4))
+            self.rec_len = np.zeros(n, dtype=np.int64)
+
+        self.batch.reset()
+        for i, spec in enumerate(specs):
+            self.set_beta(i, spec.beta)
+            self.reset_on[i] = spec.phase_reset
+            if spec.body_mass_g != p.body_mass * 1e3:
+                self.set_body_mass_g(i, spec.body_mass_g)
+            if spec.slope_deg != 0.0:
+                self.set_slope_deg(i, spec.slope_deg)
+            self.init_state(i, spec.d31_init, spec.phi1_init)
+        self._record(np.arange(n))
+
+    # --- per-simulation settings, live ---------------------------------------------------
+    @property
+    def time(self) -> float:
+        return self.nblock * self.control_dt
+
+    def set_beta(self, i: int, beta: float) -> None:
+        if not 0.5 < beta < 1.0:
+            raise ValueError(f"beta must be in (0.5, 1), got {beta}")
+        self.beta[i] = beta
+        self.omega[i] = omega(beta, self.params.swing_duration)
+        self.phi_aep[i] = phi_aep(beta)
+
+    def set_body_mass_g(self, i: int, mass_g: float) -> None:
+        if not mass_g > 0:
+            raise ValueError(f"body mass must be > 0 g, got {mass_g}")
+        mass = self.batch.expand("body_mass")
+        inertia = self.batch.expand("body_inertia")
+        mass[i, TORSO] = mass_g * 1e-3
+        inertia[i, TORSO] = self._torso_inertia * (mass_g * 1e-3 / self.params.body_mass)
+        self.body_mass_g[i] = mass_g
+        self.batch.set_const(np.array([i]))
+
+    def set_slope_deg(self, i: int, slope_deg: float) -> None:
+        if not -90.0 < slope_deg < 90.0:
+            raise ValueError(f"slope must be in (-90, 90) degrees, got {slope_deg}")
+        self.batch.expand("opt.gravity")[i] = gravity_vector(slope_deg)
+        self.slope_deg[i] = slope_deg
+
+    def init_state(self, i: int, d31: float, phi1: float = 0.0) -> None:
+        """Put simulation i at rest-ish on its feet with the gait family member d31."""
+        p = self.params
+        self.phi[i] = initial_phases(d31, phi1)
+        self.stance[i] = (self.phi[i] >= self.phi_aep[i]).astype(np.int8)
+        aep = self.geo[0:18].reshape(6, 3)
+        self.lp[i] = aep
+        self.phi_td[i] = self.phi_aep[i]
+        q = np.zeros(18)
+        tips = np.zeros((6, 3))
+        initial_targets(
+            self.phi[i],
+            self.stance[i],
+            self.lp[i],
+            self.phi_td[i],
+            self.phi_aep[i],
+            self.geo,
+            q,
+            tips,
+        )
+        qpos = np.zeros(self.model.nq)
+        qpos[2] = p.stand_height - p.attach_z + p.foot_radius
+        qpos[3] = 1.0
+        qpos[self._leg_qpos] = q
+        self.qpos[i] = qpos
+        qvel = np.zeros(self.model.nv)
+        qvel[0] = nominal_speed(self.beta[i], p.stroke, p.swing_duration)
+        self.qvel[i] = qvel
+        self.active[i] = True
+        self.errors[i] = None
+        self._lifted[i] = False
+        self.retouches[i] = 0
+
+    # --- stepping ---------------------------------------------------------------------------
+    def step_block(self) -> None:
+        """Advance every active simulation by one control period."""
+        ids = np.flatnonzero(self.active)
+        m = ids.size
+        if m == 0:
+            return
+        p = self.params
+        clock = time.perf_counter
+        t_start = clock()
+        plan_block(
+            ids,
+            self.phi,
+            self.stance,
+            self.lp,
+            self.phi_td,
+            self.omega,
+            self.phi_aep,
+            p.k_contralateral,
+            p.k_ipsilateral,
+            self.control_dt,
+            self.geo,
+            self._lead,
+            self.act,
+            self.ctrl,
+            self.phi_next,
+        )
+        call_ids = None if m == self.n else ids
+        t_plan = clock()
+        try:
+            self.batch.rollout(
+                self.nsub,
+                record=("site_xpos",),
+                ids=call_ids,
+                out={"site_xpos": self.feet[:m]},
+            )
+        except mujoco.batch.SimulationError as exc:
+            for sim in exc.ids:
+                self._fail(int(sim), f"MuJoCo error: {self.batch.error(int(sim))}")
+        t_phys = clock()
+        t0 = self.time
+        events = apply_events(
+            ids,
+            self.feet[:m, :, :, 2],
+            p.foot_radius,
+            self.prev_height,
+            self.phi,
+            self.phi_next,
+            self.stance,
+            self.lp,
+            self.phi_td,
+            self.phi_aep,
+            self.reset_on,
+            p.touch_depth,
+            p.scuff_fraction,
+            p.touchdown_interpolation,
+            t0,
+            self.dt,
+            self.geo,
+            self.td_time,
+            self.td_phase,
+            self.lo_time,
+            self.d31_evt,
+            p.lift_clearance,
+            self._lifted,
+            self.retouches,
+        )
+        self.nblock += 1
+        if events:
+            self._collect_events(ids)
+        t_ctrl = clock()
+        if self.record and self.nblock % self.rec_every == 0:
+            self._record(ids)
+        self._guard(ids)
+        tm = self.timers
+        tm["controller"] += (t_plan - t_start) + (t_ctrl - t_phys)
+        tm["physics"] += t_phys - t_plan
+        tm["bookkeeping"] += clock() - t_ctrl
+
+    def _collect_events(self, ids: np.ndarray) -> None:
+        td = self.td_time[ids]
+        lo = self.lo_time[ids]
+        feet = self.feet[: ids.size, -1, :, :2]  # last recorded substep, row r = ids[r]
+        for r, leg in zip(*np.nonzero(np.isfinite(td)), strict=True):
+            s = int(ids[r])
+            self.touchdowns[s][leg].append(float(td[r, leg]))
+            self.touchdown_phases[s][leg].append(float(self.td_phase[s, leg]))
+            self._td_xy[s, leg] = feet[r, leg]
+            if leg == 0:
+                self.d31_t[s].append(float(td[r, 0]))
+                self.d31_v[s].append(float(self.d31_evt[s]))
+        for r, leg in zip(*np.nonzero(np.isfinite(lo)), strict=True):
+            s = int(ids[r])
+            self.liftoffs[s][leg].append(float(lo[r, leg]))
+            if self.touchdowns[s][leg]:
+                slip = float(np.hypot(*(feet[r, leg] - self._td_xy[s, leg])))
+                self.slips[s].append(slip / self.params.stroke)
+
+    def _guard(self, ids: np.ndarray) -> None:
+        codes = self._guard_codes[: ids.size]
+        failed = guard_codes(
+            ids,
+            self.qpos,
+            self.qvel,
+            self.batch.warning,
+            self._warn_seen,
+            self.params.body_thickness / 2,
+            MIN_UP_COS,
+            codes,
+        )
+        if self.time >= self._first_end:
+            done = self.time >= self.duration[ids] - 1e-12
+            self.active[ids[done]] = False
+        if not failed:
+            return
+        for r in np.flatnonzero(codes):
+            s = int(ids[r])
+            if self.errors[s] is not None:
+                continue
+            code = codes[r]
+            if code == WARNED:
+                kinds = self.batch.warning[s, :, 1] > 0
+                names = [mujoco.mjtWarning(k).name for k in np.flatnonzero(kinds)]
+                why = "MuJoCo warning " + ", ".join(names) + " (unstable: state was reset)"
+            elif code == NON_FINITE:
+                why = "non-finite state"
+            elif code == FLIPPED:
+                up_z = up_axis_z(self.qpos[s, 3:7])
+                why = f"body flipped (up-axis z {up_z:.2f} < {MIN_UP_COS})"
+            else:
+                why = f"body on the floor (height {self.qpos[s, 2] * 1e3:.2f} mm)"
+            self._fail(s, why)
+
+    def _fail(self, s: int, why: str) -> None:
+        self.errors[s] = str(SimulationDiverged(self.time, self.integrator, self.dt, why))
+        self.active[s] = False
+
+    def _record(self, live: np.ndarray) -> None:
+        if not self.record:
+            return
+        k = self.rec_n
+        if k >= self.rec_t.shape[0]:
+            return
+        self.rec_t[k] = self.time
+        self.rec_stance[live, k] = self.stance[live] != 0
+        self.rec_pos[live, k] = self.qpos[live, 0:3]
+        self.rec_vel[live, k] = self.qvel[live, 0:3]
+        self.rec_quat[live, k] = self.qpos[live, 3:7]
+        self.rec_len[live] = k + 1
+        self.rec_n = k + 1
+
+    def run(self, progress: ProgressFn | None = None) -> None:
+        """Step until every simulation reached its duration or failed."""
+        total = float(self.duration.sum())
+        last = -1.0
+        while self.active.any():
+            self.step_block()
+            if progress is not None:
+                done = float(np.minimum(self.time, self.duration).sum()) / total
+                if done - last >= 0.01 or not self.active.any():
+                    progress(done)
+                    last = done
+
+    # --- results ----------------------------------------------------------------------------
+    def result(self, i: int) -> RunResult:
+        spec = self.specs[i]
+        empty = np.zeros(0)
+        base: dict[str, Any] = {
+            "spec": spec,
+            "integrator": self.integrator,
+            "dt_s": self.dt,
+            "control_dt_s": self.control_dt,
+        }
+        if self.errors[i] is not None:
+            return RunResult(
+                **base,
+                d31=empty,
+                d31_times_s=empty,
+                times_s=empty,
+                stance=np.zeros((0, 6), dtype=np.bool_),
+                body_pos_m=np.zeros((0, 3)),
+                body_vel_m_s=np.zeros((0, 3)),
+                body_quat=np.zeros((0, 4)),
+                touchdowns=tuple(empty for _ in range(6)),
+                touchdown_phases=tuple(empty for _ in range(6)),
+                liftoffs=tuple(empty for _ in range(6)),
+                d31_final=None,
+                gait=None,
+                speed_cm_s=None,
+                duty_factor_measured=None,
+                slip_fraction=None,
+                error=self.errors[i],
+            )
+        n = int(self.rec_len[i]) if self.record else 0
+        times = self.rec_t[:n].copy() if self.record else empty
+        stance = self.rec_stance[i, :n].copy() if self.record else np.zeros((0, 6), bool)
+        pos = self.rec_pos[i, :n].copy() if self.record else np.zeros((0, 3))
+        d31 = np.array(self.d31_v[i])
+        d31_final, name = gait.final_d31(d31)
+        speed = gait.forward_speed(times, pos)
+        duty = gait.duty_factor(stance)
+        slips = self.slips[i]
+        tds = tuple(np.array(t) for t in self.touchdowns[i])
+        tdp = tuple(np.array(t) for t in self.touchdown_phases[i])
+        ntd = sum(t.size for t in tds)
+        return RunResult(
+            **base,
+            d31=d31,
+            d31_times_s=np.array(self.d31_t[i]),
+            times_s=times,
+            stance=stance,
+            body_pos_m=pos,
+            body_vel_m_s=self.rec_vel[i, :n].copy() if self.record else np.zeros((0, 3)),
+            body_quat=self.rec_quat[i, :n].copy() if self.record else np.zeros((0, 4)),
+            touchdowns=tds,
+            touchdown_phases=tdp,
+            liftoffs=tuple(np.array(t) for t in self.liftoffs[i]),
+            d31_final=d31_final,
+            gait=name,
+            speed_cm_s=None if speed is None else speed * 100.0,
+            duty_factor_measured=duty,
+            slip_fraction=float(np.median(slips)) if slips else None,
+            retouches_per_stance=float(self.retouches[i]) / ntd if ntd else None,
+            # against the current beta: a run whose beta was ramped gets a rough figure
+            landing_swing_share=gait.landing_share(
+                tds, tdp, float(self.phi_aep[i]), after_s=float(self.duration[i]) / 3
+            ),
+        )
+
+
+def simulate(spec: RunSpec, params: ModelParams | None = None) -> RunResult:
+    """Run one simulation (a batch of one: the same code and numbers as `simulate_batch`)."""
+    runner = BatchRunner([spec], params, nthread=1)
+    runner.run()
+    return runner.result(0)
+
+
+def simulate_batch(
+    specs: Sequence[RunSpec],
+    params: ModelParams | None = None,
+    nthread: int = 0,
+    progress: ProgressFn | None = None,
+) -> list[RunResult]:
+    """Run many simulations on a thread pool; results in the order of `specs`.
+
+    Specs with different numerics (integrator, dt, control period) run as separate batches.
+    nthread = 0 uses every core.
+    """
+    base = params or ModelParams()
+    groups: dict[tuple[str, float, float, int], list[int]] = {}
+    for i, s in enumerate(specs):
+        groups.setdefault(resolve_numerics(s, base), []).append(i)
+    out: list[RunResult | None] = [None] * len(specs)
+    total = float(sum(s.duration_s for s in specs))
+    done_before = 0.0
+    for idx in groups.values():
+        group_time = float(sum(specs[i].duration_s for i in idx))
+        runner = BatchRunner([specs[i] for i in idx], base, nthread=nthread)
+        if progress is not None:
+            prev = done_before
+
+            def report(frac: float, prev: float = prev, gt: float = group_time) -> None:
+                progress((prev + frac * gt) / total)
+
+            runner.run(report)
+        else:
+            runner.run()
+        for k, i in enumerate(idx):
+            out[i] = runner.result(k)
+        done_before += group_time
+    return [r for r in out if r is not None]

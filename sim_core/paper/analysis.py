@@ -1,0 +1,375 @@
+"""Reading the paper's quantities out of simulated data: pure functions, tested on synthetic data.
+
+Fixed points of a drift curve on the circle and transition detection, and what Figs. 6-9 need
+on top: ghosts of a saddle-node, stable
+ranges and folds of a bifurcation diagram, and the two legs of a triangle sweep with their
+transitions and the hysteresis loop between them. Angles in rad; the swept value in the units
+of the parameter being swept.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from sim_core.model.gait import TWO_PI, angle_diff, classify_gait, settled_gait
+from sim_core.paper.protocols import ReturnMap
+
+# The band of Delta31 the paper's return maps and bifurcation diagram are about (branches 1.9
+# and 2.9 rad, with margin). A continuous map of the circle crosses its diagonal an even number
+# of times; the paper's odd counts (1, 3, 1) are the crossings inside this band.
+PAPER_WINDOW = (1.4, 3.4)
+# A ghost is a bottleneck: |drift| dips to a local minimum without reaching zero, at most this
+# large (rad per cycle) and at most GHOST_DEPTH of the largest |drift| on either side of it.
+GHOST_DRIFT = 0.02
+GHOST_DEPTH = 1.0 / 3.0
+# Consecutive leg-1 touchdowns (strides) a new gait must hold to count as a transition.
+PERSIST = 4
+# The smoothed drift curve: evaluation points on the circle, and the least total kernel weight
+# (about one pair at the centre) for a point to count as sampled.
+SMOOTH_POINTS = 360
+MIN_WEIGHT = 1.0
+
+
+@dataclass(frozen=True)
+class FixedPoint:
+    d31: float  # rad
+    slope: float  # of the lag-cycle map Delta31(n) -> Delta31(n + lag) at the point
+    stable: bool
+
+
+def fixed_points(centers: np.ndarray, drift: np.ndarray, lag: int = 4) -> list[FixedPoint]:
+    """Zero crossings of a periodic drift-per-cycle curve d(x) sampled at `centers`.
+
+    The lag-cycle map is F(x) = x + lag d(x); a crossing is stable when |F'| < 1 there
+    (paper Sec. III C). Only crossings between two neighbouring sampled (finite) bins count;
+    the curve wraps around 2 pi.
+    """
+    x = np.asarray(centers, dtype=float)
+    d = np.asarray(drift, dtype=float)
+    out: list[FixedPoint] = []
+    n = x.size
+    for i in range(n):
+        j = (i + 1) % n
+        d0, d1 = d[i], d[j]
+        if not (np.isfinite(d0) and np.isfinite(d1)):
+            continue  # only neighbouring sampled bins: no crossing invented across a gap
+        x0, x1 = x[i], x[j] + (TWO_PI if j == 0 else 0.0)
+        if d0 == 0.0 or (d0 > 0) != (d1 > 0):
+            if d0 == d1:
+                continue
+            root = x0 + (x1 - x0) * d0 / (d0 - d1)
+            slope = 1.0 + lag * (d1 - d0) / (x1 - x0)
+            out.append(FixedPoint(float(root % TWO_PI), float(slope), abs(slope) < 1.0))
+    return sorted(out, key=lambda f: f.d31)
+
+
+def map_fixed_points(rm: ReturnMap, bins: int = 24) -> list[FixedPoint]:
+    centers, drift = rm.drift_per_cycle(bins)
+    return fixed_points(centers, drift, rm.lag)
+
+
+@dataclass(frozen=True)
+class Transition:
+    value: float  # the ramped parameter where the gait switched
+    time_s: float
+    before: str
+    after: str
+
+
+def detect_transitions(values: np.ndarray, d31: np.ndarray, persist: int = 4) -> list[Transition]:
+    """Where the classified gait switches and then stays switched for `persist` samples.
+
+    'other' samples (in between the branches) never start or end a gait; the switch is placed
+    at the first sample of the new gait.
+    """
+    gaits = [classify_gait(float(x)) for x in d31]
+    out: list[Transition] = []
+    current: str | None = None
+    k = 0
+    while k < len(gaits):
+        g = gaits[k]
+        if g == "other" or g == current:
+            k += 1
+            continue
+        run = gaits[k : k + persist]
+        if len(run) == persist and all(x == g for x in run):
+            if current is not None:
+                out.append(Transition(float(values[k]), float(k), current, g))
+            current = g
+            k += persist
+        else:
+            k += 1
+    return out
+
+
+def hysteresis_width(ramp_down: list[Transition], ramp_up: list[Transition]) -> float | None:
+    """Distance between the first switch of each direction (the loop's width), if both exist."""
+    if not ramp_down or not ramp_up:
+        return None
+    return abs(ramp_down[0].value - ramp_up[0].value)
+
+
+def smoothed_drift(
+    rm: ReturnMap, bandwidth: float, points: int = SMOOTH_POINTS
+) -> tuple[np.ndarray, np.ndarray]:
+    """Drift per cycle (y - x) / lag, a Gaussian-kernel local-linear fit around the circle.
+
+    Why not bins: near a fold the stable and unstable fixed points are closer than a bin
+    (0.26 rad for 24 bins), so binned means miss the pair and the fold appears a grid step
+    early. Why local-linear rather than a kernel mean: the pairs crowd around the attractors,
+    and a kernel mean is pulled flat toward the crowd (slopes near 1 at every stable point);
+    a local line through the weighted pairs is not. `bandwidth` (rad) sets the smoothing.
+    Points with too little data, or data on too narrow a spread to fit a line, are NaN, and
+    `fixed_points` never invents a crossing across them.
+    """
+    centers = (np.arange(points) + 0.5) * (2 * math.pi / points)
+    if rm.x.size == 0:
+        return centers, np.full(points, np.nan)
+    d = angle_diff(rm.y, rm.x) / rm.lag
+    u = angle_diff(rm.x[None, :], centers[:, None])  # (points, pairs), rad
+    w = np.exp(-0.5 * (u / bandwidth) ** 2)
+    s0, s1, s2 = w.sum(axis=1), (w * u).sum(axis=1), (w * u * u).sum(axis=1)
+    t0, t1 = w @ d, (w * u) @ d
+    det = s0 * s2 - s1 * s1
+    # det / s0 is the weighted sum of squared spreads: as informative as MIN_WEIGHT pairs a
+    # quarter bandwidth off centre (a crowd at one point and a few neighbours is enough)
+    ok = (s0 >= MIN_WEIGHT) & (det > s0 * MIN_WEIGHT * (0.25 * bandwidth) ** 2)
+    drift = np.full(points, np.nan)
+    drift[ok] = (s2[ok] * t0[ok] - s1[ok] * t1[ok]) / det[ok]
+    return centers, drift
+
+
+def in_window(
+    fps: Sequence[FixedPoint], window: tuple[float, float] = PAPER_WINDOW
+) -> list[FixedPoint]:
+    return [f for f in fps if window[0] <= f.d31 <= window[1]]
+
+
+def pattern(fps: Sequence[FixedPoint]) -> str:
+    """'S U S'-style summary, in order of Delta31 (S stable, U unstable)."""
+    return " ".join("S" if f.stable else "U" for f in fps)
+
+
+def ghosts(
+    centers: np.ndarray,
+    drift: np.ndarray,
+    window: tuple[float, float] = PAPER_WINDOW,
+    tol: float = GHOST_DRIFT,
+    depth: float = GHOST_DEPTH,
+) -> list[float]:
+    """Bottlenecks of the drift inside `window`: the ghost of a saddle-node (Strogatz; Fig. 7).
+
+    Within each stretch where the drift keeps one sign, the deepest local minimum of |drift|
+    counts if it is below `tol` and below `depth` times the largest |drift| on each side of it
+    in that stretch: Delta31 slows down there for many cycles without stopping.
+    """
+    x = np.asarray(centers, dtype=float)
+    a = np.abs(np.asarray(drift, dtype=float))
+    sign = np.sign(np.asarray(drift, dtype=float))
+    inside = (x >= window[0]) & (x <= window[1]) & np.isfinite(a)
+    out: list[float] = []
+    k = 0
+    n = x.size
+    while k < n:
+        if not inside[k]:
+            k += 1
+            continue
+        j = k
+        while j + 1 < n and inside[j + 1] and sign[j + 1] == sign[k]:
+            j += 1
+        seg = a[k : j + 1]
+        best: int | None = None
+        for i in range(1, seg.size - 1):
+            if seg[i] <= seg[i - 1] and seg[i] <= seg[i + 1] and seg[i] < tol:
+                left, right = seg[:i].max(), seg[i + 1 :].max()
+                if seg[i] <= depth * left and seg[i] <= depth * right:
+                    if best is None or seg[i] < seg[best]:
+                        best = i
+        if best is not None:
+            out.append(float(x[k + best]))
+        k = j + 1
+    return out
+
+
+def fixed_point_dict(f: FixedPoint) -> dict[str, Any]:
+    """Plain JSON types (the slope test may hand back numpy scalars)."""
+    return {"d31": float(f.d31), "slope": float(f.slope), "stable": bool(f.stable)}
+
+
+@dataclass(frozen=True)
+class MapSummary:
+    """One return map's fixed points (all, and inside the paper's band), ghosts, and counts."""
+
+    beta: float
+    fixed: list[FixedPoint]
+    window: list[FixedPoint]
+    ghosts: list[float]
+    pairs: int
+    centers: np.ndarray
+    drift: np.ndarray
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "beta": self.beta,
+            "fixed_points": [fixed_point_dict(f) for f in self.fixed],
+            "window_fixed_points": [fixed_point_dict(f) for f in self.window],
+            "window_pattern": pattern(self.window),
+            "ghosts": self.ghosts,
+            "pairs": self.pairs,
+        }
+
+
+def summarise_map(rm: ReturnMap, bandwidth: float) -> MapSummary:
+    """Fixed points (crossings of the smoothed drift, stability from its slope) and ghosts."""
+    centers, drift = smoothed_drift(rm, bandwidth)
+    fps = fixed_points(centers, drift, rm.lag)
+    return MapSummary(
+        rm.beta, fps, in_window(fps), ghosts(centers, drift), int(rm.x.size), centers, drift
+    )
+
+
+def stable_ranges(
+    betas: Sequence[float], fixed: Sequence[Sequence[FixedPoint]], gait: str
+) -> list[tuple[float, float]]:
+    """Contiguous runs of grid betas with a stable fixed point of `gait` (classify_gait)."""
+    has = [any(f.stable and classify_gait(f.d31) == gait for f in fps) for fps in fixed]
+    out: list[tuple[float, float]] = []
+    start: float | None = None
+    for k, (b, h) in enumerate(zip(betas, has, strict=True)):
+        if h and start is None:
+            start = b
+        if start is not None and (not h or k == len(betas) - 1):
+            out.append((start, b if h else betas[k - 1]))
+            start = None
+    return out
+
+
+@dataclass(frozen=True)
+class Fold:
+    """Where a stable branch ends inside the grid: between two grid betas (value = midpoint)."""
+
+    gait: str
+    side: str  # "upper": the branch exists below; "lower": it exists above
+    beta: float
+    half_width: float  # the fold lies within beta +- half_width
+
+
+def folds(betas: Sequence[float], ranges: Sequence[tuple[float, float]], gait: str) -> list[Fold]:
+    """The ends of each stable range that lie inside the grid (grid edges are not folds)."""
+    grid = list(betas)
+    out: list[Fold] = []
+    for lo, hi in ranges:
+        i, j = grid.index(lo), grid.index(hi)
+        if i > 0:
+            out.append(Fold(gait, "lower", 0.5 * (grid[i - 1] + lo), 0.5 * (lo - grid[i - 1])))
+        if j < len(grid) - 1:
+            out.append(Fold(gait, "upper", 0.5 * (hi + grid[j + 1]), 0.5 * (grid[j + 1] - hi)))
+    return out
+
+
+def range_ends(
+    betas: Sequence[float], ranges: Sequence[tuple[float, float]]
+) -> tuple[float, float] | None:
+    """(lower, upper) end of the single stable range, each a grid edge or a fold midpoint."""
+    if len(ranges) != 1:
+        return None
+    lo, hi = ranges[0]
+    grid = list(betas)
+    i, j = grid.index(lo), grid.index(hi)
+    lower = lo if i == 0 else 0.5 * (grid[i - 1] + lo)
+    upper = hi if j == len(grid) - 1 else 0.5 * (hi + grid[j + 1])
+    return lower, upper
+
+
+def _transition_dict(t: Transition, times: np.ndarray) -> dict[str, Any]:
+    k = int(t.time_s)  # detect_transitions stores the sample index there
+    return {"value": t.value, "time_s": float(times[k]), "before": t.before, "after": t.after}
+
+
+def sweep_summary(
+    times_s: Sequence[float],
+    values: Sequence[float],
+    d31: Sequence[float],
+    start: float,
+    turn: float,
+    hold_s: float,
+    ramp_s: float,
+    persist: int = PERSIST,
+) -> dict[str, Any]:
+    """Transitions on each leg of a triangle sweep start -> turn -> start, and the loop.
+
+    Transitions are detected on the whole series (so the second leg knows the gait it starts
+    in) and assigned to a leg by time; switches during the first hold are settling, not
+    transitions. `loop` is True when the first leg's switch lies beyond the second leg's in
+    the first leg's direction: the system stayed on its branch both ways (hysteresis).
+    """
+    t = np.asarray(times_s, dtype=float)
+    v = np.asarray(values, dtype=float)
+    d = np.asarray(d31, dtype=float)
+    turn_t = hold_s + ramp_s
+    found = detect_transitions(v, d, persist) if d.size else []
+    legs: dict[str, list[dict[str, Any]]] = {"first": [], "second": []}
+    for tr in found:
+        item = _transition_dict(tr, t)
+        if item["time_s"] < hold_s:
+            continue
+        legs["first" if item["time_s"] < turn_t else "second"].append(item)
+    sign = 1.0 if turn > start else -1.0
+    width: float | None = None
+    loop: bool | None = None
+    if legs["first"] and legs["second"]:
+        v1, v2 = legs["first"][0]["value"], legs["second"][0]["value"]
+        width = float(abs(v1 - v2))
+        loop = bool((v1 - v2) * sign > 0)
+    return {
+        "start": start,
+        "turn": turn,
+        "first_leg": legs["first"],
+        "second_leg": legs["second"],
+        "width": width,
+        "loop": loop,
+        "gait_at_start": settled_gait(d[t < hold_s])[1],
+        "gait_at_turn": settled_gait(d[t < turn_t])[1],
+        "gait_at_end": settled_gait(d)[1],
+    }
+
+
+def stance_intervals(
+    touchdowns: Sequence[Sequence[float]],
+    liftoffs: Sequence[Sequence[float]],
+    t0: float,
+    t1: float,
+) -> list[list[tuple[float, float]]]:
+    """Per leg, the stance intervals (touchdown, next lift-off) overlapping [t0, t1], clipped."""
+    out: list[list[tuple[float, float]]] = []
+    for td, lo in zip(touchdowns, liftoffs, strict=True):
+        lo_arr = np.asarray(lo, dtype=float)
+        leg: list[tuple[float, float]] = []
+        for a in td:
+            later = lo_arr[lo_arr > a]
+            b = float(later[0]) if later.size else t1
+            if b >= t0 and a <= t1:
+                leg.append((max(a, t0), min(b, t1)))
+        out.append(leg)
+    return out
+
+
+def branch_census(finals: Sequence[float | None], target: float, tol: float) -> tuple[int, int]:
+    """(runs whose settled Delta31 is within `tol` of `target`, runs counted)."""
+    hit = sum(1 for f in finals if f is not None and abs(float(angle_diff(f, target))) <= tol)
+    return hit, len(finals)
+
+
+def max_drift(series: Sequence[Sequence[float]]) -> float:
+    """Largest |Delta31_k - Delta31_0| over all samples of all series (rad, on the circle)."""
+    worst = 0.0
+    for s in series:
+        d = np.asarray(s, dtype=float)
+        if d.size:
+            worst = max(worst, float(np.max(np.abs(angle_diff(d, d[0])))))
+    return worst if math.isfinite(worst) else math.inf

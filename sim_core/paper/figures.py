@@ -1,0 +1,346 @@
+"""The paper's Figs. 5-9 and the phase-reset ablation as task lists plus analyses.
+
+For each figure, `figure_tasks` lists the simulations it needs (deterministic: the same config
+and parameters give the same tasks, hence the same cache keys) and `analyse` turns their results
+into the data behind the figure (JSON-able), its CSV tables, and a small summary the
+reproduction table reads. Nothing here simulates or draws; `sim_core.paper.reproduce` runs the tasks
+and `sim_core.paper.plots` draws.
+
+Protocol choices the paper leaves open are fields of `Config`, each with the reason.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import asdict, dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from sim_core.model.gait import angle_diff, circular_mean
+from sim_core.model.params import ModelParams
+from sim_core.model.spec import RunSpec, spec_grid
+from sim_core.paper.analysis import (
+    PAPER_WINDOW,
+    MapSummary,
+    branch_census,
+    folds,
+    max_drift,
+    range_ends,
+    settled_gait,
+    stable_ranges,
+    stance_intervals,
+    summarise_map,
+    sweep_summary,
+)
+from sim_core.paper.protocols import ReturnMap, initial_values, return_map_from_series
+from sim_core.paper.values import METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
+from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
+
+FIGURES = ("5", "6", "7", "8", "9", "ablation")
+
+
+BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch counts as on it
+
+
+@dataclass(frozen=True)
+class Config:
+    """Sizes and protocol of every experiment (the paper states few of them)."""
+
+    fig5_betas: tuple[float, ...] = (0.62, 0.70)
+    fig5_inits: int = 8  # the paper used 3; 8 spread over the circle also probe the basins
+    fig5_duration_s: float = 10.0  # ~ 100 strides at 0.70 (T = T_sw / (1 - beta) = 0.11 s)
+    map_betas: tuple[float, ...] = (0.64, 0.655, 0.675)  # Fig. 7
+    map_inits: int = 24  # a dense set of starts: 24 over the circle, 0.26 rad apart
+    map_duration_s: float = 3.0  # ~ 27 strides at 0.70: about 20 pairs per start
+    # kernel width of the smoothed drift curve, rad: half the spacing of the starts, so that
+    # every part of the circle a start passes through is sampled
+    map_bandwidth_rad: float = 0.13
+    # Fig. 8: 17 betas, 0.005 apart, containing the Fig. 7 betas (their runs are shared)
+    bif_betas: tuple[float, ...] = tuple(round(0.62 + 0.005 * k, 3) for k in range(17))
+    beta_high: float = 0.70
+    beta_low: float = 0.62
+    hold_s: float = 5.0  # settle on the starting gait before ramping, and again at the end
+    ramp_s: float = 30.0  # each way: 0.08 in beta over ~ 300 strides (2.7e-4 per stride)
+    rate_factor: float = 2.0  # the ramp-rate check runs the beta ramp this much slower
+    # transitions may move by this much (in beta) when the rate is halved: the Fig. 8 spacing
+    rate_tolerance: float = 0.005
+    sweep_beta: float = 0.66  # Figs. 9a, 9b (paper)
+    # Fig. 9 ranges are not stated in the text; ours span light to heavy, downhill to uphill
+    mass_range_g: tuple[float, float] = (1.0, 6.0)
+    slope_range_deg: tuple[float, float] = (-20.0, 20.0)
+    start_d31: float = METACHRONAL_BRANCH  # every sweep starts on the metachronal side
+    ablation_betas: tuple[float, ...] = (0.62, 0.70)
+    ablation_inits: int = 8
+    ablation_duration_s: float = 3.0
+    footprint_window_s: float = 1.0  # Fig. 6b shows +- this around the transition
+    chunk_size: int = 8
+    name: str = field(default="full", compare=False)
+
+    @classmethod
+    def quick(cls) -> Config:
+        """Tiny sizes for tests and smoke runs: the machinery, not the science."""
+        return cls(
+            fig5_inits=3, fig5_duration_s=1.0, map_inits=3, map_duration_s=0.8,
+            map_bandwidth_rad=0.5, bif_betas=(0.62, 0.64, 0.655, 0.675, 0.70), hold_s=0.3,
+            ramp_s=0.6, ablation_betas=(0.66,), ablation_inits=2, ablation_duration_s=0.5,
+            footprint_window_s=0.3, name="quick",
+        )  # fmt: skip
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+    def with_(self, **kw: Any) -> Config:
+        return replace(self, **kw)
+
+
+# --- task lists ---------------------------------------------------------------------------------
+def _runs(
+    betas: tuple[float, ...], n: int, duration_s: float, p: ModelParams, **kw: Any
+) -> list[Task]:
+    return [
+        run_task(s, p) for s in spec_grid(betas, initial_values(n), duration_s=duration_s, **kw)
+    ]
+
+
+def beta_ramp(cfg: Config, slower: bool = False) -> Ramp:
+    ramp_s = cfg.ramp_s * (cfg.rate_factor if slower else 1.0)
+    return Ramp("beta", cfg.beta_high, cfg.beta_low, cfg.hold_s, ramp_s)
+
+
+def sweep_ramps(cfg: Config) -> dict[str, Ramp]:
+    m, s = cfg.mass_range_g, cfg.slope_range_deg
+    return {
+        "fig9a": Ramp("body_mass_g", m[0], m[1], cfg.hold_s, cfg.ramp_s),
+        "fig9b": Ramp("slope_deg", s[0], s[1], cfg.hold_s, cfg.ramp_s),
+    }
+
+
+def _ramp_task(r: Ramp, cfg: Config, p: ModelParams) -> Task:
+    beta = r.start if r.param == "beta" else cfg.sweep_beta
+    return ramp_task(r, RunSpec(beta=beta, d31_init=cfg.start_d31), p)
+
+
+def figure_tasks(fig: str, cfg: Config, p: ModelParams) -> list[Task]:
+    """Every simulation figure `fig` needs (Fig. 8 also needs the Fig. 6a sweep it overlays)."""
+    if fig == "5":
+        return _runs(cfg.fig5_betas, cfg.fig5_inits, cfg.fig5_duration_s, p)
+    if fig == "6":
+        return [_ramp_task(beta_ramp(cfg, s), cfg, p) for s in (False, True)]
+    if fig == "7":
+        return _runs(cfg.map_betas, cfg.map_inits, cfg.map_duration_s, p)
+    if fig == "8":
+        maps = _runs(cfg.bif_betas, cfg.map_inits, cfg.map_duration_s, p)
+        return [*maps, _ramp_task(beta_ramp(cfg), cfg, p)]
+    if fig == "9":
+        return [_ramp_task(r, cfg, p) for r in sweep_ramps(cfg).values()]
+    if fig == "ablation":
+        return _runs(cfg.ablation_betas, cfg.ablation_inits, cfg.ablation_duration_s, p,
+                     phase_reset=False)  # fmt: skip
+    raise ValueError(f"unknown figure {fig!r}; choose from {FIGURES}")
+
+
+# --- analyses -----------------------------------------------------------------------------------
+Lookup = Callable[[Task], dict[str, Any]]
+Csv = dict[str, tuple[list[str], list[list[Any]]]]
+
+
+@dataclass
+class FigureData:
+    """One output figure: the data behind it, its CSV tables, the table's summary."""
+
+    name: str  # file stem: fig5, fig6a, ...
+    data: dict[str, Any]
+    csv: Csv
+    summary: dict[str, Any]
+
+
+def _by_beta(tasks: list[Task], get: Lookup) -> dict[float, list[tuple[Task, dict[str, Any]]]]:
+    out: dict[float, list[tuple[Task, dict[str, Any]]]] = {}
+    for t in tasks:
+        out.setdefault(t.run_spec().beta, []).append((t, get(t)))
+    return out
+
+
+def _fig5(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+    runs = []
+    rows: list[list[Any]] = []
+    summary: dict[str, Any] = {}
+    for beta, items in _by_beta(figure_tasks("5", cfg, p), get).items():
+        finals: list[float | None] = []
+        speeds = []
+        for t, r in items:
+            final, gait = settled_gait(r["d31"]) if r["error"] is None else (None, "diverged")
+            finals.append(final)
+            if r["speed_cm_s"] is not None:
+                speeds.append(r["speed_cm_s"])
+            x0 = t.run_spec().d31_init
+            runs.append({"beta": beta, "d31_init": x0, "final": final, "gait": gait, **r})
+            rows += [[beta, x0, k, v] for k, v in enumerate(r["d31"])]
+        target = TRIPOD_BRANCH if beta < 0.66 else METACHRONAL_BRANCH
+        hit, n = branch_census(finals, target, BRANCH_TOL)
+        near = [f for f in finals if f is not None and abs(angle_diff(f, target)) <= BRANCH_TOL]
+        summary[str(beta)] = {
+            "target_rad": target, "hits": hit, "runs": n,
+            "branch_rad": circular_mean(near) if near else None,
+            "finals": finals, "speed_cm_s": float(np.median(speeds)) if speeds else None,
+        }  # fmt: skip
+    csv: Csv = {"fig5": (["beta", "d31_init_rad", "cycle", "d31_rad"], rows)}
+    return [FigureData("fig5", {"runs": runs, "summary": summary}, csv, summary)]
+
+
+def _series_rows(tag: str, r: dict[str, Any]) -> list[list[Any]]:
+    return [[tag, t, v, d] for t, v, d in zip(r["d31_times_s"], r["value"], r["d31"], strict=True)]
+
+
+def _sweep(r: Ramp, res: dict[str, Any]) -> dict[str, Any]:
+    s = sweep_summary(res["d31_times_s"], res["value"], res["d31"], r.start, r.turn, r.hold_s,
+                      r.ramp_s)  # fmt: skip
+    return s | {"param": r.param, "ramp_s": r.ramp_s, "hold_s": r.hold_s, "error": res["error"]}
+
+
+def _switch(leg: list[dict[str, Any]], after: str) -> float | None:
+    """The swept value of the first transition into `after` on one leg of a sweep."""
+    hits = [t["value"] for t in leg if t["after"] == after]
+    return float(hits[0]) if hits else None
+
+
+def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+    ramps = {"full": beta_ramp(cfg), "half_rate": beta_ramp(cfg, slower=True)}
+    res = {k: get(_ramp_task(r, cfg, p)) for k, r in ramps.items()}
+    sweeps = {k: _sweep(r, res[k]) for k, r in ramps.items()}
+    # the switch of each leg: to the tripod as beta falls, back to the metachronal as it rises
+    legs = {"first_leg": "tripod", "second_leg": "metachronal"}
+    at = {k: {leg: _switch(sw[leg], g) for leg, g in legs.items()} for k, sw in sweeps.items()}
+    shift: dict[str, float | None] = {}
+    at_zero: dict[str, float | None] = {}
+    # slow passage through a saddle-node: the switch lags the fold by ~ rate^(2/3), so two
+    # rates give the lag and the zero-rate limit (shown for information, never judged on)
+    shrink = 1.0 - cfg.rate_factor ** (-2.0 / 3.0)
+    for leg in legs:
+        a, b = at["full"][leg], at["half_rate"][leg]
+        shift[leg] = None if a is None or b is None else abs(a - b)
+        at_zero[leg] = None if a is None or b is None else a - (a - b) / shrink
+    moved = [s for s in shift.values() if s is not None]
+    ok = bool(len(moved) == 2 and max(moved) < cfg.rate_tolerance)
+    rate = {"shift": shift, "tolerance": cfg.rate_tolerance, "switch": at,
+            "zero_rate": at_zero, "ok": ok}  # fmt: skip
+    series = {k: {key: res[k][key] for key in ("d31_times_s", "value", "d31")} for k in res}
+    rows = _series_rows("full", res["full"]) + _series_rows("half_rate", res["half_rate"])
+    summary = {"sweep": sweeps["full"], "half_rate": sweeps["half_rate"], "rate_check": rate}
+    fig6a = FigureData(
+        "fig6a", {"series": series, **summary},
+        {"fig6a": (["ramp", "time_s", "beta", "d31_rad"], rows)}, summary,
+    )  # fmt: skip
+
+    # Fig. 6b: footprints around the metachronal -> tripod switch of the decreasing-beta leg
+    full, r = res["full"], ramps["full"]
+    switch = [x for x in sweeps["full"]["first_leg"] if x["after"] == "tripod"]
+    if switch:
+        centre, how = switch[0]["time_s"], "detected metachronal-to-tripod transition"
+    else:  # no switch: where the ramp passes the paper's transition
+        frac = (PAPER.transition_down - r.start) / (r.turn - r.start)
+        centre = r.hold_s + frac * r.ramp_s
+        how = f"no transition detected: the paper's beta {PAPER.transition_down}"
+    w = cfg.footprint_window_s
+    t0, t1 = max(0.0, centre - w), centre + w
+    stance = stance_intervals(full["touchdowns_s"], full["liftoffs_s"], t0, t1)
+    times = np.asarray(full["d31_times_s"])
+    sel = (times >= t0) & (times <= t1)
+    data = {"t0_s": t0, "t1_s": t1, "centre_s": centre, "centre": how, "stance": stance,
+            "d31_times_s": times[sel].tolist(), "d31": np.asarray(full["d31"])[sel].tolist(),
+            "beta": [float(r.schedule()(float(t))) for t in times[sel]]}  # fmt: skip
+    rows = [[leg + 1, a, b] for leg, ivs in enumerate(stance) for a, b in ivs]
+    fig6b = FigureData("fig6b", data, {"fig6b": (["leg", "touchdown_s", "liftoff_s"], rows)},
+                       {"centre": how})  # fmt: skip
+    return [fig6a, fig6b]
+
+
+def _maps(
+    betas: tuple[float, ...], cfg: Config, p: ModelParams, get: Lookup
+) -> list[tuple[ReturnMap, MapSummary]]:
+    by = _by_beta(_runs(betas, cfg.map_inits, cfg.map_duration_s, p), get)
+    out = []
+    for beta in betas:
+        series = [r["d31"] for _, r in by[beta] if r["error"] is None]
+        rm = return_map_from_series(beta, series)
+        out.append((rm, summarise_map(rm, cfg.map_bandwidth_rad)))
+    return out
+
+
+def _fig7(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+    maps = []
+    rows: list[list[Any]] = []
+    for rm, s in _maps(cfg.map_betas, cfg, p, get):
+        drift = [None if math.isnan(d) else float(d) for d in s.drift]
+        extra = {"x": rm.x.tolist(), "y": rm.y.tolist(), "drift_x": s.centers.tolist()}
+        maps.append(s.to_dict() | extra | {"drift_per_cycle": drift})
+        rows += [[rm.beta, x, y] for x, y in zip(rm.x.tolist(), rm.y.tolist(), strict=True)]
+    summary = {str(m["beta"]): {k: m[k] for k in ("window_pattern", "window_fixed_points",
+                                                   "ghosts")} for m in maps}  # fmt: skip
+    data = {"maps": maps, "lag": 4, "window_rad": PAPER_WINDOW}
+    return [FigureData("fig7", data, {"fig7": (["beta", "d31_n", "d31_n4"], rows)}, summary)]
+
+
+def _fig8(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+    betas = list(cfg.bif_betas)
+    sums = [s for _, s in _maps(cfg.bif_betas, cfg, p, get)]
+    fixed = [s.fixed for s in sums]
+    out: dict[str, Any] = {}
+    for gait in ("tripod", "metachronal"):
+        rng = stable_ranges(betas, fixed, gait)
+        out[gait] = {"ranges": rng, "ends": range_ends(betas, rng),
+                     "folds": [asdict(f) for f in folds(betas, rng, gait)]}  # fmt: skip
+    r = beta_ramp(cfg)
+    res = get(_ramp_task(r, cfg, p))
+    sweep = _sweep(r, res)
+    points = [s.to_dict() for s in sums]
+    rows = [[s.beta, f.d31, f.slope, int(f.stable)] for s in sums for f in s.fixed]
+    data = {
+        "points": points,
+        "branches": out,
+        "sweep": sweep,
+        "sweep_series": {k: res[k] for k in ("value", "d31")},
+        "window_rad": PAPER_WINDOW,
+    }
+    summary = {"branches": out, "grid": betas}
+    csv: Csv = {"fig8": (["beta", "d31_rad", "slope", "stable"], rows)}
+    return [FigureData("fig8", data, csv, summary)]
+
+
+def _fig9(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+    figs = []
+    for name, r in sweep_ramps(cfg).items():
+        res = get(_ramp_task(r, cfg, p))
+        sweep = _sweep(r, res)
+        data = {"sweep": sweep, "series": {k: res[k] for k in ("d31_times_s", "value", "d31")},
+                "beta": cfg.sweep_beta}  # fmt: skip
+        header = ["ramp", "time_s", r.param, "d31_rad"]
+        figs.append(FigureData(name, data, {name: (header, _series_rows(name, res))}, sweep))
+    return figs
+
+
+def _ablation(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+    runs = []
+    rows: list[list[Any]] = []
+    series = []
+    for t in figure_tasks("ablation", cfg, p):
+        r, s = get(t), t.run_spec()
+        runs.append({"beta": s.beta, "d31_init": s.d31_init, "d31": r["d31"], "error": r["error"]})
+        rows += [[s.beta, s.d31_init, k, v] for k, v in enumerate(r["d31"])]
+        if r["error"] is None:
+            series.append(r["d31"])
+    errors = sum(1 for x in runs if x["error"] is not None)
+    summary = {"max_drift_rad": max_drift(series) if series else None, "runs": len(runs),
+               "diverged": errors}  # fmt: skip
+    csv: Csv = {"ablation": (["beta", "d31_init_rad", "cycle", "d31_rad"], rows)}
+    return [FigureData("ablation", {"runs": runs, "summary": summary}, csv, summary)]
+
+
+def analyse(fig: str, cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+    """The figure data of `fig` from its tasks' results (`get(task)` -> result dict)."""
+    fn = {"5": _fig5, "6": _fig6, "7": _fig7, "8": _fig8, "9": _fig9, "ablation": _ablation}
+    if fig not in fn:
+        raise ValueError(f"unknown figure {fig!r}; choose from {FIGURES}")
+    return fn[fig](cfg, p, get)

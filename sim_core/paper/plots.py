@@ -1,0 +1,232 @@
+"""PNG figures for `insect-gait reproduce`, labelled like the paper's Figs. 5-9.
+
+Each function draws from the JSON-able data of a `FigureData` (so a figure can be redrawn from
+its JSON file alone) and marks what the paper states, in grey, next to ours: the branches 2.9
+and 1.9 rad, the transitions at beta 0.645 and 0.67, the stable ranges, the ghosts.
+Matplotlib with the Agg backend: files only, no display.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+import numpy as np
+
+from sim_core.paper.values import METACHRONAL_BRANCH, TRIPOD_BRANCH, PaperValues
+
+TWO_PI = 2 * math.pi
+PAPER_STYLE: dict[str, Any] = {"color": "0.55", "lw": 0.9}
+# leg colours of the paper's Fig. 4: fore red, middle blue, hind green
+LEG_COLOURS = {0: "tab:red", 1: "tab:red", 2: "tab:blue", 3: "tab:blue", 4: "tab:green",
+               5: "tab:green"}  # fmt: skip
+LEG_ROWS = (0, 2, 4, 1, 3, 5)  # R1 R2 R3 above L1 L2 L3 (paper leg numbers 1 3 5 / 2 4 6)
+D31 = "Δ31 (rad)"
+LEG_STYLE = {"first": ("tab:red", "first leg"), "second": ("tab:blue", "return leg")}
+
+
+def _branches(ax: Any, axis: str = "y") -> None:
+    line = ax.axhline if axis == "y" else ax.axvline
+    line(TRIPOD_BRANCH, ls="--", **PAPER_STYLE, label="paper: tripod 2.9 rad")
+    line(METACHRONAL_BRANCH, ls=":", **PAPER_STYLE, label="paper: metachronal 1.9 rad")
+
+
+def _save(fig: Any, path: Path) -> None:
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+
+
+def fig5(data: dict[str, Any], path: Path) -> None:
+    betas = sorted({r["beta"] for r in data["runs"]})
+    fig, axes = plt.subplots(1, len(betas), figsize=(5 * len(betas), 3.6), sharey=True,
+                             squeeze=False)  # fmt: skip
+    for ax, beta in zip(axes[0], betas, strict=True):
+        for r in (r for r in data["runs"] if r["beta"] == beta):
+            if r["error"] is None:
+                ax.plot(range(len(r["d31"])), r["d31"], ".-", ms=3, lw=0.5,
+                        label=f"start {r['d31_init']:.2f}")  # fmt: skip
+        _branches(ax)
+        s = data["summary"][str(beta)]
+        ax.set_title(f"β = {beta:.2f}: {s['hits']} of {s['runs']} runs on the paper's branch")
+        ax.set_xlabel("gait cycle n (leg-1 touchdowns)")
+        ax.set_ylim(0, TWO_PI)
+    axes[0][0].set_ylabel(D31)
+    axes[0][0].legend(loc="lower right", fontsize=6, ncol=2)
+    _save(fig, path)
+
+
+def _sweep_axes(ax: Any, sweep: dict[str, Any], series: dict[str, Any], xlabel: str,
+                paper: dict[str, float] | None = None) -> None:  # fmt: skip
+    t = np.asarray(series["d31_times_s"])
+    v = np.asarray(series["value"])
+    d = np.asarray(series["d31"])
+    turn_t = sweep["hold_s"] + sweep["ramp_s"]
+    for leg, sel in (("first", t < turn_t), ("second", t >= turn_t)):
+        colour, label = LEG_STYLE[leg]
+        arrow = "→" if (sweep["turn"] > sweep["start"]) == (leg == "first") else "←"
+        ax.plot(v[sel], d[sel], ".", ms=2.5, color=colour, label=f"{label} {arrow}")
+        for tr in sweep[f"{leg}_leg"][:1]:
+            ax.axvline(tr["value"], color=colour, lw=1.2, label=f"ours {tr['value']:.4g}")
+    for name, x in (paper or {}).items():
+        ax.axvline(x, ls="-.", **PAPER_STYLE)
+        ax.text(x, 0.15, f" paper {name} {x}", rotation=90, fontsize=7, color="0.4", va="bottom")
+    _branches(ax)
+    ax.set_xlabel(xlabel)
+    ax.set_ylabel(D31)
+    ax.set_ylim(0, TWO_PI)
+    width = "none" if sweep["width"] is None else f"{sweep['width']:.4g}"
+    ax.set_title(f"hysteresis width {width} (loop: {sweep['loop']})", fontsize=9)
+    ax.legend(loc="upper right", fontsize=7)
+
+
+def fig6a(data: dict[str, Any], path: Path) -> None:
+    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 7.5))
+    s = data["series"]["full"]
+    top.plot(s["d31_times_s"], s["d31"], "k.", ms=2.5)
+    _branches(top)
+    top.set_xlabel("time (s)")
+    top.set_ylabel(D31)
+    top.set_ylim(0, TWO_PI)
+    twin = top.twinx()
+    twin.plot(s["d31_times_s"], s["value"], color="tab:orange", lw=1)
+    twin.set_ylabel("duty factor β", color="tab:orange")
+    top.set_title("Δ31 at leg-1 touchdowns while β goes 0.70 → 0.62 → 0.70", fontsize=9)
+    _sweep_axes(bottom, data["sweep"], s, "duty factor β",
+                {"↓": 0.645, "↑": 0.67})  # fmt: skip
+    h = data["series"]["half_rate"]
+    bottom.plot(h["value"], h["d31"], ".", ms=1.2, color="0.75", zorder=0, label="half rate")
+    rc = data["rate_check"]
+    shifts = ", ".join("n/a" if x is None else f"{x:.4f}" for x in rc["shift"].values())
+    bottom.set_title(bottom.get_title() + f"; half rate moves the transitions by {shifts} "
+                     f"(tolerance {rc['tolerance']})", fontsize=8)  # fmt: skip
+    _save(fig, path)
+
+
+def fig6b(data: dict[str, Any], path: Path) -> None:
+    fig, (top, ax) = plt.subplots(2, 1, figsize=(8, 5), sharex=True,
+                                  gridspec_kw={"height_ratios": [1, 2]})  # fmt: skip
+    top.plot(data["d31_times_s"], data["d31"], "k.-", ms=4, lw=0.6)
+    _branches(top)
+    top.set_ylim(0, TWO_PI)
+    top.set_ylabel(D31)
+    for row, leg in enumerate(LEG_ROWS):
+        spans = [(a, b - a) for a, b in data["stance"][leg]]
+        ax.broken_barh(spans, (len(LEG_ROWS) - 1 - row - 0.35, 0.7), color=LEG_COLOURS[leg])
+    ax.set_yticks(range(len(LEG_ROWS)), [f"leg {leg + 1}" for leg in reversed(LEG_ROWS)])
+    for a in (top, ax):
+        a.axvline(data["centre_s"], color="k", lw=0.8, ls="--")
+    ax.set_xlim(data["t0_s"], data["t1_s"])
+    ax.set_xlabel("time (s); bars: stance")
+    top.set_title(f"footprints across the metachronal-to-tripod transition ({data['centre']})",
+                  fontsize=9)  # fmt: skip
+    _save(fig, path)
+
+
+def _fixed_points(ax: Any, points: list[dict[str, Any]], x: float | None = None) -> None:
+    for f in points:
+        px, py = (f["d31"], f["d31"]) if x is None else (x, f["d31"])
+        ax.plot(px, py, "o", ms=7, mfc="k" if f["stable"] else "w", mec="k", zorder=5)
+
+
+def fig7(data: dict[str, Any], path: Path, paper_ghosts: dict[float, float] | None = None) -> None:
+    maps = data["maps"]
+    lo, hi = data["window_rad"]
+    fig, axes = plt.subplots(1, len(maps), figsize=(4.3 * len(maps), 4.9), squeeze=False)
+    for ax, m in zip(axes[0], maps, strict=True):
+        ax.plot(m["x"], m["y"], ".", ms=2, alpha=0.5)
+        ax.plot([0, TWO_PI], [0, TWO_PI], "k-", lw=0.8)
+        ax.axvspan(lo, hi, color="0.93", zorder=0)
+        _fixed_points(ax, m["fixed_points"])
+        for g in m["ghosts"]:
+            ax.annotate("ghost", (g, g), (g + 0.6, g - 1.0), fontsize=8,
+                        arrowprops={"arrowstyle": "->", "lw": 0.7})  # fmt: skip
+        pg = (paper_ghosts or {}).get(m["beta"])
+        if pg is not None:
+            ax.plot(pg, pg, "x", ms=9, color="0.45", label=f"paper ghost {pg}")
+            ax.legend(loc="upper left", fontsize=7)
+        ax.set_title(f"β = {m['beta']}: {m['window_pattern'] or 'none'} in the band", fontsize=9)
+        ax.set_xlabel("Δ31 n (rad)")
+        ax.set_xlim(0, TWO_PI)
+        ax.set_ylim(0, TWO_PI)
+        ax.set_aspect("equal")
+    axes[0][0].set_ylabel(f"Δ31 n+{data['lag']} (rad)")
+    fig.suptitle("return maps; solid: stable, open: unstable; grey band: the paper's range",
+                 fontsize=9)  # fmt: skip
+    _save(fig, path)
+
+
+def fig8(data: dict[str, Any], path: Path, paper: PaperValues | None = None) -> None:
+    fig, ax = plt.subplots(figsize=(7, 4.8))
+    sw = data["sweep_series"]
+    ax.plot(sw["value"], sw["d31"], ".", ms=1.2, color="0.8", zorder=0, label="β sweep (Fig. 6a)")
+    for p in data["points"]:
+        _fixed_points(ax, p["fixed_points"], x=p["beta"])
+    if paper:
+        for (a, b), y in ((paper.tripod_stable, TRIPOD_BRANCH),
+                          (paper.metachronal_stable, METACHRONAL_BRANCH)):  # fmt: skip
+            ax.plot([a, b], [y, y], lw=6, alpha=0.25, color="tab:orange", solid_capstyle="butt")
+        ax.plot([], [], lw=6, alpha=0.25, color="tab:orange", label="paper: stable ranges")
+    for gait, b in data["branches"].items():
+        for f in b["folds"]:
+            ax.axvline(f["beta"], ls="--", lw=0.8, color="tab:purple")
+            ax.text(f["beta"], 0.2, f" fold ({gait}) {f['beta']:.4g}", rotation=90, fontsize=7)
+    sweep = data["sweep"]
+    for leg, (y0, y1) in (("first_leg", (METACHRONAL_BRANCH, TRIPOD_BRANCH)),
+                          ("second_leg", (TRIPOD_BRANCH, METACHRONAL_BRANCH))):  # fmt: skip
+        for tr in sweep[leg][:1]:
+            ax.annotate("", (tr["value"], y1), (tr["value"], y0),
+                        arrowprops={"arrowstyle": "->", "color": "tab:red", "lw": 1.5})  # fmt: skip
+    ax.plot([], [], "ko", label="stable fixed point")
+    ax.plot([], [], "o", mfc="w", mec="k", label="unstable fixed point")
+    ax.set_xlabel("duty factor β")
+    ax.set_ylabel(D31)
+    ax.set_ylim(0, TWO_PI)
+    ax.set_title("stable and unstable gaits from the return maps; arrows: sweep jumps", fontsize=9)
+    ax.legend(loc="upper right", fontsize=7)
+    _save(fig, path)
+
+
+def fig9(data: dict[str, Any], path: Path, xlabel: str, note: str) -> None:
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    _sweep_axes(ax, data["sweep"], data["series"], xlabel)
+    ax.set_title(ax.get_title() + f"; β = {data['beta']}\npaper: {note}", fontsize=9)
+    _save(fig, path)
+
+
+def ablation(data: dict[str, Any], path: Path) -> None:
+    fig, ax = plt.subplots(figsize=(6.5, 3.8))
+    for r in data["runs"]:
+        if r["error"] is None:
+            ax.plot(range(len(r["d31"])), r["d31"], ".-", ms=3, lw=0.6)
+    s = data["summary"]
+    drift = "n/a" if s["max_drift_rad"] is None else f"{s['max_drift_rad']:.2g}"
+    ax.set_title(f"without phase resetting: Δ31 stays where it starts (max drift {drift} rad)",
+                 fontsize=9)  # fmt: skip
+    ax.set_xlabel("gait cycle n (leg-1 touchdowns)")
+    ax.set_ylabel(D31)
+    ax.set_ylim(0, TWO_PI)
+    _save(fig, path)
+
+
+def draw(name: str, data: dict[str, Any], path: Path, paper: PaperValues) -> None:
+    """Draw the figure `name` (fig5, fig6a, ..., ablation) from its data into `path`."""
+    drawers: dict[str, Callable[[dict[str, Any], Path], None]] = {
+        "fig5": fig5,
+        "fig6a": fig6a,
+        "fig6b": fig6b,
+        "fig7": lambda d, p: fig7(d, p, dict(paper.ghosts_rad)),
+        "fig8": lambda d, p: fig8(d, p, paper),
+        "fig9a": lambda d, p: fig9(d, p, "body mass (g)",
+                                   "heavy → tripod, light → metachronal, with hysteresis"),
+        "fig9b": lambda d, p: fig9(d, p, "slope angle (deg), uphill +",
+                                   "uphill → tripod, downhill → metachronal, with hysteresis"),
+        "ablation": ablation,
+    }  # fmt: skip
+    drawers[name](data, path)
