@@ -29,7 +29,8 @@ def main() -> None:
     for d31 in args.d31:
         for dt in DTS:
             row = [
-                float(drift_rates("implicitfast", dt, ModelParams(touchdown_interpolation=interp),
+                float(drift_rates("implicitfast", dt,
+                                  params=ModelParams(touchdown_interpolation=interp),
                                   betas=(args.beta,), d31s=(d31,), duration_s=1.5)[0, 0])
                 for interp in (False, True)
             ]  # fmt: skip

@@ -7,7 +7,8 @@ Prints the final Delta31 of each start, the median slip (share of the stroke), t
 speed and where in the swing the feet land (`RunResult.landing_swing_share`, the median over
 the runs; 1 = at the AEP, 0.5 = when the scuff window closes): an attractor reached with feet
 landing in mid-swing is set by the swing and scuff rule, not by walking mechanics.
-`--plot FILE` draws Delta31 per gait cycle, one panel per beta, with `sim_core.studies.study_plots.plot_fig5`.
+`--plot FILE` draws Delta31 per gait cycle, one panel per beta, with
+`sim_core.paper.plots.fig5` (the reproduction's Fig. 5 drawing).
 A scratch study tool kept so that the numbers in the docs can be re-made; the product's
 own commands (`insect-gait study`, `reproduce`) are the supported path.
 """
@@ -21,7 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from sim_core import ModelParams, RunSpec, simulate_batch
-from sim_core.studies.study_plots import plot_fig5
+from sim_core.paper.plots import fig5
 
 
 def main() -> None:
@@ -51,7 +52,9 @@ def main() -> None:
             f"feet land at {land:.2f} of the swing"
         )
     if a.plot:
-        plot_fig5({b: [r for r in results if r.spec.beta == b] for b in a.betas}, Path(a.plot))
+        runs = [{"beta": r.spec.beta, "d31_init": r.spec.d31_init, "d31": r.d31.tolist(),
+                 "error": r.error} for r in results]  # fmt: skip
+        fig5({"runs": runs}, Path(a.plot))
 
 
 if __name__ == "__main__":

@@ -34,7 +34,7 @@ def finals(
     out, shares = [], []
     for x in np.linspace(0, 2 * np.pi, n, endpoint=False) + np.pi / n:
         try:
-            run = run_reduced(beta, float(x), duration_s, p)
+            run = run_reduced(beta, float(x), duration_s=duration_s, params=p)
         except FloatingPointError:
             out.append(float("nan"))
             continue

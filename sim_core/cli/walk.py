@@ -104,7 +104,8 @@ def _add_params(sub: Any) -> None:
 
 
 def _cmd_params(args: argparse.Namespace) -> int:
-    from sim_core.model.params import parameter_markdown, parameter_table, update_parameter_doc
+    from sim_core.docsections import parameter_markdown, update_parameter_doc
+    from sim_core.model.params import parameter_table
 
     if args.update_doc:
         path = Path(args.update_doc)

@@ -24,14 +24,57 @@ Rules (documented in docs/MODEL.md):
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
 
-from sim_core.model.cpg import advance_phases
+from sim_core.model.cpg import advance_phases, reset_phase
 from sim_core.model.legs import G_AEP, G_LPZ, inverse_kinematics, stance_point, swing_point
 
 TWO_PI = 2.0 * math.pi
+
+
+class LegState(NamedTuple):
+    """Per simulation and leg, what the controller keeps between periods (n simulations).
+
+    numba takes NamedTuples of arrays, so the kernels take a handful of grouped arguments."""
+
+    phi: np.ndarray  # (n, 6) phase at the start of the period, [0, 2 pi)
+    phi_next: np.ndarray  # (n, 6) phase at the end of the period before events, unwrapped
+    stance: np.ndarray  # (n, 6) int8: 1 in stance
+    lp: np.ndarray  # (n, 6, 3) landing position of the current stance, body frame, m
+    phi_td: np.ndarray  # (n, 6) phase right after the current stance's touchdown (eq. 4)
+    prev_height: np.ndarray  # (n, 6) foot clearance one substep before the period, m
+    lifted: np.ndarray  # (n, 6) bool: a stance foot that rose above lift_clearance
+    retouches: np.ndarray  # (n,) int64: lifted stance feet that pressed in again
+
+
+class Drive(NamedTuple):
+    """Per simulation, what beta sets through eq. 2 and whether eq. 4 is on (n,)."""
+
+    omega: np.ndarray  # basic frequency, rad/s
+    phi_aep: np.ndarray  # 2 pi (1 - beta), rad
+    reset: np.ndarray  # bool: phase resetting at touchdown
+
+
+class TouchRules(NamedTuple):
+    """What counts as a touchdown (docs/MODEL.md): scalars shared by the batch."""
+
+    radius: float  # foot sphere radius, m
+    touch_depth: float  # a foot touches when pressed this far in, m
+    scuff_fraction: float  # touches while phi < scuff_fraction phi_AEP are ignored
+    interpolate: bool  # landing instant at the clearance's zero crossing (else the substep)
+    lift_clearance: float  # a stance foot this high has left the ground (chatter count), m
+
+
+class EventLog(NamedTuple):
+    """What happened in the last period, per simulation; NaN where nothing did."""
+
+    td_time: np.ndarray  # (n, 6) touchdown instant, s
+    td_phase: np.ndarray  # (n, 6) phase at touchdown before eq. 4, rad
+    lo_time: np.ndarray  # (n, 6) lift-off instant, s
+    d31: np.ndarray  # (n,) Delta31 right after leg 1's touchdown, rad
 
 
 @njit(cache=True)
@@ -56,12 +99,8 @@ def _leg_target(
 @njit(cache=True)
 def plan_block(
     ids: np.ndarray,
-    phi: np.ndarray,
-    stance: np.ndarray,
-    lp: np.ndarray,
-    phi_td: np.ndarray,
-    omega: np.ndarray,
-    phi_aep: np.ndarray,
+    st: LegState,
+    drive: Drive,
     k_contra: float,
     k_ipsi: float,
     h: float,
@@ -69,25 +108,26 @@ def plan_block(
     lead: np.ndarray,
     act: np.ndarray,
     ctrl: np.ndarray,
-    phi_next: np.ndarray,
 ) -> None:
     """For the simulations in ids: the set-points q*(t0) + lead dq*/dt into MuJoCo's actuator
     states act (n, 18) (lead = kd/kp per joint folds the feed-forward into the set-point, see
-    model.py), the velocities dq*/dt into its controls ctrl (n, 18), and the phases phi_next
-    (n, 6) at the end of the period without resetting. Writing MuJoCo's arrays here, not
-    through numpy, saves a few microseconds a period (one simulation)."""
+    mjspec.py), the velocities dq*/dt into its controls ctrl (n, 18), and the phases
+    st.phi_next (n, 6) at the end of the period without resetting. Writing MuJoCo's arrays
+    here, not through numpy, saves a few microseconds a period (one simulation)."""
     scratch = np.empty((2, 6))
     tip = np.empty(3)
     q0 = np.empty(3)
     q1 = np.empty(3)
+    phi, phi_next, stance, lp, phi_td = st.phi, st.phi_next, st.stance, st.lp, st.phi_td
+    phi_aep = drive.phi_aep
     for r in range(ids.shape[0]):
         s = ids[r]
-        advance_phases(phi[s], omega[s], k_contra, k_ipsi, h, phi_next[s], scratch)
+        advance_phases(phi[s], drive.omega[s], k_contra, k_ipsi, h, phi_next[s], scratch)
         for leg in range(6):
-            st = stance[s, leg] != 0
-            _leg_target(geo, leg, phi[s, leg], st, phi_td[s, leg], phi_aep[s], lp[s, leg], tip, q0)
+            on = stance[s, leg] != 0
+            _leg_target(geo, leg, phi[s, leg], on, phi_td[s, leg], phi_aep[s], lp[s, leg], tip, q0)
             _leg_target(
-                geo, leg, phi_next[s, leg], st, phi_td[s, leg], phi_aep[s], lp[s, leg], tip, q1
+                geo, leg, phi_next[s, leg], on, phi_td[s, leg], phi_aep[s], lp[s, leg], tip, q1
             )
             for m in range(3):
                 a = 3 * leg + m
@@ -100,46 +140,36 @@ def plan_block(
 def apply_events(
     ids: np.ndarray,
     height: np.ndarray,
-    radius: float,
-    prev_height: np.ndarray,
-    phi: np.ndarray,
-    phi_next: np.ndarray,
-    stance: np.ndarray,
-    lp: np.ndarray,
-    phi_td: np.ndarray,
-    phi_aep: np.ndarray,
-    reset: np.ndarray,
-    touch_depth: float,
-    scuff_fraction: float,
-    interpolate: bool,
     t0: float,
     dt: float,
+    st: LegState,
+    drive: Drive,
+    rules: TouchRules,
     geo: np.ndarray,
-    td_time: np.ndarray,
-    td_phase: np.ndarray,
-    lo_time: np.ndarray,
-    d31: np.ndarray,
-    lift_clearance: float,
-    lifted: np.ndarray,
-    retouches: np.ndarray,
+    log: EventLog,
 ) -> int:
-    """Advance phi to phi_next, applying touchdowns (with eq. 4) and lift-offs; returns how
-    many happened (touchdowns plus lift-offs, so the caller can skip its bookkeeping at 0).
+    """Advance st.phi to st.phi_next, applying touchdowns (with eq. 4, `reset_phase`) and
+    lift-offs; returns how many happened (touchdowns plus lift-offs, so the caller can skip its
+    bookkeeping at 0).
 
     height: (len(ids), k, >= 6) foot centre height of each leg's foot (the first six entries)
     at the start of each substep, i.e. at t0 + j dt; its clearance is height - radius.
-    prev_height (n, 6) is the clearance one substep before
-    t0 and is updated here. The foot touches when its clearance is below -touch_depth (it
-    presses into the ground: the contact is carrying load); the landing instant is where the
-    clearance crossed zero, interpolated linearly between substeps, so that it does not move
-    with the timestep. Outputs td_time,
-    td_phase (the phase at touchdown, before any reset), lo_time (n, 6) and d31 (n,) are NaN
-    where nothing happened.
+    st.prev_height is the clearance one substep before t0 and is updated here. The foot
+    touches when its clearance is below -touch_depth (it presses into the ground: the contact
+    is carrying load); the landing instant is where the clearance crossed zero, interpolated
+    linearly between substeps, so that it does not move with the timestep. `log` is rewritten:
+    NaN where nothing happened.
 
     Contact chatter is counted, not acted on: a stance foot that rises more than
-    lift_clearance above the ground is marked in lifted (n, 6), and when it presses into the
-    ground again retouches (n,) counts one more re-touch.
+    lift_clearance above the ground is marked in st.lifted, and when it presses into the
+    ground again st.retouches counts one more re-touch.
     """
+    phi, phi_next, stance, lp, phi_td = st.phi, st.phi_next, st.stance, st.lp, st.phi_td
+    prev_height, lifted, retouches = st.prev_height, st.lifted, st.retouches
+    phi_aep, reset = drive.phi_aep, drive.reset
+    radius, touch_depth, scuff_fraction = rules.radius, rules.touch_depth, rules.scuff_fraction
+    interpolate, lift_clearance = rules.interpolate, rules.lift_clearance
+    td_time, td_phase, lo_time, d31 = log.td_time, log.td_phase, log.lo_time, log.d31
     nsub = height.shape[1]
     h = nsub * dt
     tip = np.empty(3)
@@ -191,10 +221,7 @@ def apply_events(
                     td_time[s, leg] = t0 + frac * dt
                     td_phase[s, leg] = ph_w
                     advance = p1 - ph
-                    if reset[s]:
-                        phi_td[s, leg] = phi_aep[s]
-                    else:
-                        phi_td[s, leg] = ph_w
+                    phi_td[s, leg] = reset_phase(ph_w, phi_aep[s], reset[s])  # eq. 4
                     p1 = phi_td[s, leg] + advance
                     break
                 if stance[s, leg] == 0 and p1 >= TWO_PI:

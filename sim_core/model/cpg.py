@@ -96,6 +96,17 @@ def advance_phases(
         out[i] = phi[i] + h * (omega + g[i])
 
 
+@njit(cache=True)
+def reset_phase(phi_touchdown: float, phi_aep: float, enabled: bool) -> float:
+    """Eq. 4 at leg i's touchdown: the phase right after landing.
+
+    g2_i = (phi_AEP - phi_i) delta(t - t_land^i) integrates to a jump of e_i = phi_AEP - phi_i,
+    so the phase becomes phi_AEP whenever the leg lands (e_i > 0: it landed early, before its
+    swing curve reached the AEP); with resetting off (`enabled` False) it is left unchanged.
+    """
+    return phi_aep if enabled else phi_touchdown
+
+
 def initial_phases(d31: float, phi1: float = 0.0) -> np.ndarray:
     """Phases satisfying eqs. 5-6 with the given Delta31: the paper's one-parameter gait family."""
     p1 = phi1

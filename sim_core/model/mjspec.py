@@ -24,7 +24,6 @@ from sim_core.model.legs import inverse_kinematics, pack_geometry
 from sim_core.model.params import ModelParams
 
 GRAVITY = 9.81
-TARSUS_MASS = 2e-6  # kg, a sprung tarsus's own mass: ~7% of a tibia, keeps the spring-mass fast
 
 _INTEGRATOR = {
     "euler": mujoco.mjtIntegrator.mjINT_EULER,
@@ -89,7 +88,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
         conaffinity=1,
         rgba=[0.85, 0.85, 0.8, 1.0],
     )
-    floor.friction = [p.friction, 0.005, 0.0001]
+    floor.friction = [p.friction, p.torsional_friction, p.rolling_friction]
     if visual:
         world.add_light(pos=[0, 0, 1.0], dir=[0, 0, -1])
 
@@ -126,7 +125,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
             axis=[0.0, 0.0, -side],  # positive = tip forward on both sides
             armature=p.armature,
         )
-        _add_link(coxa, f"{name}_coxa", p.coxa_mass, p.coxa_length, 0.25e-3, visual)
+        _add_link(coxa, f"{name}_coxa", p.coxa_mass, p.coxa_length, p.coxa_radius, visual)
         femur = coxa.add_body(name=f"{name}_femur", pos=[p.coxa_length, 0.0, 0.0])
         femur.add_joint(
             name=f"{name}_j2",
@@ -134,7 +133,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
             axis=[0.0, -1.0, 0.0],  # positive = raise
             armature=p.armature,
         )
-        _add_link(femur, f"{name}_femur", p.femur_mass, p.femur_length, 0.3e-3, visual)
+        _add_link(femur, f"{name}_femur", p.femur_mass, p.femur_length, p.femur_radius, visual)
         tibia = femur.add_body(name=f"{name}_tibia", pos=[p.femur_length, 0.0, 0.0])
         tibia.add_joint(
             name=f"{name}_j3",
@@ -142,20 +141,20 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
             axis=[0.0, -1.0, 0.0],
             armature=p.armature,
         )
-        _add_link(tibia, f"{name}_tibia", p.tibia_mass, p.tibia_length, 0.15e-3, visual)
+        _add_link(tibia, f"{name}_tibia", p.tibia_mass, p.tibia_length, p.tibia_radius, visual)
         tip_body, tip_pos = tibia, [p.tibia_length, 0.0, 0.0]
         if p.tarsus_stiffness > 0:  # a sprung tarsus: the foot slides along the tibia axis
             tip_body = tibia.add_body(name=f"{name}_tarsus", pos=tip_pos)
             tip_body.explicitinertial = True
-            tip_body.mass = TARSUS_MASS
-            tip_body.inertia = [1e-13, 1e-13, 1e-13]
+            tip_body.mass = p.tarsus_mass
+            tip_body.inertia = [p.tarsus_inertia] * 3
             tip_body.add_joint(
                 name=f"{name}_tarsus",
                 type=mujoco.mjtJoint.mjJNT_SLIDE,
                 axis=tarsus_axes[i].tolist(),  # positive = compressed (the foot moves up)
                 stiffness=p.tarsus_stiffness,
                 damping=p.tarsus_damping,
-                range=[-5e-4, 1.5e-3],
+                range=[-p.tarsus_extension, p.tarsus_compression],
                 limited=mujoco.mjtLimited.mjLIMITED_TRUE,
             )
             tip_pos = [0.0, 0.0, 0.0]
@@ -170,9 +169,10 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
             mass=0.0,
             rgba=[0.1, 0.1, 0.1, 1.0],
         )
-        foot.friction = [p.friction, 0.005, 0.0001]
+        foot.friction = [p.friction, p.torsional_friction, p.rolling_friction]
         foot.solref = [p.contact_timeconst, p.contact_dampratio]
-        foot.solimp = [0.9, 0.95, p.foot_radius * 0.4, 0.5, 2.0]
+        foot.solimp = [p.contact_dmin, p.contact_dmax, p.foot_radius * p.contact_width_share,
+                       p.contact_midpoint, p.contact_power]  # fmt: skip
         foot.priority = 1  # the foot's contact parameters win over the floor's defaults
         tip_body.add_site(  # the foot's centre: its height is the touch sense (controller.py)
             name=f"{name}_foot_site",

@@ -15,8 +15,6 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
 
-from sim_core.docsections import replace_section
-
 Integrator = Literal["euler", "implicit", "implicitfast", "rk4", "discrete"]
 INTEGRATORS: tuple[Integrator, ...] = ("euler", "implicit", "implicitfast", "rk4", "discrete")
 
@@ -49,6 +47,17 @@ class ModelParams(BaseModel):
     femur_length: float = _paper(2.0e-3, "Table I femur length 0.2 cm", gt=0)
     tibia_mass: float = _paper(0.03e-3, "Table I tibia mass 0.03 g", gt=0)
     tibia_length: float = _paper(1.0e-2, "Table I tibia length 1.0 cm", gt=0)
+
+    # --- Leg links: what Table I leaves open ---------------------------------------------------
+    coxa_radius: float = _ours(
+        0.25e-3, "coxa rod radius, m: the radius term of its inertia (and the drawn capsule)", gt=0
+    )
+    femur_radius: float = _ours(
+        0.3e-3, "femur rod radius, m: a cockroach femur is ~0.5 mm thick", gt=0
+    )
+    tibia_radius: float = _ours(
+        0.15e-3, "tibia rod radius, m: the thin distal segment; bounds its axial inertia", gt=0
+    )
 
     # --- Leg kinematics (paper, Sec. II B 2) ----------------------------------------------------
     stroke: float = _paper(2.0e-3, "D, distance AEP-PEP, 2 mm", gt=0)
@@ -146,12 +155,48 @@ class ModelParams(BaseModel):
         "vertical at mid-stance, as the paper's viscoelastic ground pushes) or 'tibia' (along "
         "the tibia, as in the second study; part of its travel is sideways)",
     )
+    tarsus_mass: float = _ours(
+        2e-6, "kg of a sprung tarsus: ~7% of a tibia, keeps the spring-mass mode fast", gt=0
+    )
+    tarsus_inertia: float = _ours(
+        1e-13,
+        "kg m^2 of a sprung tarsus on each axis: negligible, only keeps MuJoCo's body valid",
+        gt=0,
+    )
+    tarsus_extension: float = _ours(
+        5e-4,
+        "m a sprung tarsus may extend beyond rest (joint limit): a quarter of the stroke",
+        ge=0,
+    )
+    tarsus_compression: float = _ours(
+        1.5e-3, "m a sprung tarsus may compress (joint limit): far beyond its loaded travel", gt=0
+    )
     foot_radius: float = _ours(0.25e-3, "tarsus tip sphere; small against the 2 mm stroke", gt=0)
     friction: float = _ours(1.0, "foot-ground friction; claws and pads grip firmly", gt=0)
+    torsional_friction: float = _ours(
+        0.005, "MuJoCo's torsional friction of the foot contact (condim 3 leaves it unused)", ge=0
+    )
+    rolling_friction: float = _ours(
+        0.0001, "MuJoCo's rolling friction of the foot contact (condim 3 leaves it unused)", ge=0
+    )
     contact_timeconst: float = _ours(
         5e-4, "contact solref time constant, s: stiff 'viscoelastic ground' as in the paper", gt=0
     )
     contact_dampratio: float = _ours(1.0, "contact solref damping ratio: critically damped", gt=0)
+    contact_dmin: float = _ours(
+        0.9, "solimp d0: contact impedance at zero penetration (MuJoCo's default)", gt=0, lt=1
+    )
+    contact_dmax: float = _ours(
+        0.95,
+        "solimp d_width: impedance once pressed in by contact_width (MuJoCo's default)",
+        gt=0,
+        lt=1,
+    )
+    contact_width_share: float = _ours(
+        0.4, "solimp width as a share of foot_radius: impedance rises over 0.1 mm", gt=0
+    )
+    contact_midpoint: float = _ours(0.5, "solimp midpoint (MuJoCo's default)", gt=0, lt=1)
+    contact_power: float = _ours(2.0, "solimp power (MuJoCo's default)", ge=1)
     impratio: float = _ours(
         10.0, "elliptic-cone impedance ratio: stops the tiny feet creeping in stance", ge=1
     )
@@ -224,17 +269,3 @@ def parameter_table(params: ModelParams | None = None) -> list[tuple[str, object
         reason = desc.split("] ", 1)[-1]
         rows.append((name, getattr(p, name), origin, reason))
     return rows
-
-
-def parameter_markdown(params: ModelParams | None = None) -> str:
-    """The parameter table of docs/MODEL.md (kept in sync by a test)."""
-    lines = ["| parameter | value (SI) | origin | reason |", "|---|---|---|---|"]
-    for name, value, origin, reason in parameter_table(params):
-        shown = f"{value:.6g}" if isinstance(value, float) else str(value)
-        lines.append(f"| `{name}` | {shown} | {origin} | {reason} |")
-    return "\n".join(lines)
-
-
-def update_parameter_doc(text: str, params: ModelParams | None = None) -> str:
-    """Replace the table between the params markers of a markdown document."""
-    return replace_section(text, "params", parameter_markdown(params))

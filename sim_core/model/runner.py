@@ -21,7 +21,15 @@ import mujoco.batch
 import numpy as np
 
 from sim_core.model import gait
-from sim_core.model.controller import apply_events, initial_targets, plan_block
+from sim_core.model.controller import (
+    Drive,
+    EventLog,
+    LegState,
+    TouchRules,
+    apply_events,
+    initial_targets,
+    plan_block,
+)
 from sim_core.model.cpg import initial_phases
 from sim_core.model.guard import FLIPPED, NON_FINITE, WARNED, guard_codes, up_axis_z
 from sim_core.model.legs import pack_geometry
@@ -107,6 +115,12 @@ class BatchRunner:
         self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
         self.ctrl = self.batch.bind("ctrl")  # desired joint velocities
         self.qvel = self.batch.bind("qvel")
+        self._state = LegState(self.phi, self.phi_next, self.stance, self.lp, self.phi_td,
+                               self.prev_height, self._lifted, self.retouches)  # fmt: skip
+        self._drive = Drive(self.omega, self.phi_aep, self.reset_on)
+        self._rules = TouchRules(p.foot_radius, p.touch_depth, p.scuff_fraction,
+                                 p.touchdown_interpolation, p.lift_clearance)  # fmt: skip
+        self._log = EventLog(self.td_time, self.td_phase, self.lo_time, self.d31_evt)
         self.nblock = 0
         # wall seconds spent in each part of step_block, for `insect-gait bench`
         self.timers = {"controller": 0.0, "physics": 0.0, "bookkeeping": 0.0}
@@ -215,23 +229,8 @@ class BatchRunner:
         p = self.params
         clock = time.perf_counter
         t_start = clock()
-        plan_block(
-            ids,
-            self.phi,
-            self.stance,
-            self.lp,
-            self.phi_td,
-            self.omega,
-            self.phi_aep,
-            p.k_contralateral,
-            p.k_ipsilateral,
-            self.control_dt,
-            self.geo,
-            self._lead,
-            self.act,
-            self.ctrl,
-            self.phi_next,
-        )
+        plan_block(ids, self._state, self._drive, p.k_contralateral, p.k_ipsilateral,
+                   self.control_dt, self.geo, self._lead, self.act, self.ctrl)  # fmt: skip
         call_ids = None if m == self.n else ids
         t_plan = clock()
         try:
@@ -246,32 +245,8 @@ class BatchRunner:
                 self._fail(int(sim), f"MuJoCo error: {self.batch.error(int(sim))}")
         t_phys = clock()
         t0 = self.time
-        events = apply_events(
-            ids,
-            self.feet[:m, :, :, 2],
-            p.foot_radius,
-            self.prev_height,
-            self.phi,
-            self.phi_next,
-            self.stance,
-            self.lp,
-            self.phi_td,
-            self.phi_aep,
-            self.reset_on,
-            p.touch_depth,
-            p.scuff_fraction,
-            p.touchdown_interpolation,
-            t0,
-            self.dt,
-            self.geo,
-            self.td_time,
-            self.td_phase,
-            self.lo_time,
-            self.d31_evt,
-            p.lift_clearance,
-            self._lifted,
-            self.retouches,
-        )
+        events = apply_events(ids, self.feet[:m, :, :, 2], t0, self.dt, self._state,
+                              self._drive, self._rules, self.geo, self._log)  # fmt: skip
         self.nblock += 1
         if events:
             self._collect_events(ids)
@@ -445,6 +420,7 @@ def simulate(spec: RunSpec, params: ModelParams | None = None) -> RunResult:
 def simulate_batch(
     specs: Sequence[RunSpec],
     params: ModelParams | None = None,
+    *,
     nthread: int = 0,
     progress: ProgressFn | None = None,
 ) -> list[RunResult]:

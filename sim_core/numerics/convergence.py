@@ -33,6 +33,7 @@ TARGET_SPEEDUP = 20.0  # the issue's goal against the paper's RK4 at 2e-5 s (not
 def drift_rates(
     integrator: Integrator,
     dt_s: float,
+    *,
     params: ModelParams | None = None,
     betas: Sequence[float] = (0.62, 0.70),
     d31s: Sequence[float] = DRIFT_D31,
@@ -104,6 +105,7 @@ class ConvergenceReport:
 
 def convergence_check(
     params: ModelParams | None = None,
+    *,
     betas: Sequence[float] = (0.62, 0.655, 0.70),
     inits: Sequence[float] = tuple(np.linspace(0, 2 * math.pi, 8, endpoint=False) + math.pi / 8),
     duration_s: float = 6.0,
@@ -180,6 +182,7 @@ CHATTER_MARGIN = 1.0
 
 
 def grid_study(
+    *,
     integrators: Sequence[Integrator] = ("euler", "implicit", "implicitfast", "rk4", "discrete"),
     dts: Sequence[float] = (1e-3, 5e-4, 2e-4, 1e-4, 5e-5, 2.5e-5, 1e-5),
     betas: Sequence[float] = (0.62, 0.70),
@@ -236,12 +239,12 @@ def grid_study(
             progress(f"reference check (rk4 1e-5 vs 2e-5): {got}")
     ref_drift = None
     if drift_reference is not None:
-        ref_drift = drift_rates(*drift_reference, p, betas, drift_d31s)
+        ref_drift = drift_rates(*drift_reference, params=p, betas=betas, d31s=drift_d31s)
         info["drift_reference_config"] = list(drift_reference)
         info["drift_reference"] = ref_drift.tolist()
         info["drift_d31s"] = list(drift_d31s)
         if tuple(drift_reference) != REFERENCE:  # the paper's setting against the converged one
-            paper = drift_rates(*REFERENCE, p, betas, drift_d31s)
+            paper = drift_rates(*REFERENCE, params=p, betas=betas, d31s=drift_d31s)
             info["reference_drift_error"] = float(np.max(np.abs(paper - ref_drift)))
         if progress is not None:
             progress(f"drift reference {drift_reference}: {np.round(ref_drift, 4).tolist()}")
@@ -272,7 +275,7 @@ def grid_study(
                     thr = BATCH_N / (time.perf_counter() - t1)
                 drift_err = None
                 if ref_drift is not None:
-                    drift = drift_rates(integ, dt, pv, betas, drift_d31s)
+                    drift = drift_rates(integ, dt, params=pv, betas=betas, d31s=drift_d31s)
                     drift_err = float(np.max(np.abs(drift - ref_drift)))  # NaN if a probe failed
                     drift_err = None if math.isnan(drift_err) else drift_err
                 retouch = max(r.retouches_per_stance or 0.0 for r in runs)

@@ -107,13 +107,6 @@ def detect_transitions(values: np.ndarray, d31: np.ndarray, persist: int = 4) ->
     return out
 
 
-def hysteresis_width(ramp_down: list[Transition], ramp_up: list[Transition]) -> float | None:
-    """Distance between the first switch of each direction (the loop's width), if both exist."""
-    if not ramp_down or not ramp_up:
-        return None
-    return abs(ramp_down[0].value - ramp_up[0].value)
-
-
 def smoothed_drift(
     rm: ReturnMap, bandwidth: float, points: int = SMOOTH_POINTS
 ) -> tuple[np.ndarray, np.ndarray]:

@@ -53,8 +53,9 @@ def fig5(data: dict[str, Any], path: Path) -> None:
                 ax.plot(range(len(r["d31"])), r["d31"], ".-", ms=3, lw=0.5,
                         label=f"start {r['d31_init']:.2f}")  # fmt: skip
         _branches(ax)
-        s = data["summary"][str(beta)]
-        ax.set_title(f"β = {beta:.2f}: {s['hits']} of {s['runs']} runs on the paper's branch")
+        s = data.get("summary", {}).get(str(beta))
+        hits = f": {s['hits']} of {s['runs']} runs on the paper's branch" if s else ""
+        ax.set_title(f"β = {beta:.2f}{hits}")
         ax.set_xlabel("gait cycle n (leg-1 touchdowns)")
         ax.set_ylim(0, TWO_PI)
     axes[0][0].set_ylabel(D31)

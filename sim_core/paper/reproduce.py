@@ -107,6 +107,7 @@ def reproduce(
     out: Path,
     cache_dir: Path,
     backend: Backend,
+    *,
     params: ModelParams | None = None,
     doc: Path | None = None,
     progress: bool = True,

@@ -37,19 +37,23 @@ TASK_VERSION = 1
 RAMP_UPDATE_S = 0.01
 
 
-@cache
-def code_fingerprint() -> str:
+def fingerprint_sources(package_root: Path) -> str:
     """sha256 (16 hex) over every source that can change a simulated number: the whole
-    `sim_core.model` package (which imports nothing else from sim_core, a tested rule) and this
-    module, which drives the runs. A new or edited file there gives every task a new key, so
-    no list of files can go stale."""
-    root = Path(__file__).resolve().parents[1]
-    sources = [*sorted((root / "model").rglob("*.py")), Path(__file__).resolve()]
+    `model` package under `package_root` (it imports nothing else from sim_core, a tested
+    rule) and `runs/tasks.py`, which drives the runs. A new, removed or edited file there gives
+    every task a new key, so no hand-kept list of files can go stale."""
+    sources = [*sorted((package_root / "model").rglob("*.py")), package_root / "runs" / "tasks.py"]
     h = hashlib.sha256()
     for path in sources:
-        h.update(path.relative_to(root).as_posix().encode())
+        h.update(path.relative_to(package_root).as_posix().encode())
         h.update(path.read_bytes())
     return h.hexdigest()[:16]
+
+
+@cache
+def code_fingerprint() -> str:
+    """This installation's `fingerprint_sources`, computed once per process."""
+    return fingerprint_sources(Path(__file__).resolve().parents[1])
 
 
 def _canonical(obj: Any) -> str:

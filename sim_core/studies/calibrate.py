@@ -51,6 +51,7 @@ def reachable(params: ModelParams, beta: float = BETA_FAST, samples: int = 64) -
 
 def calibrate(
     n_trials: int,
+    *,
     storage: str | None = None,
     study_name: str = "gait-selection",
     seed: int = 0,

@@ -79,6 +79,7 @@ class Evaluation:
 
 def evaluate(
     params: ModelParams,
+    *,
     betas: Sequence[float] = (BETA_FAST, BETA_BISTABLE, BETA_SLOW),
     n_init: int = 8,
     duration_s: float = 6.0,
@@ -211,6 +212,7 @@ def _median(values: Sequence[float | None]) -> float | None:
 
 def evaluate_pull(
     params: ModelParams,
+    *,
     n_init: int = 6,
     duration_s: float = 4.0,
     dt_s: float | None = None,

@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 
 from sim_core.model.cpg import advance_phases
+from sim_core.paper.protocols import initial_values
 
 TWO_PI = 2.0 * math.pi
 MAX_EVENTS = 4000
@@ -187,6 +188,7 @@ class ReducedRun:
 def run_reduced(
     beta: float,
     d31_init: float,
+    *,
     duration_s: float = 6.0,
     params: ReducedParams | None = None,
     phase_reset: bool = True,
@@ -207,21 +209,25 @@ def run_reduced(
 def simulate_reduced(
     beta: float,
     d31_init: float,
+    *,
     duration_s: float = 6.0,
     params: ReducedParams | None = None,
     phase_reset: bool = True,
 ) -> tuple[np.ndarray, np.ndarray]:
     """(times of leg-1 touchdowns, Delta31 there); raises if the body state blew up."""
-    run = run_reduced(beta, d31_init, duration_s, params, phase_reset)
+    run = run_reduced(beta, d31_init, duration_s=duration_s, params=params, phase_reset=phase_reset)
     return run.times, run.d31
 
 
 def attractors(
     beta: float,
+    *,
     n_init: int = 12,
     duration_s: float = 6.0,
     params: ReducedParams | None = None,
 ) -> list[float]:
     """Final Delta31 from n_init starts spread over the circle (off the symmetric points)."""
-    inits = np.linspace(0.0, TWO_PI, n_init, endpoint=False) + math.pi / n_init
-    return [float(simulate_reduced(beta, float(x), duration_s, params)[1][-1]) for x in inits]
+    return [
+        float(simulate_reduced(beta, float(x), duration_s=duration_s, params=params)[1][-1])
+        for x in initial_values(n_init)
+    ]

@@ -41,6 +41,7 @@ class Outcome:
 def sensitivity(
     params: ModelParams,
     names: Sequence[str] | None = None,
+    *,
     rel: float = 0.10,
     betas: Sequence[float] = (BETA_FAST, BETA_SLOW),
     n_init: int = 8,
@@ -74,16 +75,18 @@ def run_sensitivity(
     out: Path,
     params: ModelParams | None = None,
     *,
+    names: Sequence[str] | None = None,
+    betas: Sequence[float] = (BETA_FAST, BETA_SLOW),
     n_init: int = 8,
     duration_s: float = 6.0,
     log: Callable[[str], None] = print,
 ) -> dict[str, Any]:
-    """+-10% of every parameter of SEARCH_SPACE: writes sensitivity_tornado.png and
-    sensitivity.json into `out` and returns the report."""
+    """+-10% of each parameter in `names` (default: all of SEARCH_SPACE): writes
+    sensitivity_tornado.png and sensitivity.json into `out` and returns the report."""
     p = params or ModelParams()
     out.mkdir(parents=True, exist_ok=True)
     t0 = time.perf_counter()
-    sens = sensitivity(p, n_init=n_init, duration_s=duration_s)
+    sens = sensitivity(p, names, betas=betas, n_init=n_init, duration_s=duration_s)
     plot_sensitivity(sens, out / "sensitivity_tornado.png")
     report: dict[str, Any] = {
         "params": p.model_dump(),

@@ -116,6 +116,7 @@ def _hull_margin(pts: np.ndarray, c: np.ndarray) -> float:
 def static_margin(
     beta: float,
     d31: float,
+    *,
     geo: SupportGeometry | None = None,
     stroke: float = 2.0,
     samples: int = 720,

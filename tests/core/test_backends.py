@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from sim_core import RunSpec, simulate
+from sim_core.cli.main import main
 from sim_core.runs.backends import (
     BackendUnavailable,
     DaskBackend,
@@ -17,7 +18,6 @@ from sim_core.runs.backends import (
     run_tasks,
 )
 from sim_core.runs.cache import ResultCache
-from sim_core.cli.main import main
 from sim_core.runs.tasks import Ramp, execute_chunk, ramp_task, run_task
 
 HAS_DASK = importlib.util.find_spec("distributed") is not None

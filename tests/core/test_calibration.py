@@ -6,14 +6,11 @@ import numpy as np
 import pytest
 
 from sim_core import ModelParams
-from sim_core.studies.calibrate import (
-    SEARCH_SPACE,
-    Evaluation,
-    ReturnMap,
-    reachable,
-    return_map,
-)
 from sim_core.numerics.convergence import ConvergenceRow, convergence_check
+from sim_core.paper.protocols import ReturnMap, return_map
+from sim_core.studies.calibrate import reachable
+from sim_core.studies.objectives import Evaluation
+from sim_core.studies.space import SEARCH_SPACE
 
 
 def _ev(fast: list[float | None], slow: list[float | None], bis: list[float | None]) -> Evaluation:
@@ -47,7 +44,7 @@ def test_reachability_screen() -> None:
 
 
 def test_return_map_pairs_are_lagged_delta31() -> None:
-    rm = return_map(None, 0.66, [2.0, 3.0], duration_s=0.8, lag=4, skip=1)
+    rm = return_map(None, beta=0.66, inits=[2.0, 3.0], duration_s=0.8, lag=4, skip=1)
     assert rm.x.size == rm.y.size > 0
     assert ((0 <= rm.x) & (rm.x < 2 * math.pi)).all()
 
@@ -70,7 +67,7 @@ def test_convergence_rows_and_a_tiny_check() -> None:
 
 
 def test_outcome_gap_counts_disagreements() -> None:
-    from sim_core.studies.calibrate import outcome_gap
+    from sim_core.studies.objectives import outcome_gap
 
     a = _ev([2.9, None, 1.0], [1.9], [])
     b = _ev([2.8, 2.0, None], [1.9], [])
@@ -78,28 +75,30 @@ def test_outcome_gap_counts_disagreements() -> None:
 
 
 def test_open_loop_drift_shapes_and_a_uniform_hind_bias() -> None:
-    from sim_core.studies.calibrate import open_loop_drift
+    from sim_core.model.probes import open_loop_drift
 
     grid = [2.0, 3.0]
-    base, jumps = open_loop_drift(ModelParams(), 0.66, grid, duration_s=0.9)
-    assert base.shape == (2,) and jumps.shape == (2, 6) and np.isfinite(jumps).all()
+    kw = {"betas": [0.66], "d31s": grid, "duration_s": 0.9, "settle_s": 0.3}
+    base, jumps = open_loop_drift(ModelParams(), **kw)
+    assert base.shape == (1, 2) and jumps.shape == (1, 2, 6) and np.isfinite(jumps).all()
     # centre of mass moved back loads the hind legs: they land earlier, drift goes up
-    back, _ = open_loop_drift(ModelParams(com_offset_x=-3e-3), 0.66, grid, duration_s=0.9)
+    back, _ = open_loop_drift(ModelParams(com_offset_x=-3e-3), **kw)
     assert (back > base).all()
 
 
-def test_study_writes_its_figures_and_the_viewers_bifurcation_file(tmp_path) -> None:
+def test_sensitivity_writes_its_tornado_and_json(tmp_path) -> None:
     import json
 
-    from sim_core.studies.study import run_study
+    from sim_core.studies.sensitivity import run_sensitivity
 
-    report = run_study(tmp_path, n_init=2, duration_s=0.6, map_inits=2, map_duration_s=0.8,
-                       with_sensitivity=False, log=lambda _: None)  # fmt: skip
-    for name in ("fig5_d31_convergence.png", "fig7_return_maps.png", "study.json"):
-        assert (tmp_path / name).stat().st_size > 0
-    bif = json.loads((tmp_path / "bifurcation.json").read_text())
-    n_fixed = sum(len(rm["fixed_points"]) for rm in report["return_maps"].values())
-    assert len(bif["points"]) == n_fixed
+    report = run_sensitivity(tmp_path, names=["kp_yaw"], betas=(0.62,), n_init=2,
+                             duration_s=0.5, log=lambda _: None)  # fmt: skip
+    assert set(report["sensitivity"]) == {"base", "kp_yaw"}
+    assert set(report["sensitivity"]["kp_yaw"]) == {"-", "+"}
+    assert len(report["sensitivity"]["base"]["0"][0]["finals"]) == 2
+    assert (tmp_path / "sensitivity_tornado.png").stat().st_size > 0
+    on_disk = json.loads((tmp_path / "sensitivity.json").read_text())
+    assert on_disk["sensitivity"] == json.loads(json.dumps(report["sensitivity"]))
 
 
 def test_numerics_grid_reports_a_failing_configuration_as_failed() -> None:
@@ -134,8 +133,8 @@ def test_drift_error_shrinks_with_the_timestep_and_a_failed_probe_is_nan() -> No
 
 
 def test_drift_score_pushes_toward_the_target_the_short_way() -> None:
-    from sim_core.studies.calibrate import DRIFT_GRID, drift_score
     from sim_core.model.gait import angle_diff
+    from sim_core.studies.objectives import DRIFT_GRID, drift_score
 
     # a grid point just below the target must count a positive drift as a push toward it
     assert float(angle_diff(2.9, 2.7)) > 0 > float(angle_diff(2.9, 3.1))

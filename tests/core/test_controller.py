@@ -5,7 +5,7 @@ import math
 import numpy as np
 
 from sim_core import ModelParams
-from sim_core.model.controller import apply_events
+from sim_core.model.controller import Drive, EventLog, LegState, TouchRules, apply_events
 from sim_core.model.legs import pack_geometry
 
 P = ModelParams()
@@ -14,6 +14,16 @@ BETA = 0.66
 PHI_AEP = 2 * math.pi * (1 - BETA)
 DT = 5e-5
 NSUB = 10
+# radius 0: the heights below are the feet's clearances
+RULES = TouchRules(0.0, P.touch_depth, P.scuff_fraction, True, P.lift_clearance)
+
+
+def _drive(reset: bool) -> Drive:
+    return Drive(np.array([1.0]), np.array([PHI_AEP]), np.array([reset]))
+
+
+def _log() -> EventLog:
+    return EventLog(np.empty((1, 6)), np.empty((1, 6)), np.empty((1, 6)), np.empty(1))
 
 
 def _run(phi0: np.ndarray, phi1: np.ndarray, stance: np.ndarray, touch: np.ndarray, reset: bool):
@@ -26,16 +36,12 @@ def _run(phi0: np.ndarray, phi1: np.ndarray, stance: np.ndarray, touch: np.ndarr
     st = stance[None].astype(np.int8).copy()
     lp = np.zeros((1, 6, 3))
     phi_td = np.full((1, 6), PHI_AEP)
-    td = np.empty((1, 6))
-    tdp = np.empty((1, 6))
-    lo = np.empty((1, 6))
-    d31 = np.empty(1)
-    events = apply_events(
-        ids, height[None], 0.0, prev, phi, phi_next, st, lp, phi_td,
-        np.array([PHI_AEP]), np.array([reset]), P.touch_depth, P.scuff_fraction, True,
-        1.0, DT, GEO, td, tdp, lo, d31, P.lift_clearance, np.zeros((1, 6), np.bool_),
-        np.zeros(1, np.int64),
-    )  # fmt: skip
+    state = LegState(phi, phi_next, st, lp, phi_td, prev, np.zeros((1, 6), np.bool_),
+                     np.zeros(1, np.int64))  # fmt: skip
+    log = _log()
+    td, lo, d31 = log.td_time, log.lo_time, log.d31
+    events = apply_events(ids, height[None], 1.0, DT, state, _drive(reset), RULES,
+                          GEO, log)  # fmt: skip
     assert events == np.isfinite(td).sum() + np.isfinite(lo).sum()
     return phi[0], st[0], td[0], lo[0], phi_td[0], d31[0]
 
@@ -98,13 +104,11 @@ def _retouches(clearance: np.ndarray) -> int:
     height = np.zeros((1, NSUB, 6))
     height[0, :, 0] = clearance
     count = np.zeros(1, np.int64)
-    apply_events(
-        np.array([0]), height, 0.0, np.zeros((1, 6)), phi, phi + 0.01,
-        np.ones((1, 6), np.int8), np.zeros((1, 6, 3)), np.full((1, 6), PHI_AEP),
-        np.array([PHI_AEP]), np.array([True]), P.touch_depth, P.scuff_fraction, True, 1.0, DT,
-        GEO, np.empty((1, 6)), np.empty((1, 6)), np.empty((1, 6)), np.empty(1),
-        P.lift_clearance, np.zeros((1, 6), np.bool_), count,
-    )  # fmt: skip
+    state = LegState(phi, phi + 0.01, np.ones((1, 6), np.int8), np.zeros((1, 6, 3)),
+                     np.full((1, 6), PHI_AEP), np.zeros((1, 6)), np.zeros((1, 6), np.bool_),
+                     count)  # fmt: skip
+    apply_events(np.array([0]), height, 1.0, DT, state, _drive(True), RULES, GEO,
+                 _log())  # fmt: skip
     return int(count[0])
 
 

@@ -77,3 +77,16 @@ def test_initial_phases_satisfy_constraints() -> None:
     g = np.empty(6)
     coupling(phi, KC, KI, g)
     np.testing.assert_allclose(g, 0.0, atol=1e-9)  # a fixed point of eqs. 3-7
+
+
+def test_eq4_reset_alone() -> None:
+    """Eq. 4: a landing sets the phase to phi_AEP (a jump e = phi_AEP - phi, > 0 when early);
+    with resetting off the phase is untouched."""
+    from sim_core.model.cpg import reset_phase
+
+    aep = 2 * math.pi * (1 - 0.66)
+    for phi in (0.6 * aep, aep, aep + 0.3):
+        assert reset_phase(phi, aep, True) == aep
+        assert reset_phase(phi, aep, False) == phi
+    early = 0.8 * aep
+    assert reset_phase(early, aep, True) - early == pytest.approx(0.2 * aep)

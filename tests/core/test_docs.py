@@ -2,7 +2,8 @@
 
 from pathlib import Path
 
-from sim_core.model.params import ModelParams, parameter_table, update_parameter_doc
+from sim_core.docsections import update_parameter_doc
+from sim_core.model.params import ModelParams, parameter_table
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "MODEL.md"
 

@@ -10,10 +10,10 @@ import math
 import numpy as np
 import pytest
 
-from sim_core.studies.calibrate import METACHRONAL_BRANCH, TRIPOD_BRANCH
 from sim_core.model.gait import angle_diff
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import RunResult, RunSpec
+from sim_core.paper.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
 
 TOLERANCE = 0.25  # rad, the acceptance
 STARTS = (0.8, 1.6)

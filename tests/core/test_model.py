@@ -69,7 +69,7 @@ def test_slope_tilts_gravity_uphill_positive() -> None:
 
 def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_body() -> None:
     from sim_core import RunSpec, simulate
-    from sim_core.model.mjspec import TARSUS_MASS, leg_qpos_addresses
+    from sim_core.model.mjspec import leg_qpos_addresses
 
     p = ModelParams(tarsus_stiffness=200.0, tarsus_damping=0.5)
     m = build_model(p)
@@ -81,7 +81,7 @@ def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_
     }
     # Table I masses plus the six tarsi
     assert m.body_mass.sum() == pytest.approx(
-        sum(build_model(ModelParams()).body_mass) + 6 * TARSUS_MASS
+        sum(build_model(ModelParams()).body_mass) + 6 * ModelParams().tarsus_mass
     )
     res = simulate(RunSpec(beta=0.66, d31_init=2.9, duration_s=0.5), p)
     assert not res.diverged

@@ -3,7 +3,8 @@
 import pytest
 
 from sim_core import ModelParams
-from sim_core.studies.objectives import WIDE_SPACE, PullEvaluation, evaluate_pull
+from sim_core.studies.objectives import PullEvaluation, evaluate_pull
+from sim_core.studies.space import WIDE_SPACE
 
 
 def _pe(fast: list[float | None], slow: list[float | None], share: float = 0.95,

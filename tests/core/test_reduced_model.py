@@ -43,10 +43,10 @@ def test_half_timestep_gives_the_same_finals(beta: float) -> None:
 def test_landing_share_tells_late_landings_from_mid_swing_ones() -> None:
     from sim_core.studies.reduced_model import run_reduced
 
-    stiff = run_reduced(0.62, 2.0, 2.0, ReducedParams(landing_height_kept=0.0))
+    stiff = run_reduced(0.62, 2.0, duration_s=2.0, params=ReducedParams(landing_height_kept=0.0))
     soft = ReducedParams(landing_height_kept=0.0, leg_stiffness=12.0, leg_damping=0.04,
                          swing_height=1.0e-3)  # fmt: skip
-    sagging = run_reduced(0.62, 2.0, 2.0, soft)
+    sagging = run_reduced(0.62, 2.0, duration_s=2.0, params=soft)
     # 100 N/m legs sag ~0.1 mm under a 0.8 mm swing: feet land late; 12 N/m ~1 mm: mid-swing
     assert stiff.landing_share > 0.9
     assert sagging.landing_share < 0.75

@@ -9,22 +9,23 @@ import numpy as np
 import pytest
 
 from sim_core import RunSpec
+from sim_core.model.ramp import Ramp
 from sim_core.paper.analysis import (
+    fixed_points,
     folds,
     ghosts,
     range_ends,
-    return_map_from_series,
     stable_ranges,
     stance_intervals,
     summarise_map,
     sweep_summary,
 )
+from sim_core.paper.figures import Config
+from sim_core.paper.protocols import return_map_from_series
+from sim_core.paper.reproduce import DOC_BEGIN, DOC_END, reproduce, table_rows, update_doc
 from sim_core.runs.backends import InlineBackend, run_tasks
 from sim_core.runs.cache import ResultCache
-from sim_core.paper.experiments import fixed_points
-from sim_core.paper.figures import Config
-from sim_core.paper.reproduce import DOC_BEGIN, DOC_END, reproduce, table_rows, update_doc
-from sim_core.runs.tasks import Ramp, make_chunks, ramp_task, run_task
+from sim_core.runs.tasks import make_chunks, ramp_task, run_task
 from tests.core.synthetic_gait import drift, fake_execute
 
 X = np.linspace(0, 2 * math.pi, 720, endpoint=False)

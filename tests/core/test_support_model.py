@@ -6,7 +6,12 @@ import math
 import numpy as np
 import pytest
 
-from sim_core.studies.support_model import SupportGeometry, landing_sag, quasi_static_drift, stable_points
+from sim_core.studies.support_model import (
+    SupportGeometry,
+    landing_sag,
+    quasi_static_drift,
+    stable_points,
+)
 
 GRID = np.linspace(1.0, 3.5, 251)
 

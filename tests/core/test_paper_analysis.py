@@ -1,18 +1,14 @@
-"""Experiment analysis on synthetic data with known answers, and one tiny live ramp."""
+"""The paper's analysis on synthetic data with known answers, the sweep schedule, and one tiny
+live sweep through the public `sweep`."""
 
 import math
 
 import numpy as np
 import pytest
 
-from sim_core import RunSpec
-from sim_core.paper.experiments import (
-    detect_transitions,
-    fixed_points,
-    hysteresis_width,
-    ramp,
-    triangle,
-)
+from sim_core import RunSpec, sweep
+from sim_core.model.ramp import Ramp
+from sim_core.paper.analysis import detect_transitions, fixed_points, sweep_summary
 
 X = np.linspace(0, 2 * math.pi, 64, endpoint=False)
 
@@ -60,7 +56,11 @@ def test_transitions_and_hysteresis_on_a_synthetic_loop() -> None:
     assert len(t_down) == 1 and t_down[0].before == "metachronal" and t_down[0].after == "tripod"
     assert t_down[0].value == pytest.approx(0.645, abs=0.002)
     assert t_up[0].value == pytest.approx(0.67, abs=0.002)
-    assert hysteresis_width(t_down, t_up) == pytest.approx(0.025, abs=0.003)
+    loop = sweep_summary(
+        np.arange(160.0), np.concatenate([down, up]), np.concatenate([d31_down, d31_up]),
+        start=0.70, turn=0.62, hold_s=0.0, ramp_s=80.0, persist=4,
+    )  # fmt: skip
+    assert loop["width"] == pytest.approx(0.025, abs=0.003) and loop["loop"] is True
 
 
 def test_isolated_blips_are_not_transitions() -> None:
@@ -70,14 +70,16 @@ def test_isolated_blips_are_not_transitions() -> None:
 
 
 def test_triangle_schedule() -> None:
-    s = triangle(0.70, 0.62, hold_s=1.0, ramp_s=2.0)
+    s = Ramp("beta", 0.70, 0.62, hold_s=1.0, ramp_s=2.0).value
     assert s(0.5) == 0.70 and s(2.0) == pytest.approx(0.66) and s(3.0) == pytest.approx(0.62)
     assert s(4.0) == pytest.approx(0.66) and s(9.0) == 0.70
 
 
-def test_live_ramp_follows_its_schedule() -> None:
-    r = ramp("beta", triangle(0.70, 0.66, 0.1, 0.3), 0.8, RunSpec(beta=0.70, d31_init=2.0))
-    assert r.error is None and r.d31.size == r.value.size > 4
-    assert r.value.min() < 0.69 and r.value.max() == pytest.approx(0.70, abs=0.01)
-    with pytest.raises(ValueError, match="cannot ramp"):
-        ramp("speed", lambda t: 1.0, 0.1, RunSpec())
+def test_live_sweep_follows_its_schedule() -> None:
+    r = sweep(RunSpec(beta=0.70, d31_init=2.0), parameter="beta", turn=0.66, hold_s=0.1,
+              ramp_s=0.3)  # fmt: skip
+    v = np.asarray(r.values)
+    assert r.error is None and len(r.d31) == v.size > 4
+    assert v.min() < 0.69 and v.max() == pytest.approx(0.70, abs=0.01)
+    with pytest.raises(ValueError, match="cannot sweep"):
+        sweep(RunSpec(), parameter="speed", turn=1.0, hold_s=0.1, ramp_s=0.1)  # type: ignore[arg-type]
