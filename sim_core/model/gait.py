@@ -62,27 +62,29 @@ def classify_gait(d31: float | None) -> str:
     return "other"
 
 
+def is_settled(tail: np.ndarray) -> bool:
+    """THE settled rule on the last SETTLED_LAST samples: they spread less than SETTLED_STD."""
+    return circular_std(tail) <= SETTLED_STD
+
+
 def final_d31(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:
     """Circular mean of the last SETTLED_LAST Delta31 samples and the gait; the gait is
-    'other' if those samples have not settled (spread more than SETTLED_STD), and the mean is
-    None with fewer than 3 samples. The one definition of where a run ends."""
+    'other' if those samples have not settled, and the mean is None with fewer than 3
+    samples. The one definition of where a run ends."""
     d = np.asarray(d31, dtype=float)
     if d.size < 3:
         return None, "other"
     tail = d[-SETTLED_LAST:]
     mean = circular_mean(tail)
-    if circular_std(tail) > SETTLED_STD:
-        return mean, "other"
-    return mean, classify_gait(mean)
+    return mean, classify_gait(mean) if is_settled(tail) else "other"
 
 
 def settled_mean(d31: np.ndarray | Sequence[float]) -> float | None:
     """Where a run has settled (`final_d31`'s mean), or None if it has not."""
     d = np.asarray(d31, dtype=float)
-    mean, _ = final_d31(d)
-    if mean is None or circular_std(d[-SETTLED_LAST:]) > SETTLED_STD:
+    if d.size < 3 or not is_settled(d[-SETTLED_LAST:]):
         return None
-    return mean
+    return circular_mean(d[-SETTLED_LAST:])
 
 
 def settled_gait(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:

@@ -209,7 +209,10 @@ def joint_gains(p: ModelParams, joint: str) -> tuple[float, float]:
 
 def servo_leads(p: ModelParams) -> np.ndarray:
     """(18,) kd/kp of each leg joint (paper leg order, joints 1-3): how far ahead along the
-    desired trajectory the set-point sits so that kp (act - q) carries the feed-forward."""
+    desired trajectory the set-point sits so that kp (act - q) carries the feed-forward;
+    0 with `pd_damping` = "joint_velocity" (no feed-forward: tau = kp (q* - q) - kd dq/dt)."""
+    if p.pd_damping == "joint_velocity":
+        return np.zeros(3 * len(LEG_NAMES))
     per_joint = [kd / kp for kp, kd in (joint_gains(p, j) for j in ("j1", "j2", "j3"))]
     return np.tile(per_joint, len(LEG_NAMES))
 

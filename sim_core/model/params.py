@@ -133,6 +133,12 @@ class ModelParams(BaseModel):
     kd_lift: float = _ours(
         3e-5, "joints 2, 3 damping, N m s/rad: critical for the loaded leg", gt=0
     )
+    pd_damping: Literal["tracking_error", "joint_velocity"] = Field(
+        "tracking_error",
+        description="[invented] PD damping form: 'tracking_error' tau = kp (q* - q) + kd "
+        "(dq*/dt - dq/dt) tracks the swing/stance sweep; 'joint_velocity' tau = kp (q* - q) - "
+        "kd dq/dt (as Aoi et al.) makes a leg lag its target in proportion to the sweep speed",
+    )
     armature: float = _ours(
         2e-10,
         "joint rotor inertia, kg m^2, ~ the tibia's own; bounds tiny-link stiffness (as flygym)",
@@ -251,7 +257,7 @@ def phi_aep(beta: float) -> float:
 
 def omega(beta: float, swing_duration: float) -> float:
     """Basic oscillator frequency, eq. 2: 2 pi (1 - beta) / T_sw (rad/s)."""
-    return 2.0 * math.pi * (1.0 - beta) / swing_duration
+    return phi_aep(beta) / swing_duration
 
 
 def nominal_speed(beta: float, stroke: float, swing_duration: float) -> float:

@@ -26,6 +26,7 @@ import numpy as np
 from numba import njit
 
 from sim_core.model.cpg import advance_phases
+from sim_core.model.params import phi_aep
 from sim_core.paper.protocols import initial_values
 
 TWO_PI = 2.0 * math.pi
@@ -78,6 +79,7 @@ def _solve3(a: np.ndarray, b: np.ndarray, x: np.ndarray) -> None:
 @njit(cache=True)
 def _run(
     beta: float,
+    phi_aep: float,
     d31: float,
     duration: float,
     phase_reset: bool,
@@ -86,7 +88,6 @@ def _run(
     ys: np.ndarray,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray, float]:
     k, c, h, p, kept, mass, ip, ir, comx, tsw, scuff, dt, kc, ki, stroke = num
-    phi_aep = TWO_PI * (1.0 - beta)
     omega = phi_aep / tsw
     weight = mass * 9.81
     a = d31 / TWO_PI
@@ -199,7 +200,7 @@ def run_reduced(
                     r.landing_height_kept, r.body_mass, r.pitch_inertia, r.roll_inertia, r.com_x,
                     r.swing_duration, r.scuff_fraction, r.dt, r.k_contralateral,
                     r.k_ipsilateral, r.stroke])  # fmt: skip
-    t, d, q, share = _run(beta, d31_init, duration_s, phase_reset, num,
+    t, d, q, share = _run(beta, phi_aep(beta), d31_init, duration_s, phase_reset, num,
                           np.array(r.foot_x), np.array(r.foot_y))  # fmt: skip
     if not np.all(np.isfinite(q)) or abs(q[0]) > 1e-2:
         raise FloatingPointError(f"reduced model diverged (beta {beta}, Delta31 {d31_init})")

@@ -21,6 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from sim_core.model.gait import drift_per_cycle
+
 
 @dataclass(frozen=True)
 class SupportGeometry:
@@ -75,7 +77,7 @@ def quasi_static_drift(
     out = []
     for d in np.asarray(d31, dtype=float):
         e = landing_sag(beta, float(d), geo)
-        out.append(0.25 * ((e[4] + e[5]) - (e[0] + e[1])))
+        out.append(float(drift_per_cycle(e)))
     return np.array(out)
 
 
