@@ -95,6 +95,47 @@ def _cmd_sensitivity(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_diagnose(sub: Any) -> None:
+    p = sub.add_parser(
+        "diagnose", help="body modes, support-stiffness ratio, load share with Delta31 held"
+    )
+    p.add_argument("--params", default="{}", help="JSON overrides, e.g. '{\"com_offset_x\": 1e-3}'")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=_cmd_diagnose)
+
+
+def _cmd_diagnose(args: argparse.Namespace) -> int:
+    from pydantic import ValidationError
+
+    from sim_core.model.params import ModelParams
+    from sim_core.studies.diagnostics import diagnose
+
+    try:
+        params = ModelParams(**json.loads(args.params))
+    except (ValueError, ValidationError) as exc:
+        print(f"insect-gait diagnose: error: --params: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    report = diagnose(params)
+    if args.json:
+        print(json.dumps(report, indent=1))
+        return 0
+    for m in report["body_modes"]:
+        if m["frequency_hz"]:
+            how = f"{m['frequency_hz']:.0f} Hz, damping ratio {m['damping_ratio']:.2f}"
+        else:
+            how = f"overdamped, e-folding {m['decay_ms']:.1f} ms"
+        print(f"body {m['name']:5s}: {how}")
+    sup = report["support"]
+    ks = ", ".join(f"{k} {v:.1f}" for k, v in sup["k_pair_N_per_m"].items())
+    print(f"support stiffness per pair (N/m): {ks}; r = k_middle / mean(fore, hind) = "
+          f"{sup['ratio_r']:.2f}")  # fmt: skip
+    for beta, ls in report["load_share"].items():
+        sh = ", ".join(f"{k} {v:.3f}" for k, v in ls["share"].items())
+        print(f"beta {beta}: load share {sh}; mean pitch {ls['mean_pitch_mrad']:+.2f} mrad")
+    return 0
+
+
 def register(sub: Any) -> None:
     _add_calibrate(sub)
     _add_sensitivity(sub)
+    _add_diagnose(sub)
