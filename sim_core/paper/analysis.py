@@ -68,11 +68,6 @@ def fixed_points(centers: np.ndarray, drift: np.ndarray, lag: int = 4) -> list[F
     return sorted(out, key=lambda f: f.d31)
 
 
-def map_fixed_points(rm: ReturnMap, bins: int = 24) -> list[FixedPoint]:
-    centers, drift = rm.drift_per_cycle(bins)
-    return fixed_points(centers, drift, rm.lag)
-
-
 @dataclass(frozen=True)
 class Transition:
     value: float  # the ramped parameter where the gait switched
