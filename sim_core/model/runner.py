@@ -21,7 +21,6 @@ import mujoco.batch
 import numba
 import numpy as np
 
-from sim_core.model import gait
 from sim_core.model.controller import (
     Drive,
     EventLog,
@@ -36,6 +35,7 @@ from sim_core.model.guard import FLIPPED, NON_FINITE, WARNED, guard_codes, up_ax
 from sim_core.model.legs import pack_geometry
 from sim_core.model.mjspec import build_model, gravity_vector, leg_qpos_addresses, servo_leads
 from sim_core.model.params import ModelParams, nominal_speed, omega, phi_aep
+from sim_core.model.records import assemble_result
 from sim_core.model.spec import RunResult, RunSpec, SimulationDiverged
 
 TORSO = 1  # body id of the torso (world is 0)
@@ -367,69 +367,19 @@ class BatchRunner:
 
     # --- results ----------------------------------------------------------------------------
     def result(self, i: int) -> RunResult:
-        spec = self.specs[i]
-        empty = np.zeros(0)
-        base: dict[str, Any] = {
-            "spec": spec,
-            "integrator": self.integrator,
-            "dt_s": self.dt,
-            "control_dt_s": self.control_dt,
-        }
-        if self.errors[i] is not None:
-            return RunResult(
-                **base,
-                d31=empty,
-                d31_times_s=empty,
-                times_s=empty,
-                stance=np.zeros((0, 6), dtype=np.bool_),
-                body_pos_m=np.zeros((0, 3)),
-                body_vel_m_s=np.zeros((0, 3)),
-                body_quat=np.zeros((0, 4)),
-                touchdowns=tuple(empty for _ in range(6)),
-                touchdown_phases=tuple(empty for _ in range(6)),
-                liftoffs=tuple(empty for _ in range(6)),
-                d31_final=None,
-                gait=None,
-                speed_cm_s=None,
-                duty_factor_measured=None,
-                slip_fraction=None,
-                error=self.errors[i],
-            )
         n = int(self.rec_len[i]) if self.record else 0
-        times = self.rec_t[:n].copy() if self.record else empty
-        stance = self.rec_stance[i, :n].copy() if self.record else np.zeros((0, 6), bool)
-        pos = self.rec_pos[i, :n].copy() if self.record else np.zeros((0, 3))
-        d31 = np.array(self.d31_v[i])
-        d31_final, name = gait.final_d31(d31)
-        speed = gait.forward_speed(times, pos)
-        duty = gait.duty_factor(stance)
-        slips = self.slips[i]
-        tds = tuple(np.array(t) for t in self.touchdowns[i])
-        tdp = tuple(np.array(t) for t in self.touchdown_phases[i])
-        ntd = sum(t.size for t in tds)
-        return RunResult(
-            **base,
-            d31=d31,
-            d31_times_s=np.array(self.d31_t[i]),
-            times_s=times,
-            stance=stance,
-            body_pos_m=pos,
-            body_vel_m_s=self.rec_vel[i, :n].copy() if self.record else np.zeros((0, 3)),
-            body_quat=self.rec_quat[i, :n].copy() if self.record else np.zeros((0, 4)),
-            touchdowns=tds,
-            touchdown_phases=tdp,
-            liftoffs=tuple(np.array(t) for t in self.liftoffs[i]),
-            d31_final=d31_final,
-            gait=name,
-            speed_cm_s=None if speed is None else speed * 100.0,
-            duty_factor_measured=duty,
-            slip_fraction=float(np.median(slips)) if slips else None,
-            retouches_per_stance=float(self.retouches[i]) / ntd if ntd else None,
-            # against the current beta: a run whose beta was ramped gets a rough figure
-            landing_swing_share=gait.landing_share(
-                tds, tdp, float(self.phi_aep[i]), after_s=float(self.duration[i]) / 3
-            ),
-        )
+        return assemble_result(
+            spec=self.specs[i], integrator=self.integrator, dt_s=self.dt,
+            control_dt_s=self.control_dt, error=self.errors[i], d31=self.d31_v[i],
+            d31_times_s=self.d31_t[i], times_s=self.rec_t[:n] if self.record else None,
+            stance=self.rec_stance[i, :n] if self.record else None,
+            body_pos_m=self.rec_pos[i, :n] if self.record else None,
+            body_vel_m_s=self.rec_vel[i, :n] if self.record else None,
+            body_quat=self.rec_quat[i, :n] if self.record else None,
+            touchdowns=self.touchdowns[i], touchdown_phases=self.touchdown_phases[i],
+            liftoffs=self.liftoffs[i], slips=self.slips[i], retouches=int(self.retouches[i]),
+            phi_aep=float(self.phi_aep[i]), duration_s=float(self.duration[i]),
+        )  # fmt: skip
 
 
 def simulate(spec: RunSpec, params: ModelParams | None = None) -> RunResult:

@@ -1,0 +1,103 @@
+"""A finished run's raw records -> `RunResult`: the gait measures computed once, here.
+
+The runner keeps what happened (touchdowns, lift-offs, Delta31 at leg-1 touchdowns, the
+recorded body state); what they mean (where the run ended, speed, duty factor, slip, landing
+share, contact chatter) is computed by `model.gait` when a result is asked for.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+import numpy as np
+
+from sim_core.model import gait
+from sim_core.model.spec import RunResult, RunSpec
+
+
+def _copy(a: np.ndarray | None, shape: tuple[int, ...], dtype: type = float) -> np.ndarray:
+    return np.zeros(shape, dtype=dtype) if a is None else a.copy()
+
+
+def assemble_result(
+    *,
+    spec: RunSpec,
+    integrator: str,
+    dt_s: float,
+    control_dt_s: float,
+    error: str | None,
+    d31: Sequence[float],
+    d31_times_s: Sequence[float],
+    times_s: np.ndarray | None,
+    stance: np.ndarray | None,
+    body_pos_m: np.ndarray | None,
+    body_vel_m_s: np.ndarray | None,
+    body_quat: np.ndarray | None,
+    touchdowns: Sequence[Sequence[float]],
+    touchdown_phases: Sequence[Sequence[float]],
+    liftoffs: Sequence[Sequence[float]],
+    slips: Sequence[float],
+    retouches: int,
+    phi_aep: float,
+    duration_s: float,
+) -> RunResult:
+    """The RunResult of one run; a failed run (`error` set) returns no numbers.
+
+    Args:
+        d31, d31_times_s: Delta31 (rad) and time (s) at each leg-1 touchdown.
+        times_s, stance, body_pos_m, body_vel_m_s, body_quat: the recorded time series, (T,),
+            (T, 6), (T, 3), (T, 3), (T, 4); None when the run was not recorded.
+        touchdowns, touchdown_phases, liftoffs: per leg, the events' times (s) and the phase
+            at touchdown before eq. 4 (rad).
+        slips: each stance's foot slip as a share of the stroke.
+        retouches: stance feet that left the ground and pressed in again (contact chatter).
+        phi_aep: 2 pi (1 - beta) at the end of the run (a ramped run gets a rough landing
+            share); duration_s: the run's length (the landing share skips its first third).
+    """
+    empty = np.zeros(0)
+    base: dict[str, Any] = {
+        "spec": spec,
+        "integrator": integrator,
+        "dt_s": dt_s,
+        "control_dt_s": control_dt_s,
+    }
+    if error is not None:
+        return RunResult(
+            **base, d31=empty, d31_times_s=empty, times_s=empty,
+            stance=np.zeros((0, 6), dtype=np.bool_), body_pos_m=np.zeros((0, 3)),
+            body_vel_m_s=np.zeros((0, 3)), body_quat=np.zeros((0, 4)),
+            touchdowns=tuple(empty for _ in range(6)),
+            touchdown_phases=tuple(empty for _ in range(6)),
+            liftoffs=tuple(empty for _ in range(6)), d31_final=None, gait=None,
+            speed_cm_s=None, duty_factor_measured=None, slip_fraction=None, error=error,
+        )  # fmt: skip
+    times = _copy(times_s, (0,))
+    st = _copy(stance, (0, 6), np.bool_)
+    pos = _copy(body_pos_m, (0, 3))
+    d31_arr = np.array(d31)
+    d31_final, name = gait.final_d31(d31_arr)
+    speed = gait.forward_speed(times, pos)
+    tds = tuple(np.array(t) for t in touchdowns)
+    tdp = tuple(np.array(t) for t in touchdown_phases)
+    ntd = sum(t.size for t in tds)
+    return RunResult(
+        **base,
+        d31=d31_arr,
+        d31_times_s=np.array(d31_times_s),
+        times_s=times,
+        stance=st,
+        body_pos_m=pos,
+        body_vel_m_s=_copy(body_vel_m_s, (0, 3)),
+        body_quat=_copy(body_quat, (0, 4)),
+        touchdowns=tds,
+        touchdown_phases=tdp,
+        liftoffs=tuple(np.array(t) for t in liftoffs),
+        d31_final=d31_final,
+        gait=name,
+        speed_cm_s=None if speed is None else speed * 100.0,
+        duty_factor_measured=gait.duty_factor(st),
+        slip_fraction=float(np.median(slips)) if slips else None,
+        retouches_per_stance=float(retouches) / ntd if ntd else None,
+        landing_swing_share=gait.landing_share(tds, tdp, phi_aep, after_s=duration_s / 3),
+    )
