@@ -19,7 +19,7 @@ import math
 import mujoco
 import numpy as np
 
-from sim_core.model.anatomy import LEG_NAMES, LEG_SIDE, attachment_points, stance_line
+from sim_core.model.anatomy import LEG_NAMES, LEG_PAIR, LEG_SIDE, attachment_points, stance_line
 from sim_core.model.legs import inverse_kinematics, pack_geometry
 from sim_core.model.params import ModelParams
 
@@ -187,9 +187,9 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
     # the implicit integrators). The controller writes act = q*(t0) + (kd/kp) dq*/dt, which
     # folds the feed-forward kd dq*/dt into the set-point (exact: dq*/dt is constant over the
     # period), and ctrl = dq*/dt, once per period (`servo_leads` gives kd/kp per joint).
-    for name in LEG_NAMES:
+    for leg, name in enumerate(LEG_NAMES):
         for j in ("j1", "j2", "j3"):
-            kp, kd = joint_gains(p, j)
+            kp, kd = joint_gains(p, j, int(LEG_PAIR[leg]))
             act = spec.add_actuator(name=f"{name}_{j}_pd", target=f"{name}_{j}")
             act.trntype = mujoco.mjtTrn.mjTRN_JOINT
             act.dyntype = mujoco.mjtDyn.mjDYN_INTEGRATOR
@@ -202,9 +202,19 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
     return spec
 
 
-def joint_gains(p: ModelParams, joint: str) -> tuple[float, float]:
-    """(kp, kd) of leg joint "j1" (yaw), "j2" or "j3" (lift)."""
-    return (p.kp_yaw, p.kd_yaw) if joint == "j1" else (p.kp_lift, p.kd_lift)
+def lift_scale(p: ModelParams, pair: int) -> float:
+    """How much the lift joints of leg pair `pair` (0 fore, 1 middle, 2 hind) are scaled so
+    that the middle pair is `support_ratio` times as stiff as fore and hind, at equal total."""
+    r = p.support_ratio
+    return 3.0 * (r if pair == 1 else 1.0) / (2.0 + r)
+
+
+def joint_gains(p: ModelParams, joint: str, pair: int = 0) -> tuple[float, float]:
+    """(kp, kd) of leg joint "j1" (yaw), "j2" or "j3" (lift) of a leg of pair `pair`."""
+    if joint == "j1":
+        return p.kp_yaw, p.kd_yaw
+    k = lift_scale(p, pair)  # scales kp and kd alike: the joint's time constant is kept
+    return p.kp_lift * k, p.kd_lift * k
 
 
 def servo_leads(p: ModelParams) -> np.ndarray:

@@ -133,6 +133,13 @@ class ModelParams(BaseModel):
     kd_lift: float = _ours(
         3e-5, "joints 2, 3 damping, N m s/rad: critical for the loaded leg", gt=0
     )
+    support_ratio: float = _ours(
+        1.0,
+        "lift-joint stiffness (and damping) of the middle pair over fore and hind, at equal "
+        "total: r > 2 tips the body about the middle feet (gait-mechanism notes); 1 = equal",
+        gt=0,
+        le=10,
+    )
     pd_damping: Literal["tracking_error", "joint_velocity"] = Field(
         "tracking_error",
         description="[invented] PD damping form: 'tracking_error' tau = kp (q* - q) + kd "

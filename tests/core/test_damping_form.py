@@ -20,3 +20,18 @@ def test_damping_forms_differ() -> None:
     n = min(a.d31.size, b.d31.size)
     assert n > 0
     assert not np.allclose(a.d31[:n], b.d31[:n])
+
+
+def test_support_ratio_moves_load_to_the_middle_pair_at_equal_total() -> None:
+    from sim_core.model.mjspec import joint_gains, lift_scale
+    from sim_core.studies.diagnostics import support_stiffness
+
+    p = ModelParams(support_ratio=2.0)
+    assert sum(lift_scale(p, pair) for pair in (0, 1, 2)) == 3.0  # equal total
+    assert joint_gains(p, "j2", 1)[0] == 2 * joint_gains(p, "j2", 0)[0]
+    assert joint_gains(p, "j1", 1) == joint_gains(p, "j1", 0)  # yaw joints untouched
+    assert lift_scale(ModelParams(), 1) == 1.0  # the default is the unscaled model
+    base, stiff = support_stiffness(ModelParams()), support_stiffness(p)
+    assert stiff["ratio_r"] > 2 * base["ratio_r"]
+    rest = stiff["load_at_rest_N"]
+    assert rest[2] > rest[0] and rest[3] > rest[5]  # the middle pair carries more
