@@ -7,17 +7,22 @@ Routes live in `server/routes/` (one module per resource), their dependencies in
 from __future__ import annotations
 
 import fcntl
+import json
 import logging
+import threading
 from collections.abc import AsyncIterator
 from contextlib import asynccontextmanager
 from typing import Any
 
 from fastapi import Depends, FastAPI, Request
+from fastapi.exception_handlers import http_exception_handler
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
+from fastapi.staticfiles import StaticFiles
+from starlette.exceptions import HTTPException as StarletteHTTPException
 
 from server.deps import R401, require_token
-from server.errors import humanize
+from server.errors import content_type_error, humanize
 from server.jobs import JobStore
 from server.routes import jobs, meta
 from server.settings import Settings
@@ -61,7 +66,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         db_path=settings.db_path,
         size=settings.workers,
         nthread=settings.threads_for_one_worker(),
+        niceness=settings.worker_nice,
     )
+    retention = Retention(store, settings)
 
     @asynccontextmanager
     async def lifespan(app: FastAPI) -> AsyncIterator[None]:
@@ -77,10 +84,12 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                     len(requeued),
                     len(failed),
                 )
+            retention.start()
             if settings.workers > 0:
                 pool.start()
             yield
         finally:
+            retention.stop()
             if settings.workers > 0:
                 pool.stop()
             store.close()
@@ -93,14 +102,29 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         "results. Mutating endpoints need `Authorization: Bearer <token>` when the server "
         "has a token configured.",
         lifespan=lifespan,
+        docs_url=None,  # served by routes/meta.py from local assets, not a CDN
+        redoc_url=None,
     )
+    app.mount(meta.DOCS_ASSETS, StaticFiles(directory=meta.DOCS_STATIC), name="docs-assets")
     app.state.settings = settings
     app.state.store = store
     app.state.pool = pool
 
     @app.exception_handler(RequestValidationError)
     async def _validation(request: Request, exc: RequestValidationError) -> JSONResponse:
+        if isinstance(exc.body, bytes | bytearray):
+            # FastAPI parses JSON only when the Content-Type says JSON (or is missing)
+            wrong = content_type_error(request.headers.get("content-type"))
+            if wrong is not None:
+                return JSONResponse(status_code=422, content={"detail": [wrong]})
         return JSONResponse(status_code=422, content={"detail": humanize(exc.errors(), exc.body)})
+
+    @app.exception_handler(StarletteHTTPException)
+    async def _http(request: Request, exc: StarletteHTTPException) -> Any:
+        if exc.status_code == 400 and exc.detail == "There was an error parsing the body":
+            why = parse_failure(await request.body())
+            return JSONResponse(status_code=400, content={"detail": why})
+        return await http_exception_handler(request, exc)
 
     # The token check is declared only when a token is configured, so the OpenAPI document
     # says what is true; it is still the one `require_token` (overridable) either way.
@@ -113,3 +137,69 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     app.include_router(meta.router)
     return app
+
+
+def parse_failure(raw: bytes) -> str:
+    """Why a body FastAPI could not parse was refused, in words a person can act on."""
+    try:
+        text = raw.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        return (
+            f"the request body is not valid UTF-8 (byte 0x{raw[exc.start]:02x} at offset "
+            f"{exc.start}); send the JSON job spec encoded as UTF-8"
+        )
+    try:
+        json.loads(text)
+    except RecursionError:
+        return "the request body's JSON is nested too deeply; a job spec is a flat object"
+    except ValueError as exc:
+        if "digits" in str(exc):
+            return (
+                "a number in the request body has more than 4300 digits, more than can be "
+                "read; send numbers with fewer digits"
+            )
+        return f"the request body could not be parsed: {exc}"
+    return "the request body could not be parsed"
+
+
+class Retention:
+    """Applies the retention settings (retention_days, retention_count) to finished jobs at
+    start-up and every retention_interval_s, in a thread of the API process."""
+
+    def __init__(self, store: JobStore, settings: Settings) -> None:
+        self.store = store
+        self.settings = settings
+        self._stop = threading.Event()
+        self._thread: threading.Thread | None = None
+
+    @property
+    def enabled(self) -> bool:
+        s = self.settings
+        return s.retention_days is not None or s.retention_count is not None
+
+    def apply(self) -> int:
+        s = self.settings
+        n = self.store.purge_finished(s.retention_days, s.retention_count)
+        if n:
+            log.info("retention: deleted %d finished job(s)", n)
+        return n
+
+    def start(self) -> None:
+        if not self.enabled:
+            return
+        self.apply()
+        self._thread = threading.Thread(target=self._run, name="job-retention", daemon=True)
+        self._thread.start()
+
+    def _run(self) -> None:
+        while not self._stop.wait(self.settings.retention_interval_s):
+            try:
+                self.apply()
+            except Exception:  # a locked or broken database must not end the loop
+                log.exception("retention failed")
+        self.store.close()
+
+    def stop(self) -> None:
+        self._stop.set()
+        if self._thread is not None:
+            self._thread.join(10)

@@ -8,7 +8,7 @@ when a token is configured, so the OpenAPI document says what is true).
 
 from __future__ import annotations
 
-import math
+from datetime import UTC, datetime
 from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, HTTPException, Query, Response
@@ -27,8 +27,10 @@ from server.deps import (
     StoreDep,
     get_job_or_404,
 )
-from server.errors import limit_error
+from server.errors import limit_error, sanitize
+from server.estimates import eta_of, retry_after_s
 from server.jobs import JobStore, QueueFull
+from server.kinds import RECORD_COLUMNS, SERIES_COLUMNS
 from server.schemas import FINISHED, Job, JobPage, JobSpec, JobStatus, Problem
 from server.settings import Settings
 
@@ -36,10 +38,17 @@ router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 write_router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 
 
-def job_out(job: dict[str, Any]) -> dict[str, Any]:
+def job_out(job: dict[str, Any], store: JobStore | None = None) -> dict[str, Any]:
+    """A stored job as the API shows it: links, an estimated time left while it runs, and an
+    error message cleaned of anything internal (rows written by older servers included)."""
     base = f"/v1/jobs/{job['id']}"
+    eta = None
+    if job["status"] == "running" and store is not None:
+        eta = eta_of(job, datetime.now(UTC), store.wall_per_sim_second())
     return {
         **job,
+        "error": sanitize(job["error"]) if job.get("error") else job.get("error"),
+        "eta_s": eta,
         "links": {"self": base, "result": f"{base}/result", "figure": f"{base}/figure.png"},
     }
 
@@ -53,12 +62,14 @@ def require_done(job: dict[str, Any]) -> None:
         )
 
 
-def retry_after(store: JobStore, settings: Settings, queued: int) -> int:
-    """Seconds until a queue slot likely frees: one of the busy workers finishing a job."""
-    if settings.workers == 0:
-        return 60  # nothing drains this queue; ask again in a minute
-    typical = store.typical_job_seconds() or 5.0
-    return int(min(600, max(1, math.ceil(typical / settings.workers))))
+def retry_after(store: JobStore, settings: Settings) -> int:
+    """Seconds until a queue slot likely frees: the soonest running job's estimated end."""
+    now = datetime.now(UTC)
+    rate = store.wall_per_sim_second()
+    left = [eta_of(j, now, rate) for j in store.running_jobs()]
+    return retry_after_s(
+        workers=settings.workers, running_remaining_s=[x for x in left if x is not None]
+    )
 
 
 @write_router.post(
@@ -92,7 +103,7 @@ def submit_job(
             limit_error(
                 "duration_s",
                 f"the job asks for {total:g} simulated seconds in all "
-                f"({runs} runs x {spec.duration_s:g} s)",
+                f"({runs} runs x {spec.sim_seconds_per_run():g} s)",
                 f"at most {settings.max_job_sim_seconds:g} simulated seconds per job "
                 "(max_job_sim_seconds); split it into several jobs",
             )
@@ -101,7 +112,7 @@ def submit_job(
         return JSONResponse(status_code=422, content={"detail": problems})
     out = store.submit(spec.kind, spec.model_dump(mode="json"), total, settings.queue_limit)
     if isinstance(out, QueueFull):
-        retry = retry_after(store, settings, out.queued)
+        retry = retry_after(store, settings)
         return JSONResponse(
             status_code=429,
             headers={"Retry-After": str(retry)},
@@ -112,7 +123,7 @@ def submit_job(
         )
     pool.wake()
     response.headers["Location"] = f"/v1/jobs/{out['id']}"
-    return job_out(out)
+    return job_out(out, store)
 
 
 @router.get("", response_model=JobPage, responses=R422, summary="List jobs, newest first")
@@ -123,19 +134,24 @@ def list_jobs(
     offset: Annotated[int, Query(ge=0, le=1_000_000_000)] = 0,
 ) -> Any:
     items, total = store.list_jobs(status, limit, offset)
-    return {"items": [job_out(j) for j in items], "total": total, "limit": limit, "offset": offset}
+    return {
+        "items": [job_out(j, store) for j in items],
+        "total": total,
+        "limit": limit,
+        "offset": offset,
+    }
 
 
 @router.get("/{job_id}", response_model=Job, responses={**R404, **R422})
-def get_job(job: JobDep) -> Any:
-    return job_out(job)
+def get_job(job: JobDep, store: StoreDep) -> Any:
+    return job_out(job, store)
 
 
 @router.get(
     "/{job_id}/result",
     responses={
         200: {
-            "description": "the result as JSON, or CSV with ?format=csv",
+            "description": "the result as JSON, or CSV with ?format=csv (`table` picks which)",
             "content": {"application/json": {}, "text/csv": {}},
         },
         **R404,
@@ -148,6 +164,14 @@ def get_result(
     job_id: JobId,
     store: StoreDep,
     format: Annotated[Literal["json", "csv"], Query(description="json or csv")] = "json",
+    table: Annotated[
+        Literal["records", "d31", "samples"],
+        Query(
+            description="CSV only: `records` (one summary row per run or grid point, the "
+            "default), or, for run jobs with include_series, `d31` (Delta31 at every leg-1 "
+            "touchdown) or `samples` (every recorded sample: stance per leg, body position)"
+        ),
+    ] = "records",
 ) -> Response:
     # looked up here, not as a dependency: a bad query parameter is a 422 before a 404
     job = get_job_or_404(job_id, store)
@@ -156,10 +180,21 @@ def get_result(
     if result is None:
         raise HTTPException(status_code=409, detail=f"job {job_id} has no stored result")
     if format == "csv":
+        if table == "records":
+            rows, columns = result.get("records", []), RECORD_COLUMNS.get(job["kind"], [])
+        elif "series" in result:
+            rows, columns = result["series"][table], SERIES_COLUMNS[table]
+        else:
+            raise HTTPException(
+                status_code=409,
+                detail=f"job {job_id} has no time series (table={table!r} needs a run job "
+                "submitted with include_series: true)",
+            )
+        name = job_id if table == "records" else f"{job_id}-{table}"
         return Response(
-            figures.records_csv(result.get("records", [])),
+            figures.records_csv(rows, columns),
             media_type="text/csv",
-            headers={"Content-Disposition": f'attachment; filename="{job_id}.csv"'},
+            headers={"Content-Disposition": f'attachment; filename="{name}.csv"'},
         )
     return JSONResponse({"job_id": job_id, "kind": job["kind"], "result": result})
 
@@ -188,15 +223,39 @@ def get_figure(job_id: JobId, store: StoreDep) -> Response:
     "/{job_id}",
     response_model=Job,
     responses={**R404, **R409, **R422},
-    summary="Cancel a queued or running job (a running one is stopped)",
+    summary="Cancel a queued or running job; with ?purge=true delete a finished one",
 )
-def cancel_job(job_id: JobId, store: StoreDep, pool: PoolDep) -> Any:
+def delete_job(
+    job_id: JobId,
+    store: StoreDep,
+    pool: PoolDep,
+    purge: Annotated[
+        bool,
+        Query(
+            description="delete a finished (done, failed, cancelled) job and its result; "
+            "without it DELETE only cancels, so a retried cancel never deletes a record"
+        ),
+    ] = False,
+) -> Any:
+    if purge:
+        status, gone = store.delete_finished(job_id)
+        if gone is None:
+            raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
+        if status not in FINISHED:
+            raise HTTPException(
+                status_code=409,
+                detail=f"job {job_id} is {status}; cancel it first (DELETE without purge), "
+                "then purge it",
+            )
+        return job_out(gone)
     previous, job = store.cancel(job_id)
     if job is None:
         raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
     if previous in FINISHED and previous != "cancelled":
         raise HTTPException(
-            status_code=409, detail=f"job {job_id} is already {previous}; nothing to cancel"
+            status_code=409,
+            detail=f"job {job_id} is already {previous}; nothing to cancel (to delete it and "
+            f"its result: DELETE /v1/jobs/{job_id}?purge=true)",
         )
     pool.wake()
-    return job_out(job)
+    return job_out(job, store)
