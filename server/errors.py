@@ -132,12 +132,13 @@ def exception_message(exc: BaseException) -> str:
     from pydantic import ValidationError
 
     if isinstance(exc, ValidationError):
-        parts = [
-            f"{_field_name([p for p in e.get('loc', ()) if isinstance(p, str | int)])}: "
-            f"{e.get('msg', 'invalid value')}"
-            for e in exc.errors()
-        ]
-        return sanitize(f"invalid job for the simulation core: {'; '.join(parts)}")
+        parts = []
+        for e in exc.errors():
+            loc = [p for p in e.get("loc", ()) if isinstance(p, str | int)]
+            if loc and loc[0] in KIND_MODELS:
+                loc = loc[1:]  # the union's tag: the job kind, not a field
+            parts.append(f"{_field_name(loc)}: {e.get('msg', 'invalid value')}")
+        return sanitize(f"invalid job: {'; '.join(parts)}")
     return sanitize(f"internal error ({type(exc).__name__}): {exc}")
 
 

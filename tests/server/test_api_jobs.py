@@ -4,9 +4,11 @@ from __future__ import annotations
 
 import csv
 import io
+import json
 import math
 import os
 import signal
+import sqlite3
 from collections.abc import Callable
 from pathlib import Path
 
@@ -306,3 +308,24 @@ def test_workers_run_at_lower_priority(make_server: Callable[..., Server]) -> No
     wait_for(lambda: victim not in srv.workers() and len(srv.workers()) == 2, timeout=30)
     srv.wait_workers(2)
     wait_for(lambda: all(_niceness(pid) == target for pid in srv.workers()), timeout=30)
+
+
+def test_worker_error_shows_no_paths_or_traceback(make_server: Callable[..., Server]) -> None:
+    """A job the worker cannot even read (here: a row written past the API's validation, as
+    an older server with looser rules could have stored) fails with a message that names the
+    field, and carries no file path, traceback or library URL."""
+    srv = make_server(workers=1)
+    spec = {"kind": "bifurcation", "beta_range": {"start": 0.6, "stop": 0.7}, "duration_s": 1.0}
+    with sqlite3.connect(srv.db) as conn:
+        conn.execute(
+            "INSERT INTO jobs (id, kind, spec, status, sim_seconds, created_at)"
+            " VALUES ('legacy', 'bifurcation', ?, 'queued', 88, '2026-01-01T00:00:00.000Z')",
+            (json.dumps(spec),),
+        )
+    with srv.client() as c:
+        job = wait_status(c, "legacy", {"done", "failed"})
+    assert job["status"] == "failed"
+    assert job["error"].startswith("invalid job: transient_s: ")
+    assert "must be < duration_s" in job["error"]
+    for leak in ("/", "site-packages", "Traceback", "http", ".py"):
+        assert leak not in job["error"], (leak, job["error"])

@@ -192,7 +192,7 @@ def test_error_messages_carry_no_paths_or_tracebacks() -> None:
         sim_core.RunSpec(duration_s=0)
     except Exception as exc:
         msg = errors.exception_message(exc)
-        assert msg.startswith("invalid job for the simulation core: duration_s:")
+        assert msg.startswith("invalid job: duration_s:")
         assert "site-packages" not in msg and "http" not in msg
 
 
