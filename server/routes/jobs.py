@@ -55,7 +55,7 @@ def job_out(job: dict[str, Any], store: JobStore | None = None) -> dict[str, Any
 
 def require_done(job: dict[str, Any]) -> None:
     if job["status"] != "done":
-        why = f": {job['error']}" if job.get("error") else ""
+        why = f": {sanitize(job['error'])}" if job.get("error") else ""
         raise HTTPException(
             status_code=409,
             detail=f"job {job['id']} is {job['status']}, results exist only for done jobs{why}",
