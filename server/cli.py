@@ -27,7 +27,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--host", help="interface to bind (default 127.0.0.1)")
     parser.add_argument("--port", type=int, help="TCP port (default 8000)")
     parser.add_argument("--db", type=Path, help="SQLite database path")
-    parser.add_argument("--workers", type=int, help="worker processes (default: CPU count)")
+    parser.add_argument(
+        "--workers", type=int, help="worker processes (default: cores - 1, at least 1)"
+    )
 
 
 def settings_from_args(args: argparse.Namespace) -> Any:

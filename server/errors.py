@@ -8,6 +8,7 @@ generic clients keep working; `field` and `allowed` are added.
 
 from __future__ import annotations
 
+import re
 from collections.abc import Sequence
 from typing import Any
 
@@ -103,4 +104,60 @@ def limit_error(field: str, msg: str, allowed: str) -> dict[str, Any]:
         "msg": f"{field}: {msg}; allowed: {allowed}",
         "type": "job_too_large",
         "allowed": allowed,
+    }
+
+
+_PATH = re.compile(r"(?:[A-Za-z]:)?(?:[\\/][\w.@+~-]+){2,}[\\/]?")
+_URL = re.compile(r"\s*(?:For further information visit )?https?://\S+")
+
+
+def sanitize(message: str, limit: int = 2000) -> str:
+    """A message fit for a client: no file system paths (a path keeps only its last part), no
+    traceback lines, no documentation URLs of libraries, bounded length."""
+    lines = [ln for ln in message.splitlines() if ln.strip()]
+    kept = [
+        ln
+        for ln in lines
+        if not ln.lstrip().startswith(("Traceback (most recent call last)", 'File "', "^"))
+    ]
+    text = " ".join(ln.strip() for ln in kept)
+    text = _URL.sub("", text)
+    text = _PATH.sub(lambda m: m.group(0).rstrip("\\/").replace("\\", "/").rsplit("/", 1)[-1], text)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def exception_message(exc: BaseException) -> str:
+    """What a client reads about an unexpected exception in a worker: its type and message,
+    validation errors as `field: message`, sanitised. The traceback goes to the server log."""
+    from pydantic import ValidationError
+
+    if isinstance(exc, ValidationError):
+        parts = []
+        for e in exc.errors():
+            loc = [p for p in e.get("loc", ()) if isinstance(p, str | int)]
+            if loc and loc[0] in KIND_MODELS:
+                loc = loc[1:]  # the union's tag: the job kind, not a field
+            parts.append(f"{_field_name(loc)}: {e.get('msg', 'invalid value')}")
+        return sanitize(f"invalid job: {'; '.join(parts)}")
+    return sanitize(f"internal error ({type(exc).__name__}): {exc}")
+
+
+def content_type_error(content_type: str | None) -> dict[str, Any] | None:
+    """The 422 item for a body sent without a JSON Content-Type, or None if it was JSON."""
+    if content_type is None:
+        return None
+    main = content_type.split(";", 1)[0].strip().lower()
+    if main == "application/json" or main.endswith("+json"):
+        return None
+    msg = (
+        f"body: the request was sent with 'Content-Type: {main}', so it was not read as "
+        "JSON; send the job spec with the header 'Content-Type: application/json' (curl: "
+        "-H 'Content-Type: application/json'; curl -d alone sends a form)"
+    )
+    return {
+        "loc": ["header", "content-type"],
+        "field": "body",
+        "msg": msg,
+        "type": "content_type",
+        "allowed": "application/json",
     }

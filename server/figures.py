@@ -14,9 +14,10 @@ from typing import Any
 TWO_PI = 2.0 * math.pi
 
 
-def records_csv(records: list[dict[str, Any]]) -> str:
-    """Columns in first-seen order over all rows, so rows of different shapes still line up."""
-    columns: list[str] = []
+def records_csv(records: list[dict[str, Any]], columns: list[str] | None = None) -> str:
+    """`columns` first (the header an empty table still has), then any others in first-seen
+    order over all rows, so rows of different shapes still line up."""
+    columns = list(columns or [])
     for row in records:
         columns.extend(k for k in row if k not in columns)
     buf = io.StringIO()
@@ -44,27 +45,40 @@ def _d31_axis(ax: Any, axis: str = "y") -> None:
         ax.set_xticks(ticks, labels)
 
 
+LEG_LABELS = ["R1", "L1", "R2", "L2", "R3", "L3"]  # paper legs 1..6 (== sim_core.leg_names())
+
+
 def figure_png(job: dict[str, Any], result: dict[str, Any]) -> bytes:
-    """One figure per kind: Δ31 over touchdowns (run), the return map, Δ31 against β."""
+    """One figure per kind: Δ31 over touchdowns (run; with its time series: Δ31 over time,
+    the footfall of the first run and the body's path), the return map, Δ31 against β, and
+    Δ31 against the swept parameter (hysteresis)."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(6.4, 4.8), dpi=100)
-    FigureCanvasAgg(fig)
-    ax = fig.add_subplot()
     kind = job["kind"]
     spec = job["spec"]
+    series = kind == "run" and "series" in result
+    fig = Figure(figsize=(6.4, 9.6) if series else (6.4, 4.8), dpi=100)
+    FigureCanvasAgg(fig)
+    if series:
+        ax, ax_foot, ax_pos = fig.subplots(3, 1)
+    else:
+        ax = fig.add_subplot()
     records = result.get("records", [])
     if kind == "run":
         for d0, run in zip(spec.get("d31_init", []), result.get("runs", []), strict=False):
             d31 = run.get("d31") or []
-            ax.plot(range(len(d31)), d31, marker="o", ms=3, label=f"Δ31(0) = {d0:.2f}")
-        ax.set_xlabel("leg-1 touchdown n")
+            xs = run.get("d31_times_s") if series else range(len(d31))
+            ax.plot(xs, d31, marker="o", ms=3, label=f"Δ31(0) = {d0:.2f}")
+        ax.set_xlabel("time at leg-1 touchdown (s)" if series else "leg-1 touchdown n")
         ax.set_ylabel("Δ31 (rad)")
         _d31_axis(ax)
         ax.set_title(f"run: β = {spec.get('beta')}, {spec.get('duration_s')} s")
         if 0 < len(result.get("runs", [])) <= 12:
             ax.legend(fontsize="small")
+        if series:
+            _footfall(ax_foot, result["runs"][0])
+            _body_path(ax_pos, result["runs"])
     elif kind == "return_map":
         xs = [r["d31_n"] for r in records]
         ys = [r["d31_n_plus_lag"] for r in records]
@@ -76,6 +90,21 @@ def figure_png(job: dict[str, Any], result: dict[str, Any]) -> bytes:
         _d31_axis(ax, "x")
         _d31_axis(ax)
         ax.set_title(f"return map: β = {spec.get('beta')}")
+    elif kind == "hysteresis":
+        for leg, colour in (("first", "tab:blue"), ("second", "tab:red")):
+            pts = [(r["value"], r["d31"]) for r in records if r["leg"] == leg]
+            ax.scatter([p[0] for p in pts], [p[1] for p in pts], s=6, color=colour,
+                       label=f"{'start → turn' if leg == 'first' else 'turn → start'}")  # fmt: skip
+        summary = result.get("summary") or {}
+        for leg, style in (("first_leg", "--"), ("second_leg", ":")):
+            for tr in summary.get(leg) or []:
+                if isinstance(tr, dict) and tr.get("value") is not None:
+                    ax.axvline(tr["value"], ls=style, color="grey", lw=0.8)
+        ax.set_xlabel(str(result.get("parameter", spec.get("parameter"))))
+        ax.set_ylabel("Δ31 (rad)")
+        _d31_axis(ax)
+        ax.set_title(f"hysteresis sweep: {spec.get('start')} → {spec.get('turn')} → back")
+        ax.legend(fontsize="small")
     else:
         key = "d31_after_transient" if kind == "bifurcation" else "d31_final"
         pts = [(r["beta"], r[key]) for r in records if r.get(key) is not None]
@@ -89,3 +118,33 @@ def figure_png(job: dict[str, Any], result: dict[str, Any]) -> bytes:
     buf = io.BytesIO()
     fig.savefig(buf, format="png")
     return buf.getvalue()
+
+
+def _footfall(ax: Any, run: dict[str, Any]) -> None:
+    """Stance bars per leg (first run), paper legs 1..6 from the top."""
+    times = run.get("times_s") or []
+    stance = run.get("stance") or []
+    if len(times) < 2:
+        return
+    dt = times[1] - times[0]
+    for leg in range(6):
+        spans: list[tuple[float, float]] = []
+        for t, row in zip(times, stance, strict=False):
+            if row[leg]:
+                if spans and abs(spans[-1][0] + spans[-1][1] - t) < 1.5 * dt:
+                    spans[-1] = (spans[-1][0], spans[-1][1] + dt)
+                else:
+                    spans.append((t, dt))
+        ax.broken_barh(spans, (5 - leg - 0.4, 0.8), color="black")
+    ax.set_yticks(range(6), LEG_LABELS[::-1])
+    ax.set_xlabel("time (s)")
+    ax.set_title("stance (first run)")
+
+
+def _body_path(ax: Any, runs: list[dict[str, Any]]) -> None:
+    for k, run in enumerate(runs[:12]):
+        pos = run.get("body_pos_m") or []
+        ax.plot(run.get("times_s") or [], [100.0 * p[0] for p in pos], label=f"run {k}")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("body x (cm)")
+    ax.set_title("body position along the slope")

@@ -190,6 +190,62 @@ class JobStore:
                 )
         return previous, self.get(job_id)
 
+    def delete_finished(self, job_id: str) -> tuple[str, dict[str, Any] | None]:
+        """-> (status or 'missing', the job as it was). Only finished jobs are deleted, with
+        their result (ON DELETE CASCADE)."""
+        with self._write() as conn:
+            row = conn.execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
+            if row is None:
+                return "missing", None
+            job = _row_to_job(row)
+            if job["status"] in ("done", "failed", "cancelled"):
+                conn.execute("DELETE FROM jobs WHERE id = ?", (job_id,))
+        return str(job["status"]), job
+
+    def purge_finished(self, older_than_days: float | None, keep: int | None) -> int:
+        """Retention: delete finished jobs finished more than `older_than_days` ago, and all
+        but the newest `keep` finished jobs. Queued and running jobs are never touched."""
+        deleted = 0
+        with self._write() as conn:
+            if older_than_days is not None:
+                cur = conn.execute(
+                    "DELETE FROM jobs WHERE status IN ('done', 'failed', 'cancelled')"
+                    " AND julianday(finished_at) < julianday('now') - ?",
+                    (older_than_days,),
+                )
+                deleted += cur.rowcount
+            if keep is not None:
+                cur = conn.execute(
+                    "DELETE FROM jobs WHERE status IN ('done', 'failed', 'cancelled')"
+                    " AND seq NOT IN (SELECT seq FROM jobs"
+                    " WHERE status IN ('done', 'failed', 'cancelled') ORDER BY seq DESC LIMIT ?)",
+                    (keep,),
+                )
+                deleted += cur.rowcount
+        return deleted
+
+    def running_jobs(self) -> list[dict[str, Any]]:
+        """id, started_at, progress and sim_seconds of every running job (for estimates)."""
+        rows = self._conn().execute(
+            "SELECT id, started_at, progress, sim_seconds FROM jobs WHERE status = 'running'"
+        )
+        return [dict(r) for r in rows]
+
+    def wall_per_sim_second(self) -> float | None:
+        """Median wall seconds per simulated second of the last done jobs: how long a job
+        that has not reported progress yet will likely take."""
+        rows = (
+            self._conn()
+            .execute(
+                "SELECT (julianday(finished_at) - julianday(started_at)) * 86400.0 / sim_seconds"
+                " FROM jobs WHERE status = 'done' AND started_at IS NOT NULL AND sim_seconds > 0"
+                " ORDER BY seq DESC LIMIT 20"
+            )
+            .fetchall()
+        )
+        xs = sorted(float(r[0]) for r in rows if r[0] is not None)
+        return xs[len(xs) // 2] if xs else None
+
     def result(self, job_id: str) -> dict[str, Any] | None:
         row = (
             self._conn().execute("SELECT body FROM results WHERE job_id = ?", (job_id,)).fetchone()

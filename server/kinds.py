@@ -11,7 +11,37 @@ import math
 from collections.abc import Callable
 from typing import Any
 
-from server.schemas import AnyJob, BifurcationJob, ReturnMapJob, RunJob, SweepJob
+from server.schemas import (
+    DEFAULT_DT_S,
+    DEFAULT_INTEGRATOR,
+    MAX_STABLE_DT_S,
+    AnyJob,
+    BifurcationJob,
+    HysteresisJob,
+    ReturnMapJob,
+    RunJob,
+    SweepJob,
+    _Physics,
+    tidy,
+)
+
+# Columns of each kind's `records`, so that an empty table still has its header.
+RECORD_COLUMNS: dict[str, list[str]] = {
+    "run": ["d31_init", "beta", "d31_final", "gait", "speed_cm_s", "duty_factor_measured",
+            "slip_fraction", "landing_swing_share", "retouches_per_stance", "n_touchdowns"],
+    "return_map": ["d31_init", "n", "d31_n", "d31_n_plus_lag"],
+    "sweep": ["d31_init", "beta", "d31_final", "gait", "speed_cm_s", "duty_factor_measured",
+              "slip_fraction", "landing_swing_share", "retouches_per_stance", "n_touchdowns"],
+    "bifurcation": ["beta", "d31_init", "d31_after_transient", "n_touchdowns", "gait",
+                    "settled"],
+    "hysteresis": ["time_s", "leg", "value", "d31"],
+}  # fmt: skip
+# The time-series tables of a run job with include_series (`?table=` of the CSV export).
+SERIES_COLUMNS: dict[str, list[str]] = {
+    "d31": ["run", "d31_init", "n", "time_s", "d31"],
+    "samples": ["run", "d31_init", "time_s", "stance_R1", "stance_L1", "stance_R2",
+                "stance_L2", "stance_R3", "stance_L3", "x_m", "y_m", "z_m"],
+}  # fmt: skip
 
 Progress = Callable[[float], None]
 
@@ -29,22 +59,48 @@ def _core() -> Any:
     return sim_core
 
 
+def advice(job: _Physics, errors: list[str]) -> str:
+    """What the client can do about failed runs: a smaller step only where the step is the
+    likely cause (a numerical blow-up, or a step coarser than the converged default); a fall
+    or flip at a sound step is the insect's physics under these conditions."""
+    integrator = job.integrator or DEFAULT_INTEGRATOR
+    dt = job.dt_s or DEFAULT_DT_S
+    text = " ".join(errors)
+    numerical = any(w in text for w in ("MuJoCo warning", "non-finite", "unstable"))
+    if numerical or dt > DEFAULT_DT_S * (1 + 1e-9):
+        return (
+            f"the timestep is the likely cause ({integrator} at dt_s {dt:g} s): try a smaller "
+            f"dt_s (the converged default is {DEFAULT_INTEGRATOR} at {DEFAULT_DT_S:g} s; "
+            f"{integrator} is stable up to {MAX_STABLE_DT_S[integrator]:g} s)"
+        )
+    return (
+        f"the insect fell over under these conditions (slope_deg {job.slope_deg:g}, "
+        f"body_mass_g {job.body_mass_g:g}); this is the model's physics at a converged "
+        "timestep, not a numerical problem, so a smaller dt_s will not help: change the "
+        "conditions"
+    )
+
+
+def _failed(job: _Physics, diverged: list[str], total: int) -> JobFailed:
+    return JobFailed(
+        f"{len(diverged)} of {total} simulation(s) failed, so the job returns no numbers; "
+        f"{advice(job, diverged)}. " + "; ".join(diverged)
+    )
+
+
 def _batch(core: Any, job: RunJob | ReturnMapJob, progress: Progress, nthread: int) -> list[Any]:
     specs = [core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
     try:
         results: list[Any] = core.simulate_batch(specs, nthread=nthread, progress=progress)
     except core.SimulationDiverged as exc:
-        raise JobFailed(f"{exc}; try a smaller dt_s or another integrator") from exc
+        raise JobFailed(f"{exc}; {advice(job, [str(exc)])}") from exc
     diverged = [
         f"run {i + 1} of {len(results)} (d31_init = {d:.4g}): {r.error}"
         for i, (d, r) in enumerate(zip(job.d31_init, results, strict=True))
         if r.diverged
     ]
     if diverged:
-        raise JobFailed(
-            f"{len(diverged)} of {len(results)} simulation(s) diverged, so the job returns no "
-            "numbers; try a smaller dt_s or another integrator. " + "; ".join(diverged)
-        )
+        raise _failed(job, diverged, len(results))
     return results
 
 
@@ -60,7 +116,28 @@ def run_job(job: RunJob, progress: Progress, nthread: int) -> dict[str, Any]:
     results = _batch(core, job, progress, nthread)
     runs = [r.to_dict() if job.include_series else r.summary() for r in results]
     records = [_summary_row(d, r.summary()) for d, r in zip(job.d31_init, results, strict=True)]
-    return {"kind": "run", "runs": runs, "records": records}
+    out: dict[str, Any] = {"kind": "run", "runs": runs, "records": records}
+    if job.include_series:
+        out["series"] = series_tables(job.d31_init, runs)
+    return out
+
+
+def series_tables(d31_init: list[float], runs: list[dict[str, Any]]) -> dict[str, Any]:
+    """The time series as flat tables: Delta31 at each leg-1 touchdown, and every recorded
+    sample (stance per leg in the paper's order 1..6 = R1 L1 R2 L2 R3 L3, as
+    `sim_core.leg_names()`; body position, m)."""
+    legs = SERIES_COLUMNS["samples"][3:9]
+    d31_rows: list[dict[str, Any]] = []
+    samples: list[dict[str, Any]] = []
+    for k, (d0, run) in enumerate(zip(d31_init, runs, strict=True)):
+        for n, (t, d) in enumerate(zip(run["d31_times_s"], run["d31"], strict=True)):
+            d31_rows.append({"run": k, "d31_init": d0, "n": n, "time_s": t, "d31": d})
+        for t, stance, pos in zip(run["times_s"], run["stance"], run["body_pos_m"], strict=True):
+            row: dict[str, Any] = {"run": k, "d31_init": d0, "time_s": t}
+            row.update({leg: int(on) for leg, on in zip(legs, stance, strict=True)})
+            row.update({"x_m": pos[0], "y_m": pos[1], "z_m": pos[2]})
+            samples.append(row)
+    return {"d31": d31_rows, "samples": samples}
 
 
 def return_map_job(job: ReturnMapJob, progress: Progress, nthread: int) -> dict[str, Any]:
@@ -97,10 +174,7 @@ def _grid(
         if r.diverged
     ]
     if diverged:
-        raise JobFailed(
-            f"{len(diverged)} of {len(results)} simulation(s) diverged, so the job returns no "
-            "numbers; try a smaller dt_s or another integrator. " + "; ".join(diverged)
-        )
+        raise _failed(job, diverged, len(results))
     return [(b, d, r) for (b, d), r in zip(pairs, results, strict=True)]
 
 
@@ -133,18 +207,58 @@ def bifurcation_job(job: BifurcationJob, progress: Progress, nthread: int) -> di
     return {"kind": "bifurcation", "records": records}
 
 
+def hysteresis_job(job: HysteresisJob, progress: Progress, nthread: int) -> dict[str, Any]:
+    """Fig. 6a / 9: one run ramping `parameter` start -> turn -> start; Delta31 against the
+    value at every leg-1 touchdown, and the transitions on each leg of the ramp."""
+    core = _core()
+    spec = core.RunSpec(**job.run_fields())
+    res = core.sweep(
+        spec, parameter=job.parameter, turn=job.turn, hold_s=job.hold_s, ramp_s=job.ramp_s
+    )
+    if res.error:
+        raise _failed(job, [f"the sweep run: {res.error}"], 1)
+    turn_t = job.hold_s + job.ramp_s
+    records = [
+        {"time_s": t, "leg": "first" if t < turn_t else "second", "value": v, "d31": d}
+        for t, v, d in zip(res.times_s, res.values, res.d31, strict=True)
+    ]
+    progress(1.0)
+    return {
+        "kind": "hysteresis",
+        "parameter": res.parameter,
+        "start": job.start,
+        "turn": job.turn,
+        "summary": res.summary,
+        "records": records,
+    }
+
+
 RUNNERS: dict[str, Callable[[Any, Progress, int], dict[str, Any]]] = {
     "run": run_job,
     "return_map": return_map_job,
     "sweep": sweep_job,
     "bifurcation": bifurcation_job,
+    "hysteresis": hysteresis_job,
 }
 
 
 def execute(job: AnyJob, progress: Progress, nthread: int) -> dict[str, Any]:
     result = RUNNERS[job.kind](job, progress, nthread)
     _check_finite(result)
-    return result
+    out: dict[str, Any] = _tidy(result)
+    return out
+
+
+def _tidy(obj: Any) -> Any:
+    """Floats to 12 significant digits (0.66, not 0.6599999999999999): far below any physical
+    resolution of the model, and what a person reads back is what they sent."""
+    if isinstance(obj, float):
+        return tidy(obj)
+    if isinstance(obj, dict):
+        return {k: _tidy(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_tidy(v) for v in obj]
+    return obj
 
 
 def _check_finite(obj: Any, path: str = "result") -> None:

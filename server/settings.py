@@ -14,7 +14,8 @@ from pydantic_settings import BaseSettings, SettingsConfigDict
 
 
 def _default_workers() -> int:
-    return os.cpu_count() or 1
+    """Leave one core to the live viewer and the API when they share the machine."""
+    return max(1, (os.cpu_count() or 1) - 1)
 
 
 class Settings(BaseSettings):
@@ -31,7 +32,15 @@ class Settings(BaseSettings):
         default_factory=_default_workers,
         ge=0,
         le=256,
-        description="simulation worker processes; 0 keeps jobs queued and runs none",
+        description="simulation worker processes; 0 keeps jobs queued and runs none; "
+        "default: cores - 1 (at least 1), so that the live viewer keeps a core",
+    )
+    worker_nice: int = Field(
+        10,
+        ge=0,
+        le=19,
+        description="OS niceness of the worker processes (0 = as the API; 19 = lowest "
+        "priority): simulations yield the CPU to the viewer and the API",
     )
     threads_per_worker: int | None = Field(
         None,
@@ -54,6 +63,23 @@ class Settings(BaseSettings):
         le=10,
         description="times a job interrupted by a server crash is re-queued before it fails",
     )
+    retention_days: float | None = Field(
+        None,
+        gt=0,
+        description="finished jobs (done, failed, cancelled) older than this are deleted with "
+        "their results; None keeps them",
+    )
+    retention_count: int | None = Field(
+        None,
+        ge=0,
+        description="at most this many finished jobs are kept (the newest); None keeps all",
+    )
+    retention_interval_s: float = Field(
+        3600.0,
+        gt=0,
+        le=86400.0,
+        description="how often the retention rules are applied (also once at start-up)",
+    )
     api_token: SecretStr | None = Field(
         None, description="when set, mutating endpoints need 'Authorization: Bearer <token>'"
     )
@@ -72,4 +98,6 @@ class Settings(BaseSettings):
         """Share the cores among workers so N busy workers do not oversubscribe the machine."""
         if self.threads_per_worker is not None:
             return self.threads_per_worker
-        return max(1, (os.cpu_count() or 1) // max(1, self.workers))
+        cores = os.cpu_count() or 1
+        spare = cores - 1 if cores > 1 else 1  # the viewer's core, as in the default workers
+        return max(1, spare // max(1, self.workers))

@@ -67,14 +67,29 @@ def _die_with_parent(parent_pid: int) -> None:
     threading.Thread(target=watchdog, name="parent-watchdog", daemon=True).start()
 
 
-def worker_main(conn: Connection, db_path: str, nthread: int, parent_pid: int) -> None:
+def lower_priority(niceness: int) -> int:
+    """Run this process at OS niceness at least `niceness` (0..19), so that simulations yield
+    the CPU to the live viewer and the API on a shared machine. Only ever lowers the
+    priority (raising it needs privileges). Returns the niceness now in effect."""
+    current = os.getpriority(os.PRIO_PROCESS, 0)
+    if niceness > current:
+        with contextlib.suppress(OSError):
+            os.setpriority(os.PRIO_PROCESS, 0, min(19, niceness))
+    return os.getpriority(os.PRIO_PROCESS, 0)
+
+
+def worker_main(
+    conn: Connection, db_path: str, nthread: int, parent_pid: int, niceness: int = 0
+) -> None:
     """Loop: receive (job_id, attempt), run it, answer. Exits on None or a closed pipe."""
     _die_with_parent(parent_pid)
+    lower_priority(niceness)
     # Ctrl-C and `kill 0` (make run) signal the whole group; the API process decides what
     # happens to a running job (re-queue on shutdown) and SIGKILLs workers itself, so a
     # worker must not die first and have its job counted as crashed.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    from server.errors import exception_message, sanitize
     from server.kinds import JobFailed, execute
     from server.schemas import JOB_SPEC_ADAPTER
 
@@ -109,11 +124,12 @@ def worker_main(conn: Connection, db_path: str, nthread: int, parent_pid: int) -
             if not store.finish_done(claim, result):
                 log.info("job %s finished but was cancelled or re-queued meanwhile", claim.job_id)
         except JobFailed as exc:
-            store.finish_failed(claim, str(exc))
+            store.finish_failed(claim, sanitize(str(exc)))
         except Exception as exc:
-            tb = traceback.extract_tb(exc.__traceback__)
-            where = f" (at {tb[-1].filename}:{tb[-1].lineno})" if tb else ""
-            store.finish_failed(claim, f"{type(exc).__name__}: {exc}{where}")
+            # the client gets the type and message, never paths or a traceback; the operator
+            # gets the traceback in the server's log
+            print(f"job {claim.job_id} failed:\n{traceback.format_exc()}", file=sys.stderr)
+            store.finish_failed(claim, exception_message(exc))
         try:
             conn.send(("finished", claim.job_id))
         except (BrokenPipeError, OSError):
@@ -148,6 +164,7 @@ class WorkerPool:
     db_path: Path
     size: int
     nthread: int
+    niceness: int = 0
     _workers: list[_Worker] = field(default_factory=list)
     _thread: threading.Thread | None = None
     _stop: threading.Event = field(default_factory=threading.Event)
@@ -195,7 +212,7 @@ class WorkerPool:
         parent, child = self._ctx.Pipe(duplex=True)
         proc = self._ctx.Process(
             target=worker_main,
-            args=(child, str(self.db_path), self.nthread, os.getpid()),
+            args=(child, str(self.db_path), self.nthread, os.getpid(), self.niceness),
             name="insect-gait-worker",
             daemon=True,
         )

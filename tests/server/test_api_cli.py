@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import os
 import subprocess
 import sys
 from collections.abc import Callable
@@ -39,10 +40,19 @@ def test_flags_override_environment(monkeypatch: pytest.MonkeyPatch) -> None:
     assert s.api_token is not None and s.api_token.get_secret_value() == "t"
 
 
-def test_settings_defaults() -> None:
+def test_settings_defaults(monkeypatch: pytest.MonkeyPatch) -> None:
+    for var in ("INSECT_GAIT_WORKERS", "INSECT_GAIT_WORKER_NICE", "INSECT_GAIT_THREADS_PER_WORKER"):
+        monkeypatch.delenv(var, raising=False)
     s = Settings()
     assert s.host == "127.0.0.1" and s.workers >= 1 and s.api_token is None
     assert s.threads_for_one_worker() >= 1
+    # the live viewer keeps a core: workers x threads never fill the machine by default
+    cores = os.cpu_count() or 1
+    assert s.workers == max(1, cores - 1)
+    if cores > 1:
+        assert s.workers * s.threads_for_one_worker() <= cores - 1
+    assert s.worker_nice == 10
+    assert s.retention_days is None and s.retention_count is None
 
 
 def test_bad_setting_exits_2(tmp_path: Path) -> None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 import sqlite3
 from pathlib import Path
 from typing import Any
@@ -9,6 +10,7 @@ from typing import Any
 import annotated_types as at
 import pytest
 
+from server import errors, estimates, figures, kinds, schemas
 from server.jobs import JobStore, QueueFull
 from server.schemas import D31, RunJob, SweepJob
 
@@ -76,18 +78,140 @@ def _bounds(metadata: list[Any]) -> dict[str, float]:
     return out
 
 
+# Fields the API bounds tighter than the core, on purpose (the schema says why): the core
+# accepts any positive mass and a step up to 0.01 s, but outside these ranges a job cannot
+# run (dt) or does not describe an insect (mass).
+TIGHTER = {"body_mass_g": {"ge": 0.5, "le": 30.0}, "dt_s": {"gt": 0.0, "le": 1e-3}}
+
+
 @pytest.mark.parametrize(
     "name", ["beta", "body_mass_g", "slope_deg", "duration_s", "dt_s", "control_dt_s", "d31_init"]
 )
 def test_ranges_match_the_core_runspec(name: str) -> None:
-    """The API refuses at the door what the core would refuse later, no more and no less."""
+    """The API refuses at the door what the core would refuse later, and more only where
+    TIGHTER says so (and then within the core's range)."""
     sim_core = pytest.importorskip("sim_core")
     core = _bounds(sim_core.RunSpec.model_fields[name].metadata)
     if name == "d31_init":
         mine = _bounds(list(D31.__metadata__[0].metadata))
     else:
         mine = _bounds(RunJob.model_fields[name].metadata)
-    assert mine == core
+    if name not in TIGHTER:
+        assert mine == core
+        return
+    assert mine == TIGHTER[name]
+    lo_core = core.get("gt", core.get("ge", -math.inf))
+    assert mine.get("gt", mine.get("ge", -math.inf)) >= lo_core
+    assert mine.get("lt", mine.get("le", math.inf)) <= core.get("lt", core.get("le", math.inf))
+
+
+def test_numerics_defaults_match_the_core() -> None:
+    sim_core = pytest.importorskip("sim_core")
+    p = sim_core.ModelParams()
+    assert schemas.INTEGRATOR_NAMES == tuple(sim_core.INTEGRATORS)
+    assert set(schemas.MAX_STABLE_DT_S) == set(sim_core.INTEGRATORS)
+    assert (schemas.DEFAULT_INTEGRATOR, schemas.DEFAULT_DT_S) == (p.integrator, p.dt)
+    assert schemas.DEFAULT_CONTROL_DT_S == p.control_dt
+    assert schemas.MAX_STABLE_DT_S[p.integrator] >= p.dt
+    assert tuple(figures.LEG_LABELS) == tuple(sim_core.leg_names())
+    stance = [c.removeprefix("stance_") for c in kinds.SERIES_COLUMNS["samples"][3:9]]
+    assert tuple(stance) == tuple(sim_core.leg_names())
+
+
+def test_delete_only_finished_jobs_with_their_result(store: JobStore) -> None:
+    queued, done = _submit(store), _submit(store)
+    store.cancel(queued)
+    running = _submit(store)
+    claim = store.claim_next()
+    assert claim is not None and claim.job_id == done
+    assert store.finish_done(claim, {"records": [1]})
+    store.claim_next()  # `running` is now running
+    assert store.delete_finished(running)[0] == "running" and store.get(running) is not None
+    assert store.delete_finished(done)[0] == "done"
+    assert store.get(done) is None and store.result(done) is None
+    with sqlite3.connect(store.path) as conn:
+        assert conn.execute("SELECT count(*) FROM results").fetchone()[0] == 0
+    assert store.delete_finished("nope") == ("missing", None)
+
+
+def test_retention_keeps_the_newest_finished_and_all_active(store: JobStore) -> None:
+    ids = [_submit(store) for _ in range(5)]
+    for job_id in ids[:4]:
+        store.cancel(job_id)
+    assert store.purge_finished(None, keep=2) == 2
+    left = {j["id"] for j in store.list_jobs(None, 10, 0)[0]}
+    assert left == {ids[2], ids[3], ids[4]}  # two newest finished + the queued one
+    # age: nothing finished more than a day ago, until one is back-dated by three days
+    assert store.purge_finished(1.0, None) == 0
+    with sqlite3.connect(store.path) as conn:
+        conn.execute(
+            "UPDATE jobs SET finished_at = strftime('%Y-%m-%dT%H:%M:%fZ', 'now', '-3 days')"
+            " WHERE id = ?",
+            (ids[2],),
+        )
+    assert store.purge_finished(2.0, None) == 1
+    assert {j["id"] for j in store.list_jobs(None, 10, 0)[0]} == {ids[3], ids[4]}
+    assert store.purge_finished(None, keep=0) == 1
+    assert {j["id"] for j in store.list_jobs(None, 10, 0)[0]} == {ids[4]}
+
+
+def test_remaining_time_from_progress_or_history() -> None:
+    # from its own rate: 10 s for the first 25 % -> 30 s more
+    assert estimates.remaining_s(
+        elapsed_s=10, progress=0.25, sim_seconds=100, wall_per_sim_s=None
+    ) == pytest.approx(30.0)
+    # no progress yet: recent jobs ran at 0.2 wall s per sim s -> 100 x 0.2 - 5
+    assert estimates.remaining_s(
+        elapsed_s=5, progress=0.0, sim_seconds=100, wall_per_sim_s=0.2
+    ) == pytest.approx(15.0)
+    assert estimates.remaining_s(elapsed_s=5, progress=1.0, sim_seconds=1, wall_per_sim_s=1) == 0
+
+
+def test_retry_after_is_the_soonest_free_worker() -> None:
+    assert estimates.retry_after_s(workers=2, running_remaining_s=[45.2, 30.1]) == 31
+    assert estimates.retry_after_s(workers=2, running_remaining_s=[45.2]) == 1  # one idle
+    assert estimates.retry_after_s(workers=0, running_remaining_s=[]) == 60
+    assert estimates.retry_after_s(workers=1, running_remaining_s=[1e6]) == 3600
+    assert estimates.retry_after_s(workers=1, running_remaining_s=[0.0]) == 1
+
+
+def test_error_messages_carry_no_paths_or_tracebacks() -> None:
+    raw = (
+        "Traceback (most recent call last):\n"
+        '  File "/opt/venv/lib/python3.11/site-packages/pydantic/main.py", line 253, in f\n'
+        "ValueError: 1 validation error for RunSpec\n  Input should be greater than 0 "
+        "[type=greater_than]\n    For further information visit "
+        "https://errors.pydantic.dev/2.11/v/greater_than (at /work/x/server/kinds.py:42)"
+    )
+    out = errors.sanitize(raw)
+    assert "/" not in out.replace("kinds.py", "") and "Traceback" not in out
+    assert "File " not in out and "https" not in out
+    assert "Input should be greater than 0" in out and "kinds.py:42" in out
+    try:
+        sim_core = pytest.importorskip("sim_core")
+        sim_core.RunSpec(duration_s=0)
+    except Exception as exc:
+        msg = errors.exception_message(exc)
+        assert msg.startswith("invalid job: duration_s:")
+        assert "site-packages" not in msg and "http" not in msg
+
+
+def test_advice_blames_the_step_only_when_it_is_the_likely_cause() -> None:
+    flip = ["simulation diverged at t = 0.26 s (integrator implicitfast, dt 5e-05 s): body "
+            "flipped (up-axis z 0.49 < 0.5)"]  # fmt: skip
+    steep = RunJob(slope_deg=80.0)
+    assert "smaller dt_s will not help" in kinds.advice(steep, flip)
+    coarse = RunJob(slope_deg=80.0, dt_s=4e-4, control_dt_s=4e-4)
+    assert "try a smaller dt_s" in kinds.advice(coarse, flip)
+    blowup = ["MuJoCo warning mjWARN_BADQACC (unstable: state was reset)"]
+    assert "try a smaller dt_s" in kinds.advice(RunJob(), blowup)
+
+
+def test_floats_come_back_tidy() -> None:
+    assert schemas.tidy(0.6599999999999999) == 0.66
+    assert schemas.tidy(1.234567890123456e-7) == 1.23456789012e-7
+    job = SweepJob(beta_range={"start": 0.62, "stop": 0.70, "steps": 5})
+    assert job.beta_range.values() == [0.62, 0.64, 0.66, 0.68, 0.7]
 
 
 def test_sweep_size_counts_grid_times_list() -> None:

@@ -6,6 +6,8 @@ server that runs nothing keeps the job count exact.
 
 from __future__ import annotations
 
+import json
+import re
 import sqlite3
 from collections.abc import Iterator
 from typing import Any
@@ -21,6 +23,14 @@ SWEEP: dict[str, Any] = {
     "duration_s": 0.3,
 }
 BIFURCATION: dict[str, Any] = {**SWEEP, "kind": "bifurcation", "transient_s": 0.1}
+HYSTERESIS: dict[str, Any] = {
+    "kind": "hysteresis",
+    "parameter": "beta",
+    "start": 0.7,
+    "turn": 0.62,
+    "hold_s": 0.2,
+    "ramp_s": 0.3,
+}
 
 
 @pytest.fixture(scope="module")
@@ -66,16 +76,24 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
     (with_(BASE, beta=1.0), "beta", "0.5 < beta < 1"),
     (with_(BASE, beta="0.6"), "beta", "0.5 < beta < 1"),
     (with_(BASE, beta=None), "beta", "0.5 < beta < 1"),
-    (with_(BASE, body_mass_g=0), "body_mass_g", "0 < body_mass_g <= 30"),
-    (with_(BASE, body_mass_g=31), "body_mass_g", "0 < body_mass_g <= 30"),
+    (with_(BASE, body_mass_g=0), "body_mass_g", "0.5 <= body_mass_g <= 30"),
+    (with_(BASE, body_mass_g=1e-9), "body_mass_g", "0.5 <= body_mass_g <= 30"),
+    (with_(BASE, body_mass_g=31), "body_mass_g", "0.5 <= body_mass_g <= 30"),
     (with_(BASE, slope_deg=-90), "slope_deg", "-90 < slope_deg < 90"),
     (with_(BASE, slope_deg=95), "slope_deg", "-90 < slope_deg < 90"),
     (with_(BASE, duration_s=0), "duration_s", "0 < duration_s <= 600"),
     (with_(BASE, duration_s=601), "duration_s", "0 < duration_s <= 600"),
-    (with_(BASE, dt_s=0), "dt_s", "0 < dt_s <= 0.01"),
-    (with_(BASE, dt_s=0.02), "dt_s", "0 < dt_s <= 0.01"),
+    (with_(BASE, dt_s=0), "dt_s", "0 < dt_s <= 0.001"),
+    (with_(BASE, dt_s=0.002), "dt_s", "0 < dt_s <= 0.001"),
+    (with_(BASE, dt_s=0.02), "dt_s", "0 < dt_s <= 0.001"),
+    # combinations that cannot run: a step the integrator is unstable at (measured)
+    (with_(BASE, dt_s=1e-3), "dt_s", "cannot be stable with integrator implicitfast"),
+    (with_(BASE, integrator="euler"), "dt_s", "the default 5e-05 s) cannot be stable"),
+    (with_(BASE, integrator="rk4", dt_s=2.5e-5), "dt_s", "needs dt_s <= 2e-05 s"),
+    (with_(BASE, control_dt_s=1e-5), "control_dt_s", "must be >= dt_s (the default 5e-05)"),
+    (with_(BASE, duration_s=1e-4), "duration_s", "shorter than one control period"),
     (with_(BASE, control_dt_s=-1e-3), "control_dt_s", "0 < control_dt_s <= 0.01"),
-    (with_(BASE, dt_s=0.002, control_dt_s=0.001), "control_dt_s", "must be >= dt_s"),
+    (with_(BASE, dt_s=4e-4, control_dt_s=2e-4), "control_dt_s", "must be >= dt_s"),
     (with_(BASE, integrator="leapfrog"), "integrator", "euler, implicit, implicitfast, rk4"),
     (with_(BASE, phase_reset="yes"), "phase_reset", "boolean"),
     (with_(BASE, d31_init=[]), "d31_init", "1..1000 values"),
@@ -85,8 +103,8 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
     (with_(BASE, d31_init=[0.5] * 1001), "d31_init", "1..1000 values"),
     (with_(BASE, include_series=1), "include_series", "boolean"),
     (with_(BASE, colour="red"), "colour", "allowed fields: beta"),
-    (with_(BASE, kind="walk"), "kind", "bifurcation, return_map, run, sweep"),
-    ({"beta": 0.66, "d31_init": [2.0]}, "kind", "bifurcation, return_map, run, sweep"),
+    (with_(BASE, kind="walk"), "kind", "bifurcation, hysteresis, return_map, run, sweep"),
+    ({"beta": 0.66, "d31_init": [2.0]}, "kind", "bifurcation, hysteresis, return_map, run, sweep"),
     ({"kind": "return_map", "lag": 0, "duration_s": 0.3}, "lag", "1 <= lag <= 50"),
     ({"kind": "return_map", "lag": 1.5, "duration_s": 0.3}, "lag", "1 <= lag <= 50"),
     ({"kind": "sweep", "duration_s": 0.3}, "beta_range", "Field required"),
@@ -104,6 +122,18 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
     ),
     (with_(BIFURCATION, transient_s=-1), "transient_s", "0 <= transient_s < 600"),
     (with_(BIFURCATION, transient_s=0.3), "transient_s", "must be < duration_s"),
+    # the default transient (2 s) against a shorter run: refused at the door, not in a worker
+    (with_(SWEEP, kind="bifurcation", duration_s=1.0), "transient_s", "2 s when not given"),
+    ({**HYSTERESIS, "turn": 0.7}, "turn", "must differ from start"),
+    ({**HYSTERESIS, "turn": 1.0}, "turn", "0.5 < beta < 1"),
+    (
+        {**HYSTERESIS, "parameter": "body_mass_g", "start": 3.0, "turn": 0.1},
+        "turn",
+        "0.5 <= body_mass_g <= 30",
+    ),
+    ({**HYSTERESIS, "parameter": "speed"}, "parameter", "beta, body_mass_g, slope_deg"),
+    ({**HYSTERESIS, "hold_s": 60, "ramp_s": 250}, "ramp_s", "at most 600 s"),
+    ({k: v for k, v in HYSTERESIS.items() if k != "turn"}, "turn", "Field required"),
     # limits from the settings: 20 runs and 100 simulated seconds per job
     (with_(BASE, d31_init=[1.0] * 21), "d31_init", "at most 20 simulations per job"),
     (
@@ -203,6 +233,66 @@ def test_openapi_docs_are_served(client: httpx.Client) -> None:
     assert client.get("/docs").status_code == 200
     paths = client.get("/openapi.json").json()["paths"]
     assert {"/v1/jobs", "/v1/jobs/{job_id}", "/v1/jobs/{job_id}/result"} <= set(paths)
+
+
+@pytest.mark.parametrize("page", ["/docs", "/redoc"])
+def test_docs_work_offline(client: httpx.Client, page: str) -> None:
+    """No external URL in the page: every script, style and icon it loads is served here."""
+    r = client.get(page)
+    assert r.status_code == 200 and r.headers["content-type"].startswith("text/html")
+    html = r.text
+    assert "http://" not in html and "https://" not in html and "//cdn" not in html
+    assets = re.findall(r'(?:src|href)="([^"]+)"', html)
+    assert any(a.endswith(".js") for a in assets)
+    for asset in assets:
+        got = client.get(asset)
+        assert got.status_code == 200 and len(got.content) > 1000, asset
+
+
+@pytest.mark.parametrize(
+    ("content", "needle"),
+    [
+        (b'{"kind": "run", "beta": \xff}', "not valid UTF-8 (byte 0xff"),
+        (b'{"kind": "run", "beta": ' + b"1" * 5001 + b"}", "more than 4300 digits"),
+        (b"[" * 100_000 + b"]" * 100_000, "nested too deeply"),
+    ],
+)
+def test_unparsable_body_gets_documented_400(
+    server: Server, client: httpx.Client, content: bytes, needle: str
+) -> None:
+    before = stored(server)
+    r = client.post("/v1/jobs", content=content, headers={"content-type": "application/json"})
+    assert r.status_code == 400, r.text
+    assert needle in r.json()["detail"]
+    assert stored(server) == before
+    documented = client.get("/openapi.json").json()["paths"]["/v1/jobs"]["post"]["responses"]
+    assert "400" in documented
+
+
+@pytest.mark.parametrize("ctype", ["text/plain", "application/x-www-form-urlencoded"])
+def test_json_without_json_content_type_names_the_header(client: httpx.Client, ctype: str) -> None:
+    r = client.post("/v1/jobs", content=json.dumps(SHORT).encode(), headers={"content-type": ctype})
+    assert r.status_code == 422, r.text
+    (issue,) = r.json()["detail"]
+    assert f"Content-Type: {ctype}" in issue["msg"]
+    assert "Content-Type: application/json" in issue["msg"]
+
+
+def test_integrators_listed_as_the_core_has_them(client: httpx.Client) -> None:
+    sim_core = pytest.importorskip("sim_core")
+    listed = client.get("/v1/integrators").json()
+    assert tuple(i["name"] for i in listed) == tuple(sim_core.INTEGRATORS)
+    assert [i["name"] for i in listed if i["default"]] == [sim_core.ModelParams().integrator]
+    schema = client.get("/openapi.json").json()["components"]["schemas"]["RunJob"]
+    text = json.dumps(schema["properties"]["integrator"])
+    assert all(name in text for name in sim_core.INTEGRATORS)  # discrete included
+
+
+def test_bounds_say_why_in_the_schema(client: httpx.Client) -> None:
+    props = client.get("/openapi.json").json()["components"]["schemas"]["RunJob"]["properties"]
+    assert "cannot be stable" in json.dumps(props["dt_s"])
+    assert "euler 1e-05 s" in json.dumps(props["dt_s"])
+    assert "six legs" in props["body_mass_g"]["description"]
 
 
 def test_model_parameters(client: httpx.Client) -> None:

@@ -1,0 +1,95 @@
+"""Dependencies, declared once: the settings, the job store, the worker pool and the token check.
+
+Routes take them as `Annotated` types (`store: StoreDep`), as the FastAPI full-stack template
+does, so a test or a deployment can swap any of them through `app.dependency_overrides`
+(e.g. `app.dependency_overrides[get_store] = lambda: other_store`).
+"""
+
+from __future__ import annotations
+
+import secrets
+from typing import Annotated, Any
+
+from fastapi import Depends, HTTPException, Path, Request
+from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
+
+from server.jobs import JobStore
+from server.schemas import Problem, ValidationProblem
+from server.settings import Settings
+from server.workers import WorkerPool
+
+bearer = HTTPBearer(auto_error=False, description="needed only when INSECT_GAIT_API_TOKEN is set")
+
+Responses = dict[int | str, dict[str, Any]]
+
+
+def resp(code: int, model: type, description: str) -> Responses:
+    return {code: {"model": model, "description": description}}
+
+
+R400 = resp(
+    400,
+    Problem,
+    "the body could not be parsed (not UTF-8, a number over 4300 digits, JSON nested too "
+    "deeply); the message says which",
+)
+R401 = resp(401, Problem, "API token missing or wrong")
+R404 = resp(404, Problem, "no such job")
+R409 = resp(409, Problem, "the job is not in a state that allows this")
+R422 = resp(422, ValidationProblem, "invalid input; the message names field and range")
+
+
+def get_settings(request: Request) -> Settings:
+    settings: Settings = request.app.state.settings
+    return settings
+
+
+def get_store(request: Request) -> JobStore:
+    store: JobStore = request.app.state.store
+    return store
+
+
+def get_pool(request: Request) -> WorkerPool:
+    pool: WorkerPool = request.app.state.pool
+    return pool
+
+
+SettingsDep = Annotated[Settings, Depends(get_settings)]
+StoreDep = Annotated[JobStore, Depends(get_store)]
+PoolDep = Annotated[WorkerPool, Depends(get_pool)]
+
+
+def require_token(
+    settings: SettingsDep,
+    creds: Annotated[HTTPAuthorizationCredentials | None, Depends(bearer)],
+) -> None:
+    """401 unless the request carries the configured token (no token configured: open)."""
+    token = settings.api_token
+    if token is None:
+        return
+    given = creds.credentials if creds is not None else ""
+    if (
+        creds is None
+        or creds.scheme.lower() != "bearer"
+        or not secrets.compare_digest(given.encode(), token.get_secret_value().encode())
+    ):
+        raise HTTPException(
+            status_code=401,
+            detail="this server needs 'Authorization: Bearer <token>' for this request",
+            headers={"WWW-Authenticate": "Bearer"},
+        )
+
+
+TokenDep = Annotated[None, Depends(require_token)]
+
+JobId = Annotated[str, Path(min_length=1, max_length=64, description="job id from POST /v1/jobs")]
+
+
+def get_job_or_404(job_id: JobId, store: StoreDep) -> dict[str, Any]:
+    job = store.get(job_id)
+    if job is None:
+        raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
+    return job
+
+
+JobDep = Annotated[dict[str, Any], Depends(get_job_or_404)]

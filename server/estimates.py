@@ -1,0 +1,77 @@
+"""Time estimates from the job table: how long a running job still needs, and when a slot in a
+full queue frees (`Retry-After`). Pure functions of what the store reports, so they are tested
+without clocks."""
+
+from __future__ import annotations
+
+import math
+from datetime import datetime
+from typing import Any
+
+MIN_PROGRESS = 0.02  # below this, progress says too little to extrapolate from
+FALLBACK_WALL_PER_SIM_S = 0.5  # no history yet: a conservative wall s per simulated s
+RETRY_NO_WORKERS_S = 60  # nothing drains the queue; ask again in a minute
+RETRY_MAX_S = 3600
+
+
+def seconds_since(stamp: str | None, now: datetime) -> float | None:
+    if stamp is None:
+        return None
+    started = datetime.fromisoformat(stamp.replace("Z", "+00:00"))
+    return max(0.0, (now - started).total_seconds())
+
+
+def remaining_s(
+    *,
+    elapsed_s: float,
+    progress: float,
+    sim_seconds: float,
+    wall_per_sim_s: float | None,
+) -> float:
+    """Seconds a running job still needs.
+
+    Args:
+        elapsed_s: wall seconds since it started.
+        progress: its reported progress, 0..1.
+        sim_seconds: simulated seconds it asks for (all runs).
+        wall_per_sim_s: recent jobs' wall seconds per simulated second, or None.
+
+    Returns:
+        From its own rate once it has reported `MIN_PROGRESS` (elapsed x (1 - p) / p);
+        before that, from recent jobs' rate x its size, less the time already spent.
+    """
+    if progress >= 1.0:
+        return 0.0
+    if progress >= MIN_PROGRESS and elapsed_s > 0:
+        return elapsed_s * (1.0 - progress) / progress
+    rate = wall_per_sim_s if wall_per_sim_s is not None else FALLBACK_WALL_PER_SIM_S
+    return max(0.0, sim_seconds * rate - elapsed_s)
+
+
+def retry_after_s(*, workers: int, running_remaining_s: list[float]) -> int:
+    """Seconds until a slot in a full queue frees: the soonest a busy worker finishes (it then
+    takes the oldest queued job). At least 1, at most an hour; 60 with no workers."""
+    if workers == 0:
+        return RETRY_NO_WORKERS_S
+    if not running_remaining_s or len(running_remaining_s) < workers:
+        return 1  # an idle worker is about to take a queued job
+    soonest = min(running_remaining_s)
+    return int(min(RETRY_MAX_S, max(1, math.ceil(soonest))))
+
+
+def eta_of(job: dict[str, Any], now: datetime, wall_per_sim_s: float | None) -> float | None:
+    """`remaining_s` for a running job as the store returns it; None for any other state."""
+    if job.get("status", "running") != "running":
+        return None
+    elapsed = seconds_since(job.get("started_at"), now)
+    if elapsed is None:
+        return None
+    return round(
+        remaining_s(
+            elapsed_s=elapsed,
+            progress=float(job.get("progress") or 0.0),
+            sim_seconds=float(job.get("sim_seconds") or 0.0),
+            wall_per_sim_s=wall_per_sim_s,
+        ),
+        1,
+    )

@@ -1,0 +1,261 @@
+"""/v1/jobs: queue, list, poll, fetch results and figures, cancel.
+
+Routes are plain `def` functions: FastAPI runs them in its thread pool, so a SQLite read or a
+figure never blocks the event loop. No route simulates; jobs go to the worker pool.
+`router` holds the reads, `write_router` the mutations (the app adds the token check to it
+when a token is configured, so the OpenAPI document says what is true).
+"""
+
+from __future__ import annotations
+
+from datetime import UTC, datetime
+from typing import Annotated, Any, Literal
+
+from fastapi import APIRouter, HTTPException, Query, Response
+from fastapi.responses import JSONResponse
+
+from server import figures
+from server.deps import (
+    R400,
+    R404,
+    R409,
+    R422,
+    JobDep,
+    JobId,
+    PoolDep,
+    SettingsDep,
+    StoreDep,
+    get_job_or_404,
+)
+from server.errors import limit_error, sanitize
+from server.estimates import eta_of, retry_after_s
+from server.jobs import JobStore, QueueFull
+from server.kinds import RECORD_COLUMNS, SERIES_COLUMNS
+from server.schemas import FINISHED, Job, JobPage, JobSpec, JobStatus, Problem
+from server.settings import Settings
+
+router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
+write_router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
+
+
+def job_out(job: dict[str, Any], store: JobStore | None = None) -> dict[str, Any]:
+    """A stored job as the API shows it: links, an estimated time left while it runs, and an
+    error message cleaned of anything internal (rows written by older servers included)."""
+    base = f"/v1/jobs/{job['id']}"
+    eta = None
+    if job["status"] == "running" and store is not None:
+        eta = eta_of(job, datetime.now(UTC), store.wall_per_sim_second())
+    return {
+        **job,
+        "error": sanitize(job["error"]) if job.get("error") else job.get("error"),
+        "eta_s": eta,
+        "links": {"self": base, "result": f"{base}/result", "figure": f"{base}/figure.png"},
+    }
+
+
+def require_done(job: dict[str, Any]) -> None:
+    if job["status"] != "done":
+        why = f": {sanitize(job['error'])}" if job.get("error") else ""
+        raise HTTPException(
+            status_code=409,
+            detail=f"job {job['id']} is {job['status']}, results exist only for done jobs{why}",
+        )
+
+
+def retry_after(store: JobStore, settings: Settings) -> int:
+    """Seconds until a queue slot likely frees: the soonest running job's estimated end."""
+    now = datetime.now(UTC)
+    rate = store.wall_per_sim_second()
+    left = [eta_of(j, now, rate) for j in store.running_jobs()]
+    return retry_after_s(
+        workers=settings.workers, running_remaining_s=[x for x in left if x is not None]
+    )
+
+
+@write_router.post(
+    "",
+    status_code=202,
+    response_model=Job,
+    responses={
+        **R400,
+        **R422,
+        429: {"model": Problem, "description": "queue full; see Retry-After"},
+    },
+    summary="Queue a simulation job",
+)
+def submit_job(
+    spec: JobSpec, response: Response, store: StoreDep, pool: PoolDep, settings: SettingsDep
+) -> Any:
+    problems = []
+    runs = spec.run_count()
+    if runs > settings.max_runs_per_job:
+        problems.append(
+            limit_error(
+                "d31_init",
+                f"the job asks for {runs} simulations",
+                f"at most {settings.max_runs_per_job} simulations per job "
+                "(max_runs_per_job; sweeps count len(d31_init) x beta_range.steps)",
+            )
+        )
+    total = spec.total_sim_seconds()
+    if total > settings.max_job_sim_seconds:
+        problems.append(
+            limit_error(
+                "duration_s",
+                f"the job asks for {total:g} simulated seconds in all "
+                f"({runs} runs x {spec.sim_seconds_per_run():g} s)",
+                f"at most {settings.max_job_sim_seconds:g} simulated seconds per job "
+                "(max_job_sim_seconds); split it into several jobs",
+            )
+        )
+    if problems:
+        return JSONResponse(status_code=422, content={"detail": problems})
+    out = store.submit(spec.kind, spec.model_dump(mode="json"), total, settings.queue_limit)
+    if isinstance(out, QueueFull):
+        retry = retry_after(store, settings)
+        return JSONResponse(
+            status_code=429,
+            headers={"Retry-After": str(retry)},
+            content={
+                "detail": f"the queue is full ({out.queued} queued jobs, queue_limit = "
+                f"{settings.queue_limit}); retry in about {retry} s"
+            },
+        )
+    pool.wake()
+    response.headers["Location"] = f"/v1/jobs/{out['id']}"
+    return job_out(out, store)
+
+
+@router.get("", response_model=JobPage, responses=R422, summary="List jobs, newest first")
+def list_jobs(
+    store: StoreDep,
+    status: Annotated[JobStatus | None, Query(description="only jobs in this state")] = None,
+    limit: Annotated[int, Query(ge=1, le=200)] = 50,
+    offset: Annotated[int, Query(ge=0, le=1_000_000_000)] = 0,
+) -> Any:
+    items, total = store.list_jobs(status, limit, offset)
+    return {
+        "items": [job_out(j, store) for j in items],
+        "total": total,
+        "limit": limit,
+        "offset": offset,
+    }
+
+
+@router.get("/{job_id}", response_model=Job, responses={**R404, **R422})
+def get_job(job: JobDep, store: StoreDep) -> Any:
+    return job_out(job, store)
+
+
+@router.get(
+    "/{job_id}/result",
+    responses={
+        200: {
+            "description": "the result as JSON, or CSV with ?format=csv (`table` picks which)",
+            "content": {"application/json": {}, "text/csv": {}},
+        },
+        **R404,
+        **R409,
+        **R422,
+    },
+    summary="Result of a done job",
+)
+def get_result(
+    job_id: JobId,
+    store: StoreDep,
+    format: Annotated[Literal["json", "csv"], Query(description="json or csv")] = "json",
+    table: Annotated[
+        Literal["records", "d31", "samples"],
+        Query(
+            description="CSV only: `records` (one summary row per run or grid point, the "
+            "default), or, for run jobs with include_series, `d31` (Delta31 at every leg-1 "
+            "touchdown) or `samples` (every recorded sample: stance per leg, body position)"
+        ),
+    ] = "records",
+) -> Response:
+    # looked up here, not as a dependency: a bad query parameter is a 422 before a 404
+    job = get_job_or_404(job_id, store)
+    require_done(job)
+    result = store.result(job_id)
+    if result is None:
+        raise HTTPException(status_code=409, detail=f"job {job_id} has no stored result")
+    if format == "csv":
+        if table == "records":
+            rows, columns = result.get("records", []), RECORD_COLUMNS.get(job["kind"], [])
+        elif "series" in result:
+            rows, columns = result["series"][table], SERIES_COLUMNS[table]
+        else:
+            raise HTTPException(
+                status_code=409,
+                detail=f"job {job_id} has no time series (table={table!r} needs a run job "
+                "submitted with include_series: true)",
+            )
+        name = job_id if table == "records" else f"{job_id}-{table}"
+        return Response(
+            figures.records_csv(rows, columns),
+            media_type="text/csv",
+            headers={"Content-Disposition": f'attachment; filename="{name}.csv"'},
+        )
+    return JSONResponse({"job_id": job_id, "kind": job["kind"], "result": result})
+
+
+@router.get(
+    "/{job_id}/figure.png",
+    responses={
+        200: {"description": "PNG figure", "content": {"image/png": {}}},
+        **R404,
+        **R409,
+        **R422,
+    },
+    response_class=Response,
+    summary="Figure of a done job",
+)
+def get_figure(job_id: JobId, store: StoreDep) -> Response:
+    job = get_job_or_404(job_id, store)
+    require_done(job)
+    result = store.result(job_id)
+    if result is None:
+        raise HTTPException(status_code=409, detail=f"job {job_id} has no stored result")
+    return Response(figures.figure_png(job, result), media_type="image/png")
+
+
+@write_router.delete(
+    "/{job_id}",
+    response_model=Job,
+    responses={**R404, **R409, **R422},
+    summary="Cancel a queued or running job; with ?purge=true delete a finished one",
+)
+def delete_job(
+    job_id: JobId,
+    store: StoreDep,
+    pool: PoolDep,
+    purge: Annotated[
+        bool,
+        Query(
+            description="delete a finished (done, failed, cancelled) job and its result; "
+            "without it DELETE only cancels, so a retried cancel never deletes a record"
+        ),
+    ] = False,
+) -> Any:
+    if purge:
+        status, gone = store.delete_finished(job_id)
+        if gone is None:
+            raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
+        if status not in FINISHED:
+            raise HTTPException(
+                status_code=409,
+                detail=f"job {job_id} is {status}; cancel it first (DELETE without purge), "
+                "then purge it",
+            )
+        return job_out(gone)
+    previous, job = store.cancel(job_id)
+    if job is None:
+        raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
+    if previous in FINISHED and previous != "cancelled":
+        raise HTTPException(
+            status_code=409,
+            detail=f"job {job_id} is already {previous}; nothing to cancel (to delete it and "
+            f"its result: DELETE /v1/jobs/{job_id}?purge=true)",
+        )
+    pool.wake()
+    return job_out(job, store)

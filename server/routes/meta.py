@@ -1,0 +1,125 @@
+"""What the service is and runs: health, the model parameters."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any
+
+import fastapi_offline
+from fastapi import APIRouter, HTTPException, Request
+from fastapi.openapi.docs import (
+    get_redoc_html,
+    get_swagger_ui_html,
+    get_swagger_ui_oauth2_redirect_html,
+)
+from fastapi.responses import HTMLResponse
+
+from server.deps import PoolDep, SettingsDep, StoreDep
+from server.schemas import (
+    DEFAULT_DT_S,
+    DEFAULT_INTEGRATOR,
+    INTEGRATOR_NAMES,
+    MAX_STABLE_DT_S,
+    Health,
+    IntegratorInfo,
+    ModelParameter,
+    Problem,
+    WorkerHealth,
+)
+
+router = APIRouter(tags=["meta"])
+
+# Swagger UI and ReDoc from the installed fastapi-offline package, never from a CDN: the
+# service is used in labs without internet. create_app mounts this folder at DOCS_ASSETS.
+DOCS_STATIC = Path(fastapi_offline.__file__).parent / "static"
+DOCS_ASSETS = "/docs-assets"
+
+
+@router.get("/docs", include_in_schema=False)
+def swagger_ui(request: Request) -> HTMLResponse:
+    root = request.scope.get("root_path", "")
+    return get_swagger_ui_html(
+        openapi_url=f"{root}{request.app.openapi_url}",
+        title=f"{request.app.title} - Swagger UI",
+        oauth2_redirect_url=f"{root}/docs/oauth2-redirect",
+        swagger_js_url=f"{root}{DOCS_ASSETS}/swagger-ui-bundle.js",
+        swagger_css_url=f"{root}{DOCS_ASSETS}/swagger-ui.css",
+        swagger_favicon_url=f"{root}{DOCS_ASSETS}/favicon.png",
+    )
+
+
+@router.get("/docs/oauth2-redirect", include_in_schema=False)
+def swagger_ui_redirect() -> HTMLResponse:
+    return get_swagger_ui_oauth2_redirect_html()
+
+
+@router.get("/redoc", include_in_schema=False)
+def redoc(request: Request) -> HTMLResponse:
+    root = request.scope.get("root_path", "")
+    return get_redoc_html(
+        openapi_url=f"{root}{request.app.openapi_url}",
+        title=f"{request.app.title} - ReDoc",
+        redoc_js_url=f"{root}{DOCS_ASSETS}/redoc.standalone.js",
+        redoc_favicon_url=f"{root}{DOCS_ASSETS}/favicon.png",
+        with_google_fonts=False,
+    )
+
+
+@router.get(
+    "/v1/integrators",
+    response_model=list[IntegratorInfo],
+    summary="The integrators a job may ask for, with the largest stable timestep of each",
+)
+def list_integrators() -> Any:
+    return [
+        {
+            "name": name,
+            "default": name == DEFAULT_INTEGRATOR,
+            "default_dt_s": DEFAULT_DT_S if name == DEFAULT_INTEGRATOR else None,
+            "max_stable_dt_s": MAX_STABLE_DT_S[name],
+        }
+        for name in INTEGRATOR_NAMES
+    ]
+
+
+def _plain(v: Any) -> Any:
+    """parameter_table values may be numpy scalars; JSON wants plain Python."""
+    if hasattr(v, "item"):
+        v = v.item()
+    if isinstance(v, float) and not math.isfinite(v):
+        return None
+    return v
+
+
+@router.get(
+    "/v1/model",
+    response_model=list[ModelParameter],
+    responses={503: {"model": Problem, "description": "the simulation core is unavailable"}},
+    summary="The model parameters in use, with their origin (paper or invented)",
+)
+def get_model() -> Any:
+    try:
+        from sim_core import parameter_table
+    except Exception as exc:
+        raise HTTPException(
+            status_code=503, detail=f"sim_core could not be imported: {exc}"
+        ) from exc
+    return [
+        {"name": n, "value": _plain(v), "origin": o, "reason": r}
+        for n, v, o, r in parameter_table()
+    ]
+
+
+@router.get("/healthz", response_model=Health)
+def healthz(store: StoreDep, pool: PoolDep, settings: SettingsDep) -> Any:
+    counts = store.counts()
+    stats = pool.stats()
+    ok = stats.alive == stats.configured
+    return {
+        "status": "ok" if ok else "degraded",
+        "workers": WorkerHealth(configured=stats.configured, alive=stats.alive, busy=stats.busy),
+        "queued": counts["queued"],
+        "running": counts["running"],
+        "queue_limit": settings.queue_limit,
+    }
