@@ -127,11 +127,10 @@ def _read(page: Any, label: str) -> str | None:
 
 def _wait_read(page: Any, label: str, expected: str, timeout_ms: int = 20_000) -> None:
     try:
-        page.wait_for_function(
-            f"({READ_BY_LABEL})({label!r}) === {expected!r}", timeout=timeout_ms
-        )
+        page.wait_for_function(f"({READ_BY_LABEL})({label!r}) === {expected!r}", timeout=timeout_ms)
     except Exception as exc:  # say what was there instead
-        raise AssertionError(f"{label}: expected {expected!r}, read {_read(page, label)!r}") from exc
+        found = _read(page, label)
+        raise AssertionError(f"{label}: expected {expected!r}, read {found!r}") from exc
 
 
 def test_page_renders_a_readable_gait_and_the_slider_drives_the_simulation(
