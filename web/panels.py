@@ -91,11 +91,8 @@ def format_readouts(r: Readouts) -> dict[str, str]:
     elif r.rtf is None:
         status = "starting"
     elif r.rtf < BEHIND_RATIO * r.target_speed:
-        status = (
-            f"behind: {r.rtf:.2f}x of {r.target_speed:g}x "
-            "(this machine cannot keep up: other work on its cores, or a speed above "
-            "what stepping alone reaches)"
-        )
+        # other work on the cores (API jobs), or a speed above what stepping alone reaches
+        status = f"behind: {r.rtf:.2f}x of {r.target_speed:g}x (machine cannot keep up)"
     else:
         status = f"keeping up with {r.target_speed:g}x"
     rtf = "paused" if not r.playing else _f(r.rtf, "{:.2f}x")
@@ -105,7 +102,7 @@ def format_readouts(r: Readouts) -> dict[str, str]:
         "slope (simulation, °)": f"{r.slope_deg:.1f}",
         "sim time (s)": f"{r.time_s:.2f}",
         "speed along heading (cm/s)": _f(r.speed_cm_s, "{:.2f}")
-        + _f(r.heading_deg, "  (heading {:.0f}°)", ""),
+        + ("" if r.heading_deg is None else f"  (heading {round(r.heading_deg)}°)"),
         "duty factor (measured)": _f(r.duty_factor, "{:.3f}"),
         "gait": f"{r.gait}  (Δ31 now {r.d31_now:.2f} rad)",
         "real-time factor": rtf + f"  (stepping alone {_f(r.stepping_rtf, '{:.1f}x')})",

@@ -256,7 +256,7 @@ def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> lis
         if len(seg) >= 2:
             out.append(
                 f'<polyline class="ramp" data-direction="{html.escape(direction)}" '
-                f'points="{pts}" fill="none" stroke="{colour}" stroke-width="1"/>'
+                f'points="{pts}" fill="none" stroke="{colour}" stroke-width="1.6"/>'
             )
         else:
             e = seg[0]
