@@ -26,7 +26,7 @@ LEG_COLOURS = tuple(PAIR_COLOURS[i // 2] if i % 2 == 0 else LEFT_TINTS[i // 2] f
 TWO_PI = 2.0 * math.pi
 
 W, H = 300, 150  # viewBox; the panel scales it to its width
-LEFT, RIGHT, TOP, BOTTOM = 34, 8, 16, 20
+LEFT, RIGHT, TOP, BOTTOM = 34, 14, 16, 20
 FONT = 'font-family="sans-serif" font-size="9"'
 
 
