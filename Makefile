@@ -6,7 +6,10 @@ STAMP := $(VENV)/.installed
 API_PORT ?= 8000
 VIEWER_PORT ?= 8080
 
-.PHONY: install run test lint typecheck bench clean
+# bash for `wait -n` in `run`
+SHELL := /bin/bash
+
+.PHONY: install run test lint typecheck bench screenshot clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -16,13 +19,18 @@ $(STAMP): pyproject.toml
 
 install: $(STAMP)
 
+# Both servers in the background; Ctrl-C (or TERM) stops both and the recipe exits 0, quietly.
+# (The old `trap 'kill 0' ...` sent TERM to its own shell from inside the TERM trap, which
+# recursed until the shell crashed: "make: *** [run] Segmentation fault".) If one server exits
+# by itself, the other is stopped and its status is the recipe's.
 run: $(STAMP)
 	@echo "API:    http://127.0.0.1:$(API_PORT)/docs"
 	@echo "Viewer: http://127.0.0.1:$(VIEWER_PORT)"
-	@trap 'kill 0' INT TERM EXIT; \
-	$(BIN)/insect-gait api --host 127.0.0.1 --port $(API_PORT) & \
-	$(BIN)/insect-gait viewer --host 127.0.0.1 --port $(VIEWER_PORT) & \
-	wait
+	@$(BIN)/insect-gait api --host 127.0.0.1 --port $(API_PORT) & api=$$!; \
+	$(BIN)/insect-gait viewer --host 127.0.0.1 --port $(VIEWER_PORT) & viewer=$$!; \
+	stop() { trap '' INT TERM; kill -TERM $$api $$viewer 2>/dev/null; wait 2>/dev/null; }; \
+	trap 'stop; exit 0' INT TERM; \
+	wait -n; status=$$?; stop; exit $$status
 
 test: $(STAMP)
 	$(BIN)/ruff check .
@@ -38,6 +46,11 @@ typecheck: $(STAMP)
 
 bench: $(STAMP)
 	$(BIN)/insect-gait bench
+
+# Refresh the README's screenshot (make test writes it to out/ only, leaving the tree clean).
+screenshot: $(STAMP)
+	CI=true $(BIN)/pytest -q tests/web/test_viewer_browser.py -k renders
+	cp out/viewer.png docs/figures/viewer.png
 
 clean:
 	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache

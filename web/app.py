@@ -10,6 +10,10 @@ read by people, and each redraw is a message to every browser.
 One simulation for everyone: viser's `server.gui` is shared by all browsers, so sliders already
 move for everybody; a simulation per browser would need per-client panels and would multiply
 the CPU cost per open tab on a model that barely runs faster than real time.
+
+Nobody watching, nothing simulated: with no browser connected the loop does not step (it would
+cost a third of a core for nobody); it waits for viser's client-connect hook and resumes where
+it stopped.
 """
 
 from __future__ import annotations
@@ -27,6 +31,7 @@ from sim_core import RunSpec, Simulation
 from web import controls
 from web.bifurcation import load_bifurcation
 from web.footfall import D31Trace, FootfallBuffer
+from web.heading import HeadingSpeed
 from web.pacing import RateMeter, SimClock
 from web.panels import Panels, Readouts
 from web.requests import (
@@ -36,6 +41,7 @@ from web.requests import (
     SetBeta,
     SetBodyMass,
     SetFollow,
+    SetFootfallWindow,
     SetPlaying,
     SetSlope,
     SetSpeed,
@@ -57,7 +63,7 @@ class LoopConfig:
     panel_hz: float = 5.0  # diagrams and readouts
     chunk_s: float = 0.002  # stance sampling step: a swing lasts 34 ms, a frame 33 ms
     step_budget: float = 0.8  # share of a frame the stepping may use before we draw anyway
-    footfall_window_s: float = 3.0
+    footfall_buffer_s: float = 3.0  # kept; the diagram shows the window the user chose in it
     d31_window_s: float = 30.0
     trail_len: int = 600  # live (beta, Delta31) points kept on the bifurcation panel
 
@@ -73,6 +79,8 @@ class LoopStats:
     stepping_rtf: float | None = None
     frame_hz: float | None = None
     beta: float = controls.BETA.initial
+    clients: int = 0
+    idle: bool = True  # no browser connected: not simulating
 
 
 class ViewerApp:
@@ -100,8 +108,10 @@ class ViewerApp:
         self.scene = HexapodScene(self.server, self.sim.model)
         self.panels = Panels(self.server, self.requests)
         self.panels.sync_controls(self.sim.beta, True, False)
-        self.footfall = FootfallBuffer(self.cfg.footfall_window_s)
+        self.footfall = FootfallBuffer(self.cfg.footfall_buffer_s)
+        self.footfall_window_s = controls.FOOTFALL_WINDOW_S.initial
         self.d31 = D31Trace()
+        self.heading = HeadingSpeed()
         self.bifurcation_path = bifurcation_path
         self._bif_mtime: float | None = -1.0
         self._bif: tuple[dict[str, list[tuple[float, float]]] | None, str] = (None, "")
@@ -109,11 +119,19 @@ class ViewerApp:
         self.speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
         self.ramp: controls.BetaRamp | None = None
         self._ramp_t0 = 0.0
+        self._ramp_moved_beta = False  # the loop moved beta since the slider last showed it
         self.error: str | None = None
         self.stats = LoopStats()
         self._clock = SimClock()
         self._stop = threading.Event()
+        self._wake = threading.Event()  # set by viser's connect hook: a browser arrived
         self._thread: threading.Thread | None = None
+        self.server.on_client_connect(self._on_connect)
+        self.server.on_client_disconnect(self._on_connect)
+
+    def _on_connect(self, client: viser.ClientHandle) -> None:
+        """viser's connect/disconnect hook (its thread pool): only wakes the loop."""
+        self._wake.set()
 
     @property
     def port(self) -> int:
@@ -156,19 +174,25 @@ class ViewerApp:
                 self._clock.reset()
             case SetPlaying(playing=p):
                 self.playing = p and self.error is None
-            case SetFollow(follow=f):
-                self.scene.set_follow(f)
+            case SetFollow(mode=m):
+                self.scene.set_follow(m)
+            case SetFootfallWindow(seconds=w):
+                self.footfall_window_s = min(
+                    self.cfg.footfall_buffer_s, controls.FOOTFALL_WINDOW_S.clamp(w)
+                )
             case Reset(d31_init=d):
                 self.ramp = None
                 sim.reset(d31_init=controls.d31_init_value(d))
                 self.footfall.clear()
                 self.d31.clear()
+                self.heading.clear()
                 self._clock.reset()
                 self.error = None
                 self.playing = True
             case StartRamp(rate_per_s=r):
                 self.ramp = controls.BetaRamp(start=sim.beta, rate_per_s=max(1e-4, r))
                 self._ramp_t0 = sim.time_s
+                self.d31.ramp_path.clear()  # a new ramp draws a new path
             case StopRamp():
                 self.ramp = None
 
@@ -182,6 +206,20 @@ class ViewerApp:
         last = time.perf_counter()
         next_panel = next_bif = 0.0
         while not self._stop.is_set():
+            clients = len(self.server.get_clients())
+            if clients == 0:
+                # nobody watching: do not simulate; sleep until a browser connects
+                self.stats = LoopStats(
+                    frames, sim_total, step_wall_total, None, None, None, self.sim.beta, 0, True
+                )
+                self._wake.wait(0.5)
+                self._wake.clear()
+                last = time.perf_counter()
+                self._clock.reset()
+                rtf.reset()
+                step_rtf.reset()
+                fps.reset()
+                continue
             t_frame = time.perf_counter()
             for req in self.requests.drain():
                 try:
@@ -202,13 +240,14 @@ class ViewerApp:
             now = time.perf_counter()
             rtf.add(now, sim_total)
             step_rtf.add(step_wall_total, sim_total)
-            self.scene.update(self.sim.data, self.sim.stance, self.sim.slope_deg)
+            data = self.sim.data  # kinematics computed once per frame, for all readers
+            self.heading.add(self.sim.time_s, data.qpos[0:3], data.qpos[3:7])
+            self.scene.update(data, self.sim.stance, self.sim.slope_deg, self.heading.heading_rad)
             frames += 1
             fps.add(now, frames)
-            self.d31.sync(self.sim.d31_events, self.sim.beta)
             if now >= next_panel:
                 next_panel = now + 1.0 / cfg.panel_hz
-                self._draw_panels(rtf.rate if self.playing else None, step_rtf.rate, fps.rate)
+                self._draw_panels(rtf.rate, step_rtf.rate, fps.rate)
             if now >= next_bif:
                 next_bif = now + 2.0 / cfg.panel_hz
                 self._draw_bifurcation()
@@ -220,6 +259,8 @@ class ViewerApp:
                 step_rtf.rate,
                 fps.rate,
                 self.sim.beta,
+                clients,
+                False,
             )
             self._stop.wait(max(0.0, t_frame + period - time.perf_counter()))
 
@@ -228,11 +269,15 @@ class ViewerApp:
         sim, chunk = self.sim, self.cfg.chunk_s
         advanced = 0.0
         while due - advanced >= chunk * 0.5 and time.perf_counter() < deadline:
+            direction = ""
             if self.ramp is not None:
                 elapsed = sim.time_s - self._ramp_t0
                 sim.set_beta(self.ramp.beta_at(elapsed))
-                if self.ramp.direction_at(elapsed) == "done":
+                self._ramp_moved_beta = True
+                direction = self.ramp.direction_at(elapsed)
+                if direction == "done":
                     self.ramp = None
+                    direction = ""
             t0 = sim.time_s
             try:
                 sim.advance(chunk)
@@ -243,6 +288,8 @@ class ViewerApp:
                 break
             advanced += sim.time_s - t0
             self.footfall.append(sim.time_s, sim.stance)
+            # Delta31 events with the beta (and ramp direction) in force when they happened
+            self.d31.sync(sim.d31_events, sim.beta, direction)
         return advanced
 
     def _draw_panels(
@@ -253,13 +300,17 @@ class ViewerApp:
         if self.ramp is not None:
             direction = self.ramp.direction_at(sim.time_s - self._ramp_t0)
             ramp = f"{direction}, β = {sim.beta:.3f}"
-        self.panels.sync_controls(sim.beta, self.playing, self.ramp is not None)
+        # the slider shows beta only when the loop moved it (the ramp), never a person's input
+        moved = self._ramp_moved_beta
+        self._ramp_moved_beta = False
+        self.panels.sync_controls(sim.beta if moved else None, self.playing, self.ramp is not None)
         gait = sim.gait
+        heading = self.heading.heading_rad
         self.panels.show_readouts(
             Readouts(
                 beta=sim.beta,
                 time_s=sim.time_s,
-                speed_cm_s=sim.speed_cm_s,
+                speed_cm_s=self.heading.speed_cm_s,
                 duty_factor=sim.duty_factor,
                 gait=gait,
                 d31_now=sim.d31_now,
@@ -269,12 +320,16 @@ class ViewerApp:
                 frame_hz=frame_hz,
                 ramp=ramp,
                 error=self.error,
+                playing=self.playing,
+                body_mass_g=sim.body_mass_g,
+                slope_deg=sim.slope_deg,
+                heading_deg=None if heading is None else math.degrees(heading),
             )
         )
         t_now = sim.time_s
         self.panels.show_html(
             self.panels.footfall,
-            footfall_svg(self.footfall.bars(), t_now, cfg.footfall_window_s),
+            footfall_svg(self.footfall.bars(), t_now, self.footfall_window_s),
         )
         self.panels.show_html(
             self.panels.d31,
@@ -296,5 +351,12 @@ class ViewerApp:
         live = (self.sim.beta, last.d31 if last is not None else None)
         self.panels.show_html(
             self.panels.bifurcation,
-            bifurcation_svg(cached, note, trail, live, (controls.BETA.lo, controls.BETA.hi)),
+            bifurcation_svg(
+                cached,
+                note,
+                trail,
+                live,
+                (controls.BETA.lo, controls.BETA.hi),
+                list(self.d31.ramp_path),
+            ),
         )

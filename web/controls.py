@@ -36,6 +36,23 @@ class SliderRange:
             return self.initial
         return min(self.hi, max(self.lo, v))
 
+    def typed(self, value: float) -> float | None:
+        """The value a person means, or None while it cannot be one yet.
+
+        A number box sends every keystroke: typing "0.62" sends 0, 0, 0.6 and 0.62. The first
+        two are outside the range; they are keystrokes on the way to a value, not requests to
+        clamp to 0.55 (which is what made typed betas stick at 0.55). So a value outside the
+        range, or not a number at all (a lone "-"), is not applied; the browser's number box
+        clamps it when the person leaves the box, and that clamped value then arrives here.
+        """
+        v = float(value)
+        if not math.isfinite(v):
+            return None
+        tol = 1e-9 * max(1.0, abs(self.hi - self.lo))
+        if v < self.lo - tol or v > self.hi + tol:
+            return None
+        return min(self.hi, max(self.lo, v))
+
 
 # The paper's Fig. 5/9 range of the duty factor: metachronal above ~0.7, tripod below ~0.6.
 BETA = SliderRange("β (duty factor)", 0.55, 0.80, 0.005, 0.66)
@@ -44,6 +61,9 @@ BETA = SliderRange("β (duty factor)", 0.55, 0.80, 0.005, 0.66)
 BODY_MASS_G = SliderRange("body mass", 1.0, 10.0, 0.1, 3.0, "g")
 # RunSpec allows (-90, 90); steeper than 30 degrees the insect slides, which says nothing new.
 SLOPE_DEG = SliderRange("slope (uphill +)", -30.0, 30.0, 0.5, 0.0, "°")
+# Footfall diagram: a few gait cycles (one lasts ~0.1 s at the defaults) read as a gait; 3 s is
+# ~30 stance bars per leg, a barcode.
+FOOTFALL_WINDOW_S = SliderRange("footfall window", 0.2, 3.0, 0.1, 0.5, "s")
 D31_INIT = SliderRange("initial Δ31", 0.0, round(TWO_PI, 2), 0.01, round(METACHRONAL, 2), "rad")
 
 # Speed choices: label -> multiplier of real time; None = as fast as the machine allows.
@@ -57,6 +77,13 @@ SPEEDS: dict[str, float | None] = {
     "max": None,
 }
 DEFAULT_SPEED = "1x"
+
+# Camera modes: the follow camera moves the world under a still camera (web/scene.py).
+CAMERA_FIXED = "fixed"
+CAMERA_POSITION = "follow position"
+CAMERA_HEADING = "follow position and heading"
+CAMERA_MODES = (CAMERA_POSITION, CAMERA_HEADING, CAMERA_FIXED)
+DEFAULT_CAMERA = CAMERA_POSITION
 
 
 def beta_value(slider: float) -> float:

@@ -92,6 +92,7 @@ class D31Event:
     time_s: float
     d31: float
     beta: float
+    ramp: str = ""  # "down"/"up" while the beta ramp ran, else ""
 
 
 class D31Trace:
@@ -103,23 +104,33 @@ class D31Trace:
 
     def __init__(self, maxlen: int = 5_000) -> None:
         self.events: deque[D31Event] = deque(maxlen=maxlen)
+        # the latest beta ramp's path (a ramp at the default rate takes ~2 minutes, ~1300 events)
+        self.ramp_path: deque[D31Event] = deque(maxlen=20_000)
         self._seen = 0  # how many of the core's events have been taken
         self.version = 0
 
     def clear(self) -> None:
         self.events.clear()
+        self.ramp_path.clear()
         self._seen = 0
         self.version += 1
 
-    def sync(self, core_events: list[tuple[float, float]], beta: float) -> int:
-        """Take new events from the core's list; returns how many were new."""
+    def sync(self, core_events: list[tuple[float, float]], beta: float, ramp: str = "") -> int:
+        """Take new events from the core's list; returns how many were new.
+
+        `ramp` ("down"/"up"/"") is the beta ramp's direction now; events taken during a ramp
+        are also kept in `ramp_path`, the path the ramp draws on the bifurcation panel.
+        """
         n = len(core_events)
         if n < self._seen:  # the core started over (reset)
             self._seen = 0
         new = core_events[self._seen :]
         for t, d in new:
             if math.isfinite(d):
-                self.events.append(D31Event(float(t), float(d), float(beta)))
+                event = D31Event(float(t), float(d), float(beta), ramp)
+                self.events.append(event)
+                if ramp:
+                    self.ramp_path.append(event)
         self._seen = n
         if new:
             self.version += 1

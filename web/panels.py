@@ -1,9 +1,17 @@
 """The control panel: sliders and buttons that only queue requests, readouts and diagrams.
 
-Every callback here runs on viser's thread pool and does one thing: put a request on the queue.
-When the loop thread sets a control itself (the ramp moving the beta slider, the play button's
-label), viser calls the same callbacks synchronously with `event.client is None`; those echoes
-are ignored, so the loop never queues requests to itself.
+Every callback here runs on viser's thread pool and does one thing: put a request on the queue
+(and note when a person last touched that control). When the loop thread sets a control itself
+(the ramp moving the beta slider, the play button's label), viser calls the same callbacks
+synchronously with `event.client is None`; those echoes are ignored, so the loop never queues
+requests to itself.
+
+Typed values. A number box sends every keystroke ("0.62" arrives as 0, 0, 0.6, 0.62), so:
+- a value that cannot be one yet (outside the slider's range, or not a number) is not applied
+  (`SliderRange.typed`); the box clamps it itself when the person leaves it;
+- the loop never writes a value back into a control because a person changed it: the simulation
+  takes exactly what the box holds. The loop writes a control only when it moved the value
+  itself (the beta ramp), and never within `EDIT_QUIET_S` of a person's last change there.
 
 All browsers see the same panel (`server.gui` state is shared), which is why there is one
 simulation for everyone (docs/VIEWER.md).
@@ -12,18 +20,22 @@ simulation for everyone (docs/VIEWER.md).
 from __future__ import annotations
 
 import math
+import time
+from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any
 
 import viser
 
 from web import controls
+from web.caption import CAPTION
 from web.requests import (
+    Request,
     RequestQueue,
     Reset,
     SetBeta,
     SetBodyMass,
     SetFollow,
+    SetFootfallWindow,
     SetPlaying,
     SetSlope,
     SetSpeed,
@@ -33,6 +45,13 @@ from web.requests import (
 
 PLAY, PAUSE = "Play", "Pause"
 RAMP_START, RAMP_STOP = "Ramp β down and up", "Stop ramp"
+PRESET_TRIPOD, PRESET_METACHRONAL = "Start as tripod (Δ31 = π)", "Start as metachronal (2π/3)"
+# The loop leaves a control alone this long after a person last changed it (typing pauses
+# between keys are well under a second; the ramp is stopped by the first keystroke anyway).
+EDIT_QUIET_S = 2.0
+# "behind" below this share of the chosen speed: the 1 s rate window reads 0.97-1.0 at 1x
+# when all is well, so 0.95 is a real shortfall, not noise.
+BEHIND_RATIO = 0.95
 
 
 @dataclass(frozen=True)
@@ -41,7 +60,7 @@ class Readouts:
 
     beta: float
     time_s: float
-    speed_cm_s: float | None
+    speed_cm_s: float | None  # along the body's heading (web/heading.py)
     duty_factor: float | None
     gait: str
     d31_now: float
@@ -51,6 +70,10 @@ class Readouts:
     frame_hz: float | None
     ramp: str  # "" when no ramp runs, else "down"/"up" and the ramp's beta
     error: str | None = None
+    playing: bool = True
+    body_mass_g: float = controls.BODY_MASS_G.initial
+    slope_deg: float = controls.SLOPE_DEG.initial
+    heading_deg: float | None = None
 
 
 def _f(v: float | None, fmt: str, missing: str = "–") -> str:
@@ -61,20 +84,28 @@ def format_readouts(r: Readouts) -> dict[str, str]:
     """Panel strings, keyed by readout label. Pure, so a test pins what a user reads."""
     if r.error:
         status = f"stopped: {r.error} — press Reset"
+    elif not r.playing:
+        status = "paused"
     elif r.target_speed is None:
-        status = "running as fast as possible"
-    elif r.rtf is not None and r.rtf < 0.9 * r.target_speed:
-        status = f"behind: {r.rtf:.2f}x of {r.target_speed:g}x (machine too slow)"
+        status = "running as fast as possible" + _f(r.rtf, " ({:.2f}x)", "")
+    elif r.rtf is None:
+        status = "starting"
+    elif r.rtf < BEHIND_RATIO * r.target_speed:
+        # other work on the cores (API jobs), or a speed above what stepping alone reaches
+        status = f"behind: {r.rtf:.2f}x of {r.target_speed:g}x (machine cannot keep up)"
     else:
         status = f"keeping up with {r.target_speed:g}x"
+    rtf = "paused" if not r.playing else _f(r.rtf, "{:.2f}x")
     return {
         "β (simulation)": f"{r.beta:.4f}",
+        "body mass (simulation, g)": f"{r.body_mass_g:.2f}",
+        "slope (simulation, °)": f"{r.slope_deg:.1f}",
         "sim time (s)": f"{r.time_s:.2f}",
-        "speed (cm/s)": _f(r.speed_cm_s, "{:.2f}"),
+        "speed along heading (cm/s)": _f(r.speed_cm_s, "{:.2f}")
+        + ("" if r.heading_deg is None else f"  (heading {round(r.heading_deg)}°)"),
         "duty factor (measured)": _f(r.duty_factor, "{:.3f}"),
         "gait": f"{r.gait}  (Δ31 now {r.d31_now:.2f} rad)",
-        "real-time factor": _f(r.rtf, "{:.2f}x")
-        + f"  (stepping alone {_f(r.stepping_rtf, '{:.1f}x')})",
+        "real-time factor": rtf + f"  (stepping alone {_f(r.stepping_rtf, '{:.1f}x')})",
         "stream rate (Hz)": _f(r.frame_hz, "{:.0f}"),
         "ramp": r.ramp or "off",
         "status": status,
@@ -87,20 +118,20 @@ class Panels:
     def __init__(self, server: viser.ViserServer, requests: RequestQueue) -> None:
         self.server = server
         self.requests = requests
+        # control key -> time.monotonic() of a person's last change (written by callbacks,
+        # read by the loop; a float store is atomic)
+        self._edited_at: dict[str, float] = {}
         gui = server.gui
         gui.configure_theme(control_width="large", dark_mode=False)
-        gui.add_markdown(
-            "**Hexapod (Fujiki et al. 2013)** — drag β down and watch the gait jump from "
-            "metachronal to tripod; ramp β to draw the hysteresis loop."
-        )
+        # Plots first: at 1280x800 the footfall diagram and Delta31 show without scrolling.
+        gui.add_markdown(CAPTION)
+        with gui.add_folder("Gait"):
+            self.footfall = gui.add_html("<em>footfall: waiting for the first steps</em>")
+            self.d31 = gui.add_html("<em>Δ31: waiting for leg-1 touchdowns</em>")
         with gui.add_folder("Controls"):
-            self.beta = self._slider(controls.BETA, lambda v: SetBeta(controls.beta_value(v)))
-            self.mass = self._slider(
-                controls.BODY_MASS_G, lambda v: SetBodyMass(controls.body_mass_g_value(v))
-            )
-            self.slope = self._slider(
-                controls.SLOPE_DEG, lambda v: SetSlope(controls.slope_deg_value(v))
-            )
+            self.beta = self._slider("beta", controls.BETA, SetBeta)
+            self.mass = self._slider("mass", controls.BODY_MASS_G, SetBodyMass)
+            self.slope = self._slider("slope", controls.SLOPE_DEG, SetSlope)
             self.speed = gui.add_dropdown(
                 "speed", tuple(controls.SPEEDS), initial_value=controls.DEFAULT_SPEED
             )
@@ -110,19 +141,28 @@ class Panels:
             self.play = gui.add_button(PAUSE)
             self.play.on_click(self._on_play)
             self._playing = True
-            self.d31_init = self._slider(controls.D31_INIT, None)
-            self.reset = gui.add_button("Reset with this initial Δ31")
-            self.reset.on_click(
-                self._queue(lambda: Reset(controls.d31_init_value(self.d31_init.value)))
-            )
+            self.tripod = gui.add_button(PRESET_TRIPOD)
+            self.tripod.on_click(self._queue(lambda: Reset(controls.TRIPOD)))
+            self.metachronal = gui.add_button(PRESET_METACHRONAL)
+            self.metachronal.on_click(self._queue(lambda: Reset(controls.METACHRONAL)))
             self.ramp_rate = gui.add_number(
                 "ramp rate (β/s)", 0.004, min=0.0005, max=0.05, step=0.0005
             )
             self.ramp = gui.add_button(RAMP_START)
             self.ramp.on_click(self._on_ramp)
             self._ramping = False
-            self.follow = gui.add_checkbox("follow camera", True)
-            self.follow.on_update(self._queue(lambda: SetFollow(bool(self.follow.value))))
+            self.window = self._slider("footfall", controls.FOOTFALL_WINDOW_S, SetFootfallWindow)
+            self.camera = gui.add_dropdown(
+                "camera", controls.CAMERA_MODES, initial_value=controls.DEFAULT_CAMERA
+            )
+            self.camera.on_update(self._queue(lambda: SetFollow(str(self.camera.value))))
+            self.d31_init = self._slider("d31_init", controls.D31_INIT, None)
+            self.reset = gui.add_button("Reset with this initial Δ31")
+            self.reset.on_click(
+                self._queue(lambda: Reset(controls.d31_init_value(self.d31_init.value)))
+            )
+        with gui.add_folder("Bifurcation"):
+            self.bifurcation = gui.add_html("<em>bifurcation diagram</em>")
         with gui.add_folder("Readouts"):
             blank = format_readouts(
                 Readouts(
@@ -130,23 +170,36 @@ class Panels:
                 )
             )
             self.readouts = {k: gui.add_text(k, v, disabled=True) for k, v in blank.items()}
-        with gui.add_folder("Plots"):
-            self.footfall = gui.add_html("<em>footfall: waiting for the first steps</em>")
-            self.d31 = gui.add_html("<em>Δ31: waiting for leg-1 touchdowns</em>")
-            self.bifurcation = gui.add_html("<em>bifurcation diagram</em>")
         self._last: dict[str, str] = {}
 
     # --- callbacks: queue only -----------------------------------------------------------------
-    def _slider(self, spec: controls.SliderRange, make: Any) -> viser.GuiSliderHandle:
+    def _slider(
+        self,
+        key: str,
+        spec: controls.SliderRange,
+        make: Callable[[float], Request] | None,
+    ) -> viser.GuiSliderHandle:
         label = f"{spec.label} ({spec.unit})" if spec.unit else spec.label
         handle = self.server.gui.add_slider(
             label, min=spec.lo, max=spec.hi, step=spec.step, initial_value=spec.initial
         )
-        if make is not None:
-            handle.on_update(self._queue(lambda: make(handle.value)))
+        if make is None:
+            return handle
+
+        def callback(event: viser.GuiEvent) -> None:
+            if event.client is None:
+                return  # the loop set this control itself: not a user's request
+            self._edited_at[key] = time.monotonic()
+            value = spec.typed(handle.value)
+            if value is not None:
+                self.requests.put(make(value))
+            elif key == "beta" and self._ramping:
+                self.requests.put(StopRamp())  # a hand on the box overrides the ramp
+
+        handle.on_update(callback)
         return handle
 
-    def _queue(self, make: Any) -> Any:
+    def _queue(self, make: Callable[[], Request]) -> Callable[[viser.GuiEvent], None]:
         def callback(event: viser.GuiEvent) -> None:
             if event.client is None:
                 return  # the loop set this control itself: not a user's request
@@ -167,9 +220,19 @@ class Panels:
             self.requests.put(StartRamp(float(self.ramp_rate.value)))
 
     # --- loop thread only ----------------------------------------------------------------------
+    def editing(self, key: str, now: float | None = None) -> bool:
+        """Whether a person changed control `key` within the last `EDIT_QUIET_S` seconds."""
+        t = self._edited_at.get(key)
+        now = time.monotonic() if now is None else now
+        return t is not None and now - t < EDIT_QUIET_S
+
     def sync_controls(self, beta: float | None, playing: bool, ramping: bool) -> None:
-        """Reflect state the loop changed (ramp beta, play state) without queueing requests."""
-        if beta is not None and abs(self.beta.value - beta) > 1e-9:
+        """Reflect state the loop changed itself, without queueing requests.
+
+        `beta` is given only when the loop moved it (the ramp); it is not written while a
+        person is editing the box, so a keystroke is never overwritten.
+        """
+        if beta is not None and abs(self.beta.value - beta) > 1e-9 and not self.editing("beta"):
             self.beta.value = beta
         if playing != self._playing:
             self._playing = playing

@@ -40,7 +40,12 @@ class SetPlaying:
 
 @dataclass(frozen=True)
 class SetFollow:
-    follow: bool
+    mode: str  # one of controls.CAMERA_MODES
+
+
+@dataclass(frozen=True)
+class SetFootfallWindow:
+    seconds: float
 
 
 @dataclass(frozen=True)
@@ -65,13 +70,22 @@ Request = (
     | SetSpeed
     | SetPlaying
     | SetFollow
+    | SetFootfallWindow
     | Reset
     | StartRamp
     | StopRamp
 )
 
 # Settings: a later one of the same type makes an earlier one pointless.
-_SETTINGS = (SetBeta, SetBodyMass, SetSlope, SetSpeed, SetPlaying, SetFollow)
+_SETTINGS = (
+    SetBeta,
+    SetBodyMass,
+    SetSlope,
+    SetSpeed,
+    SetPlaying,
+    SetFollow,
+    SetFootfallWindow,
+)
 
 
 def coalesce(requests: list[Request]) -> list[Request]:

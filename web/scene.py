@@ -10,9 +10,12 @@ the three primitive geom types the hexapod uses by hand.
 Slope. The core tilts gravity, not the floor (slope theta uphill along +x). For the eye we do
 the opposite: every dynamic node lives under one frame, `/bodies`, rotated by the slope about
 +y, so the floor grid and the insect tilt together while the camera's "up" stays the true
-vertical. The same frame's translation implements the follow camera: moving the world under a
-still camera keeps orbiting and zooming with the user, where moving each browser's camera
-would fight their mouse.
+vertical. The same frame's pose implements the follow camera: moving the world under a still
+camera keeps orbiting and zooming with the user, where moving each browser's camera would fight
+their mouse. "follow position" translates the world so the body stays at the origin; "follow
+position and heading" also turns it about the vertical so the body keeps facing +x (the
+heading is a one-second circular mean, web/heading.py, so the view does not shake with each
+step).
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ import numpy as np
 import trimesh
 import viser
 
+from web import controls
 from web.svg import LEG_ORDER, PAIR_COLOURS
 
 # Every dynamic node lives under this node; we own its pose (see the module docstring).
@@ -41,11 +45,53 @@ def slope_wxyz(slope_deg: float) -> np.ndarray:
     return np.array([math.cos(half), 0.0, math.sin(half), 0.0])
 
 
-def rotate_y(slope_deg: float, v: np.ndarray) -> np.ndarray:
-    th = math.radians(slope_deg)
-    c, s = math.cos(th), math.sin(th)
-    x, y, z = v
-    return np.array([c * x - s * z, y, s * x + c * z])
+def yaw_wxyz(yaw_rad: float) -> np.ndarray:
+    """Rotation about +z by `yaw_rad`, as wxyz."""
+    return np.array([math.cos(yaw_rad / 2.0), 0.0, 0.0, math.sin(yaw_rad / 2.0)])
+
+
+def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Hamilton product a*b of wxyz quaternions (apply b, then a)."""
+    aw, ax, ay, az = a
+    bw, bx, by, bz = b
+    return np.array(
+        [
+            aw * bw - ax * bx - ay * by - az * bz,
+            aw * bx + ax * bw + ay * bz - az * by,
+            aw * by - ax * bz + ay * bw + az * bx,
+            aw * bz + ax * by - ay * bx + az * bw,
+        ]
+    )
+
+
+def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Rotate vector v by the unit quaternion q (wxyz)."""
+    w, x, y, z = q
+    r = np.array(
+        [
+            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
+            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
+            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
+        ]
+    )
+    return r @ np.asarray(v, dtype=float)
+
+
+def world_pose(
+    slope_deg: float, mode: str, body_xy: np.ndarray, heading_rad: float | None
+) -> tuple[np.ndarray, np.ndarray]:
+    """(wxyz, position) of the `/bodies` frame: the slope tilt and the follow camera.
+
+    display = R (x - p) with R = tilt(slope) * turn(-heading) and p the body's floor position;
+    "fixed" leaves p = 0 and no turn, "follow position" no turn.
+    """
+    q = slope_wxyz(slope_deg)
+    if mode == controls.CAMERA_FIXED:
+        return q, np.zeros(3)
+    if mode == controls.CAMERA_HEADING and heading_rad is not None:
+        q = quat_mul(q, yaw_wxyz(-heading_rad))
+    p = np.array([float(body_xy[0]), float(body_xy[1]), 0.0])
+    return q, -quat_rotate(q, p)
 
 
 def foot_geom_ids(model: mujoco.MjModel) -> np.ndarray:
@@ -74,8 +120,7 @@ class HexapodScene:
         self.server = server
         self._feet = foot_geom_ids(model)
         self._torso = torso_body_id(model)
-        self._slope = 0.0
-        self._follow = True
+        self._follow = controls.DEFAULT_CAMERA
         self._frame = server.scene.add_frame(BODIES_NODE, show_axes=False)
         self._bodies = add_body_meshes(server, model, BODIES_NODE)
         server.scene.add_grid(
@@ -116,24 +161,28 @@ class HexapodScene:
             client.camera.max_orbit_distance = MAX_ORBIT
 
     @property
-    def follow(self) -> bool:
+    def follow(self) -> str:
         return self._follow
 
-    def set_follow(self, follow: bool) -> None:
-        self._follow = follow
+    def set_follow(self, mode: str) -> None:
+        """One of controls.CAMERA_MODES; anything else means "follow position"."""
+        self._follow = mode if mode in controls.CAMERA_MODES else controls.DEFAULT_CAMERA
 
-    def update(self, data: mujoco.MjData, stance: np.ndarray, slope_deg: float) -> None:
-        """Stream one frame: body poses, stance markers, slope tilt and follow offset."""
+    def update(
+        self,
+        data: mujoco.MjData,
+        stance: np.ndarray,
+        slope_deg: float,
+        heading_rad: float | None = None,
+    ) -> None:
+        """Stream one frame: body poses, stance markers, slope tilt and follow camera."""
         stance = np.asarray(stance, dtype=bool)
+        wxyz, position = world_pose(slope_deg, self._follow, data.xpos[self._torso], heading_rad)
         with self.server.atomic():
-            if slope_deg != self._slope:
-                self._slope = slope_deg
-                self._frame.wxyz = slope_wxyz(slope_deg)
-            if self._follow:
-                p = data.xpos[self._torso]
-                self._frame.position = -rotate_y(slope_deg, np.array([p[0], p[1], 0.0]))
-            elif np.any(self._frame.position != 0.0):
-                self._frame.position = np.zeros(3)
+            if not np.array_equal(self._frame.wxyz, wxyz):
+                self._frame.wxyz = wxyz
+            if not np.array_equal(self._frame.position, position):
+                self._frame.position = position
             for b, handle in self._bodies.items():
                 handle.position = data.xpos[b]
                 handle.wxyz = data.xquat[b]

@@ -14,14 +14,19 @@ from dataclasses import dataclass
 
 from web.footfall import D31Event
 
-LEG_ORDER = ("R1", "L1", "R2", "L2", "R3", "L3")  # the paper's rows, top to bottom
-# Fig. 4's colouring by leg pair: fore, middle, hind
+LEG_ORDER = ("R1", "L1", "R2", "L2", "R3", "L3")  # the paper's legs 1-6, rows top to bottom
+# Fig. 4's colouring by leg pair: fore (legs 1-2) red, middle (3-4) blue, hind (5-6) green;
+# right legs in the full colour, left legs in a light tint of it, so that both the pair and the
+# side read at a glance: a tripod is a checkerboard (R1 L2 R3 against L1 R2 L3), a metachronal
+# wave a staircase running from hind to fore on each side.
 PAIR_COLOURS = ("#d62728", "#1f77b4", "#2ca02c")
-LEG_COLOURS = tuple(PAIR_COLOURS[i // 2] for i in range(6))
+PAIR_NAMES = ("fore", "middle", "hind")
+LEFT_TINTS = ("#f1a3a4", "#9cc7e8", "#9fdc9f")
+LEG_COLOURS = tuple(PAIR_COLOURS[i // 2] if i % 2 == 0 else LEFT_TINTS[i // 2] for i in range(6))
 TWO_PI = 2.0 * math.pi
 
 W, H = 300, 150  # viewBox; the panel scales it to its width
-LEFT, RIGHT, TOP, BOTTOM = 34, 8, 16, 20
+LEFT, RIGHT, TOP, BOTTOM = 34, 14, 16, 20
 FONT = 'font-family="sans-serif" font-size="9"'
 
 
@@ -96,7 +101,7 @@ def _reference_lines(f: Frame) -> list[str]:
 
 def _time_ticks(t0: float, t1: float) -> list[float]:
     span = t1 - t0
-    step = 0.5 if span <= 4 else 1.0 if span <= 10 else 5.0
+    step = next((s for s in (0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 5.0) if span / s <= 6), 10.0)
     first = math.ceil(t0 / step) * step
     n = int((t1 - first) / step + 1e-9) + 1
     return [first + i * step for i in range(max(0, n))]
@@ -105,17 +110,28 @@ def _time_ticks(t0: float, t1: float) -> list[float]:
 def footfall_svg(
     bars: Sequence[Sequence[tuple[float, float]]], t_now: float, window_s: float
 ) -> str:
-    """Six rows (R1 L1 R2 L2 R3 L3), one rect per stance interval, scrolling with time."""
+    """Six rows (legs 1-6: R1 L1 R2 L2 R3 L3), one rect per stance interval, scrolling."""
     t0, t1 = t_now - window_s, t_now
     f = Frame(t0, t1, 0.0, 6.0)
-    out = _open("footfall", "Footfall (stance bars)", t_now=f"{t_now:.4f}")
+    out = _open(
+        "footfall",
+        f"Footfall, last {window_s:g} s (bar = stance; right dark, left light)",
+        t_now=f"{t_now:.4f}",
+        window_s=f"{window_s:g}",
+    )
     row_h = (H - TOP - BOTTOM) / 6.0
     n_bars = 0
+    for pair in (1, 2):  # thin lines between fore, middle and hind
+        y = TOP + 2 * pair * row_h
+        out.append(
+            f'<line x1="{LEFT}" y1="{y:.1f}" x2="{W - RIGHT}" y2="{y:.1f}" stroke="#ccc" '
+            'stroke-width="0.5"/>'
+        )
     for leg, legbars in enumerate(bars):
         y = TOP + leg * row_h
         out.append(
-            f'<text x="{LEFT - 3}" y="{y + row_h * 0.7:.1f}" {FONT} text-anchor="end">'
-            f"{LEG_ORDER[leg]}</text>"
+            f'<text x="{LEFT - 3}" y="{y + row_h * 0.7:.1f}" {FONT} text-anchor="end" '
+            f'fill="{PAIR_COLOURS[leg // 2]}">{leg + 1} {LEG_ORDER[leg]}</text>'
         )
         for a, b in legbars:
             a, b = max(a, t0), min(b, t1)
@@ -127,7 +143,8 @@ def footfall_svg(
                 f'y="{y + row_h * 0.15:.1f}" width="{f.x(b) - f.x(a):.2f}" '
                 f'height="{row_h * 0.7:.1f}" fill="{LEG_COLOURS[leg]}"/>'
             )
-    out += _x_ticks(f, _time_ticks(t0, t1), "{:.1f}")
+    fmt = "{:.2f}" if window_s < 1.5 else "{:.1f}"
+    out += _x_ticks(f, _time_ticks(t0, t1), fmt)
     out.append(f"<!-- {n_bars} bars --></svg>")
     return "\n".join(out)
 
@@ -159,6 +176,8 @@ def d31_svg(events: Sequence[D31Event], t_now: float, window_s: float, gait: str
 
 # series names in cached results -> colours: the two sweep directions of a hysteresis loop
 _SERIES_COLOURS = {"down": "#ff7f0e", "up": "#9467bd"}
+# this session's ramp: its path, drawn as it goes, in darker shades of the same two colours
+_RAMP_COLOURS = {"down": "#c45a00", "up": "#5b2d8c"}
 _FALLBACK_COLOURS = ("#7f7f7f", "#17becf", "#bcbd22", "#8c564b")
 
 
@@ -168,8 +187,10 @@ def bifurcation_svg(
     trail: Sequence[D31Event],
     live: tuple[float, float | None],
     beta_range: tuple[float, float],
+    ramp_path: Sequence[D31Event] = (),
 ) -> str:
-    """Cached (beta, Delta31) points per series, this session's trail, and the live point."""
+    """Cached (beta, Delta31) points per series, this session's trail, the path of the beta
+    ramp (a line per direction, drawn as the ramp goes) and the live point."""
     lo, hi = beta_range
     f = Frame(lo, hi, 0.0, TWO_PI)
     out = _open("bifurcation", "Bifurcation: Δ31 vs β", n_cached=str(_count(cached)))
@@ -193,6 +214,7 @@ def bifurcation_svg(
                 f'<circle cx="{f.x(e.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" fill="#000" '
                 'fill-opacity="0.35"/>'
             )
+    out += _ramp_lines(f, ramp_path, lo, hi)
     beta, d31 = live
     if d31 is not None:
         out.append(
@@ -208,6 +230,47 @@ def bifurcation_svg(
     out += _x_ticks(f, [t for t in ticks if lo <= t <= hi], "{:.2f}")
     out.append("</svg>")
     return "\n".join(out)
+
+
+def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> list[str]:
+    """The ramp's (beta, Delta31) path: one polyline per stretch of one direction, broken where
+    Delta31 wraps across 0 = 2 pi (a wrap is not a swing through pi)."""
+    out: list[str] = []
+    segments: list[tuple[str, list[D31Event]]] = []
+    for i, e in enumerate(path):
+        if not e.ramp or not lo <= e.beta <= hi:
+            continue
+        prev = path[i - 1] if i > 0 else None
+        if (
+            not segments
+            or prev is None
+            or segments[-1][0] != e.ramp
+            or segments[-1][1][-1] is not prev
+            or abs(e.d31 - prev.d31) > math.pi
+        ):
+            segments.append((e.ramp, []))
+        segments[-1][1].append(e)
+    for direction, seg in segments:
+        colour = _RAMP_COLOURS.get(direction, "#444")
+        pts = " ".join(f"{f.x(e.beta):.1f},{f.y(e.d31):.1f}" for e in seg)
+        if len(seg) >= 2:
+            out.append(
+                f'<polyline class="ramp" data-direction="{html.escape(direction)}" '
+                f'points="{pts}" fill="none" stroke="{colour}" stroke-width="1.6"/>'
+            )
+        else:
+            e = seg[0]
+            out.append(
+                f'<circle class="ramp" cx="{f.x(e.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" '
+                f'fill="{colour}"/>'
+            )
+    if segments:
+        for k, direction in enumerate(("down", "up")):
+            out.append(
+                f'<text x="{W - RIGHT - 2}" y="{TOP + 30 + 10 * k}" {FONT} text-anchor="end" '
+                f'fill="{_RAMP_COLOURS[direction]}">ramp β {direction}</text>'
+            )
+    return out
 
 
 def _count(cached: dict[str, list[tuple[float, float]]] | None) -> int:

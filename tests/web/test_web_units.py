@@ -128,3 +128,110 @@ def test_d31_line_breaks_where_the_angle_wraps() -> None:
     d = d31_svg(ev, 1.0, 1.0, "other")
     assert d.count("<polyline") == 1  # 6.2 -> 0.05 is a wrap, not a line through pi
     assert d.count("<circle") == 3
+
+
+def test_a_typed_keystroke_outside_the_range_is_not_a_value_yet() -> None:
+    # typing "0.62" sends 0, 0, 0.6, 0.62: only the in-range ones are values
+    assert controls.BETA.typed(0.0) is None
+    assert controls.BETA.typed(0.6) == 0.6 and controls.BETA.typed(0.62) == 0.62
+    assert controls.BETA.typed(float("nan")) is None  # a lone "-" or "."
+    assert controls.SLOPE_DEG.typed(-7.5) == -7.5 and controls.SLOPE_DEG.typed(-75) is None
+    assert controls.BODY_MASS_G.typed(10.0) == 10.0 and controls.BODY_MASS_G.typed(45) is None
+
+
+def test_speed_is_measured_along_the_heading_not_world_x() -> None:
+    from web.heading import HeadingSpeed, yaw_of
+
+    def quat(yaw: float) -> np.ndarray:
+        return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+
+    assert yaw_of(quat(0.7)) == pytest.approx(0.7)
+    # turned 90 degrees, walking forwards (along +y) at 2 cm/s: world-x speed would read 0
+    m = HeadingSpeed(window_s=1.0)
+    for k in range(11):
+        t = 0.1 * k
+        m.add(t, np.array([0.0, 0.02 * t, 0.0]), quat(math.pi / 2))
+    assert m.speed_cm_s == pytest.approx(2.0)
+    assert m.heading_rad == pytest.approx(math.pi / 2)
+    # turned 180 degrees and walking forwards (towards -x): positive, not -2
+    m.clear()
+    for k in range(11):
+        t = 0.1 * k
+        m.add(t, np.array([-0.02 * t, 0.0, 0.0]), quat(math.pi + 0.01 * (-1) ** k))
+    assert m.speed_cm_s == pytest.approx(2.0, rel=1e-3)
+    # sliding backwards reads negative; a reset (time going back) starts over
+    m.add(0.0, np.zeros(3), quat(0.0))
+    assert m.speed_cm_s is None
+    m.add(1.0, np.array([-0.01, 0.0, 0.0]), quat(0.0))
+    assert m.speed_cm_s == pytest.approx(-1.0)
+
+
+def test_the_follow_camera_can_turn_the_world_so_the_body_faces_x() -> None:
+    from web.scene import quat_rotate, world_pose
+
+    body = np.array([0.03, 0.04, 0.01])
+    q, p = world_pose(0.0, controls.CAMERA_HEADING, body, math.pi / 2)
+    shown = quat_rotate(q, body * np.array([1, 1, 0])) + p
+    assert shown == pytest.approx(np.zeros(3), abs=1e-12)  # the body at the origin
+    ahead = quat_rotate(q, np.array([0.0, 1.0, 0.0]))  # its heading (+y) shows as +x
+    assert ahead == pytest.approx(np.array([1.0, 0.0, 0.0]), abs=1e-12)
+    q, p = world_pose(0.0, controls.CAMERA_POSITION, body, math.pi / 2)
+    assert q == pytest.approx(np.array([1.0, 0, 0, 0])) and p == pytest.approx([-0.03, -0.04, 0])
+    q, p = world_pose(10.0, controls.CAMERA_FIXED, body, math.pi / 2)
+    assert p == pytest.approx(np.zeros(3))
+
+
+def test_readouts_do_not_claim_keeping_up_while_paused() -> None:
+    paused = Readouts(0.66, 1.0, 2.5, 0.66, "metachronal", 2.0, None, 1.2, 1.0, 30.0, "")
+    paused = Readouts(**{**paused.__dict__, "playing": False})
+    s = format_readouts(paused)
+    assert s["status"] == "paused" and "keeping up" not in s["status"]
+    assert s["real-time factor"].startswith("paused")
+    slow = Readouts(0.66, 1.0, 2.5, 0.66, "metachronal", 2.0, 0.93, 1.2, 1.0, 30.0, "")
+    assert format_readouts(slow)["status"].startswith("behind: 0.93x of 1x")
+
+
+def test_footfall_shows_the_chosen_window_with_legs_coloured_by_pair() -> None:
+    from web.svg import LEG_COLOURS, PAIR_COLOURS
+
+    bars = [[(0.0, 2.9)] for _ in range(6)]
+    svg = footfall_svg(bars, 3.0, 0.5)
+    assert 'data-window-s="0.5"' in svg and "last 0.5 s" in svg
+    # clipped to the window: each bar starts at t = 2.5, not 0
+    assert svg.count('class="stance"') == 6
+    # fore red (legs 1-2), middle blue (3-4), hind green (5-6); left a tint of right
+    assert LEG_COLOURS[0] == PAIR_COLOURS[0] and LEG_COLOURS[2] == PAIR_COLOURS[1]
+    assert LEG_COLOURS[4] == PAIR_COLOURS[2] and LEG_COLOURS[1] != LEG_COLOURS[0]
+    for leg, colour in zip(("R1", "L1", "R2", "L2", "R3", "L3"), LEG_COLOURS, strict=True):
+        assert f'data-leg="{leg}"' in svg and f'fill="{colour}"' in svg
+
+
+def test_the_ramp_draws_its_path_per_direction() -> None:
+    from web.footfall import D31Event, D31Trace
+    from web.svg import bifurcation_svg
+
+    tr = D31Trace()
+    tr.sync([(0.1, 2.0), (0.2, 2.05)], 0.62, "down")
+    tr.sync([(0.1, 2.0), (0.2, 2.05), (0.3, 2.1), (0.4, 2.2)], 0.63, "up")
+    tr.sync([(0.1, 2.0), (0.2, 2.05), (0.3, 2.1), (0.4, 2.2), (0.5, 2.2)], 0.64, "")
+    assert [e.ramp for e in tr.ramp_path] == ["down", "down", "up", "up"]
+    svg = bifurcation_svg(None, "", [], (0.64, 2.2), (0.55, 0.8), list(tr.ramp_path))
+    assert svg.count('class="ramp"') == 2
+    assert 'data-direction="down"' in svg and 'data-direction="up"' in svg
+    tr.clear()
+    assert not tr.ramp_path
+    wrap = [D31Event(0.1, 6.2, 0.6, "up"), D31Event(0.2, 0.1, 0.61, "up")]
+    svg = bifurcation_svg(None, "", [], (0.6, None), (0.55, 0.8), wrap)
+    assert svg.count('class="ramp"') == 2  # broken at the wrap: two dots, no line through pi
+
+
+def test_the_caption_promises_nothing_reproduction_md_marks_as_missed() -> None:
+    from pathlib import Path
+
+    from web.caption import CAPTION
+
+    repro = (Path(__file__).resolve().parents[2] / "docs" / "REPRODUCTION.md").read_text()
+    tripod_missed = any("hysteresis" in line and "**miss**" in line for line in repro.splitlines())
+    if tripod_missed:  # today: the caption must say so, and must not invite "watch it jump"
+        assert "no hysteresis" in CAPTION and "does not appear" in CAPTION
+        assert "watch" not in CAPTION.lower() and "jump from" not in CAPTION

@@ -1,0 +1,66 @@
+"""With no browser connected the viewer does not simulate; a client connecting resumes it.
+
+A real websocket client (the protocol a browser speaks, with viser's version subprotocol)
+connects, sends the camera message a browser sends first (viser counts a client as connected
+from then on) and disconnects, so viser's own connect/disconnect hooks drive the loop.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Callable
+
+import msgspec.msgpack
+import viser
+from viser._messages import ViewerCameraMessage
+from websockets.sync.client import ClientConnection, connect
+
+from web.app import ViewerApp
+
+
+def _until(cond: Callable[[], bool], timeout_s: float, ws: ClientConnection | None = None) -> bool:
+    """Wait for `cond` (reading the client's messages meanwhile so the server never blocks)."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        if cond():
+            return True
+        if ws is not None:
+            try:
+                ws.recv(timeout=0.1)
+            except TimeoutError:
+                pass
+        else:
+            time.sleep(0.1)
+    return cond()
+
+
+def test_the_viewer_steps_only_while_a_client_is_connected() -> None:
+    app = ViewerApp("127.0.0.1", 0)
+    app.start()
+    try:
+        time.sleep(1.5)  # long enough for many frames, had the loop been stepping
+        assert app.stats.idle and app.stats.clients == 0
+        assert app.stats.sim_s == 0.0 and app.stats.frames == 0
+
+        url = f"ws://127.0.0.1:{app.port}"
+        with connect(url, subprotocols=[f"viser-v{viser.__version__}"]) as ws:  # type: ignore[list-item]
+            camera = ViewerCameraMessage(
+                wxyz=(1.0, 0.0, 0.0, 0.0),
+                position=(0.0, -0.1, 0.05),
+                fov=1.0,
+                near=0.001,
+                far=10.0,
+                image_height=600,
+                image_width=800,
+                look_at=(0.0, 0.0, 0.0),
+                up_direction=(0.0, 0.0, 1.0),
+            )
+            ws.send(msgspec.msgpack.encode(camera.as_serializable_dict()))
+            assert _until(lambda: app.stats.sim_s > 0.05, 120, ws), "did not resume"
+            assert not app.stats.idle and app.stats.clients == 1
+        assert _until(lambda: app.stats.idle, 30), "did not pause when the client left"
+        paused_at = app.stats.sim_s
+        time.sleep(1.0)
+        assert app.stats.sim_s == paused_at
+    finally:
+        app.stop()
