@@ -35,7 +35,7 @@ def test_bad_arguments_exit_2_with_one_line(args: list[str], capsys) -> None:
 
 def test_run_json_has_the_documented_keys() -> None:
     out = subprocess.run(
-        [sys.executable, "-m", "sim_core.cli.main", "run", "--beta", "0.62", "--duration-s", "0.5",
+        [sys.executable, "-m", "sim_core.cli", "run", "--beta", "0.62", "--duration-s", "0.5",
          "--json"],
         capture_output=True, text=True, check=True,
     )  # fmt: skip
