@@ -186,11 +186,12 @@ def main() -> int:
     load = os.getloadavg()
     print(f"viewer real-time factor, 1 browser, {args.seconds:.0f} s windows, {cores} cores "
           f"(load average now {load[0]:.1f} {load[1]:.1f} {load[2]:.1f}):")  # fmt: skip
-    print(f"  {'API':<10} {'workers':<20} {'idle':<14} {f'{args.jobs} jobs running':<14}")
+    w = max(14, 7 * args.rounds)
+    print(f"  {'API':<10} {'workers':<20} {'idle':<{w}} {f'{args.jobs} jobs running':<{w}}")
     for name, cfg, idle, loaded in rows:
         a = " ".join(f"{x:.2f}x" for x in idle)
         b = " ".join(f"{x:.2f}x" for x in loaded)
-        print(f"  {name:<10} {cfg:<20} {a:<14} {b:<14}")
+        print(f"  {name:<10} {cfg:<20} {a:<{w}} {b:<{w}}")
     print("  target with jobs running: >= 0.8x")
     return 0
 
