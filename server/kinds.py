@@ -213,7 +213,12 @@ def hysteresis_job(job: HysteresisJob, progress: Progress, nthread: int) -> dict
     core = _core()
     spec = core.RunSpec(**job.run_fields())
     res = core.sweep(
-        spec, parameter=job.parameter, turn=job.turn, hold_s=job.hold_s, ramp_s=job.ramp_s
+        spec,
+        parameter=job.parameter,
+        turn=job.turn,
+        hold_s=job.hold_s,
+        ramp_s=job.ramp_s,
+        progress=progress,
     )
     if res.error:
         raise _failed(job, [f"the sweep run: {res.error}"], 1)

@@ -8,6 +8,7 @@ REST service, the viewer's demo and the reproduction report see the same numbers
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any
 
@@ -48,6 +49,7 @@ def sweep(
     hold_s: float,
     ramp_s: float,
     params: ModelParams | None = None,
+    progress: Callable[[float], None] | None = None,
 ) -> SweepResult:
     """Hold `start`'s value of `parameter` for `hold_s`, ramp to `turn` in `ramp_s`, back in
     `ramp_s`, hold again; `start.duration_s` is replaced by the schedule's length.
@@ -59,6 +61,7 @@ def sweep(
         hold_s: seconds held at the start value before and after the ramps.
         ramp_s: seconds for each ramp leg.
         params: model parameters (defaults if None).
+        progress: called with the share of the sweep done (0..1), about every 1%.
 
     Raises:
         ValueError: an unknown parameter, or a start or turn value outside RunSpec's range.
@@ -67,7 +70,7 @@ def sweep(
         raise ValueError(f"cannot sweep {parameter!r}; choose from {list(RAMP_PARAMS)}")
     begin = float(getattr(start, parameter))
     ramp = Ramp(param=parameter, start=begin, turn=turn, hold_s=hold_s, ramp_s=ramp_s)
-    (res,) = execute_chunk([ramp_task(ramp, start, params)])
+    (res,) = execute_chunk([ramp_task(ramp, start, params)], progress)
     summary = sweep_summary(
         res["d31_times_s"], res["value"], res["d31"], begin, turn, hold_s, ramp_s
     )

@@ -19,7 +19,7 @@ import hashlib
 import json
 import math
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
 from functools import cache
 from pathlib import Path
@@ -130,8 +130,13 @@ def _finite(x: float | None) -> float | None:
     return None if x is None or not math.isfinite(x) else float(x)
 
 
-def execute_chunk(tasks: Sequence[Task]) -> list[dict[str, Any]]:
+def execute_chunk(
+    tasks: Sequence[Task], progress: Callable[[float], None] | None = None
+) -> list[dict[str, Any]]:
     """Run compatible tasks as one single-threaded batch; one JSON-able dict per task.
+
+    progress, if given, is called with the share of the chunk's simulated time done (0..1),
+    about every 1% of the longest task.
 
     Single-threaded on purpose: parallelism comes from running many chunks at once (a process
     pool or cluster workers), which also parallelises the controller, not only the physics.
@@ -148,7 +153,11 @@ def execute_chunk(tasks: Sequence[Task]) -> list[dict[str, Any]]:
     schedules = [None if t.ramp is None else t.ramp.schedule() for t in tasks]
     every = max(1, round(RAMP_UPDATE_S / runner.control_dt))
     last = [math.nan] * len(tasks)
+    longest = float(runner.duration.max())
+    report_every = max(1, round(0.01 * longest / runner.control_dt))
     while runner.active.any():
+        if progress is not None and runner.nblock % report_every == 0:
+            progress(min(1.0, runner.time / longest))
         if runner.nblock % every == 0:
             for i, sched in enumerate(schedules):
                 if sched is None or not runner.active[i]:

@@ -83,3 +83,10 @@ def test_live_sweep_follows_its_schedule() -> None:
     assert v.min() < 0.69 and v.max() == pytest.approx(0.70, abs=0.01)
     with pytest.raises(ValueError, match="cannot sweep"):
         sweep(RunSpec(), parameter="speed", turn=1.0, hold_s=0.1, ramp_s=0.1)  # type: ignore[arg-type]
+
+
+def test_sweep_reports_progress() -> None:
+    seen: list[float] = []
+    sweep(RunSpec(beta=0.70), parameter="beta", turn=0.66, hold_s=0.1, ramp_s=0.2,
+          progress=seen.append)  # fmt: skip
+    assert len(seen) >= 50 and seen == sorted(seen) and 0.0 <= seen[0] < seen[-1] <= 1.0
