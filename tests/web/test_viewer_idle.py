@@ -13,12 +13,13 @@ from collections.abc import Callable
 import msgspec.msgpack
 import viser
 from viser._messages import ViewerCameraMessage
-from websockets.sync.client import ClientConnection, connect
+from websockets.sync.client import connect
+from websockets.sync.connection import Connection
 
 from web.app import ViewerApp
 
 
-def _until(cond: Callable[[], bool], timeout_s: float, ws: ClientConnection | None = None) -> bool:
+def _until(cond: Callable[[], bool], timeout_s: float, ws: Connection | None = None) -> bool:
     """Wait for `cond` (reading the client's messages meanwhile so the server never blocks)."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
