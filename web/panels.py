@@ -247,6 +247,10 @@ class Panels:
                 self._last[label] = text
                 self.readouts[label].value = text
 
+    def shown(self, label: str) -> str:
+        """The text a readout shows now (for the benchmark; a str is replaced atomically)."""
+        return self._last.get(label, "")
+
     def show_html(self, handle: viser.GuiHtmlHandle, content: str) -> None:
         if handle.content != content:
             handle.content = content

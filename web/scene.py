@@ -223,7 +223,7 @@ def add_body_meshes(
                 f"{root}/body{b}/geom{g}",
                 vertices=np.asarray(mesh.vertices, dtype=np.float32),
                 faces=np.asarray(mesh.faces, dtype=np.uint32),
-                color=tuple(int(255 * c) for c in rgba[:3]),
+                color=(int(255 * rgba[0]), int(255 * rgba[1]), int(255 * rgba[2])),
                 position=model.geom_pos[g],
                 wxyz=model.geom_quat[g],
             )

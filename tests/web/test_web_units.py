@@ -11,7 +11,7 @@ from web import controls
 from web.footfall import D31Trace, FootfallBuffer
 from web.pacing import RateMeter, SimClock
 from web.panels import Readouts, format_readouts
-from web.requests import RequestQueue, Reset, SetBeta, SetSlope, StartRamp, coalesce
+from web.requests import Request, RequestQueue, Reset, SetBeta, SetSlope, StartRamp, coalesce
 from web.svg import d31_svg, footfall_svg
 
 
@@ -44,9 +44,15 @@ def test_beta_ramp_goes_down_up_and_back() -> None:
 
 
 def test_coalesce_keeps_only_the_latest_setting_but_respects_order() -> None:
-    reqs = [SetBeta(0.6), SetBeta(0.61), SetSlope(2.0), SetBeta(0.62)]
+    reqs: list[Request] = [SetBeta(0.6), SetBeta(0.61), SetSlope(2.0), SetBeta(0.62)]
     assert coalesce(reqs) == [SetBeta(0.62), SetSlope(2.0)]
-    ordered = [SetBeta(0.6), StartRamp(0.01), SetBeta(0.7), Reset(2.0), SetBeta(0.65)]
+    ordered: list[Request] = [
+        SetBeta(0.6),
+        StartRamp(0.01),
+        SetBeta(0.7),
+        Reset(2.0),
+        SetBeta(0.65),
+    ]
     assert coalesce(ordered) == ordered
 
 

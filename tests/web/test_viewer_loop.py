@@ -1,4 +1,6 @@
-"""With no browser connected the viewer does not simulate; a client connecting resumes it.
+"""The viewer's loop with a real viser server: idle without a browser; presets and the ramp.
+
+With no browser connected the viewer does not simulate; a client connecting resumes it.
 
 A real websocket client (the protocol a browser speaks, with viser's version subprotocol)
 connects, sends the camera message a browser sends first (viser counts a client as connected
@@ -13,12 +15,13 @@ from collections.abc import Callable
 import msgspec.msgpack
 import viser
 from viser._messages import ViewerCameraMessage
-from websockets.sync.client import ClientConnection, connect
+from websockets.sync.client import connect
+from websockets.sync.connection import Connection
 
 from web.app import ViewerApp
 
 
-def _until(cond: Callable[[], bool], timeout_s: float, ws: ClientConnection | None = None) -> bool:
+def _until(cond: Callable[[], bool], timeout_s: float, ws: Connection | None = None) -> bool:
     """Wait for `cond` (reading the client's messages meanwhile so the server never blocks)."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
@@ -62,5 +65,30 @@ def test_the_viewer_steps_only_while_a_client_is_connected() -> None:
         paused_at = app.stats.sim_s
         time.sleep(1.0)
         assert app.stats.sim_s == paused_at
+    finally:
+        app.stop()
+
+
+def test_presets_and_the_ramp_drive_the_running_simulation() -> None:
+    """The loop's request handling, called here with the loop not started (one thread)."""
+    import math
+
+    from web import controls
+    from web.requests import Reset, StartRamp
+
+    app = ViewerApp("127.0.0.1", 0)
+    try:
+        for preset in (controls.TRIPOD, controls.METACHRONAL):
+            app.apply(Reset(preset))
+            app._step(0.25, time.perf_counter() + 600)
+            first = app.d31.events[0].d31
+            assert abs(first - preset) < 0.15, (preset, first)  # the first touchdowns start there
+        app.apply(StartRamp(0.05))
+        app._step(0.6, time.perf_counter() + 600)
+        assert app.ramp is not None and app.sim.beta < controls.BETA.initial
+        path = list(app.d31.ramp_path)
+        assert path and {e.ramp for e in path} == {"down"}
+        assert all(math.isfinite(e.d31) for e in path)
+        assert path[-1].beta < path[0].beta  # the path follows beta down as it goes
     finally:
         app.stop()
