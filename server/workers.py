@@ -89,6 +89,7 @@ def worker_main(
     # worker must not die first and have its job counted as crashed.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
+    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # blocked by the parent
     from server.errors import exception_message, sanitize
     from server.kinds import JobFailed, execute
     from server.schemas import JOB_SPEC_ADAPTER
@@ -216,7 +217,14 @@ class WorkerPool:
             name="insect-gait-worker",
             daemon=True,
         )
-        proc.start()
+        # a Ctrl-C while the child is still importing would print its KeyboardInterrupt
+        # traceback: start it with SIGINT blocked (the mask survives exec); worker_main
+        # ignores the signal and unblocks it
+        old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        try:
+            proc.start()
+        finally:
+            signal.pthread_sigmask(signal.SIG_SETMASK, old)
         child.close()
         return _Worker(proc=proc, conn=parent, started=time.monotonic())
 
