@@ -72,25 +72,26 @@ def viewer(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
             pytest.fail("CI=true but no chromium on PATH: .ci/run should apt-get install it")
         pytest.skip("no chromium on PATH (apt-get install chromium); CI runs this test")
     port = _free_port()
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "sim_core.cli", "viewer", "--port", str(port)],
-        cwd=tmp_path_factory.mktemp("viewer"),
-        stdout=subprocess.PIPE,
-        stderr=subprocess.STDOUT,
-        text=True,
-    )
+    home = tmp_path_factory.mktemp("viewer")
+    log_path = home / "viewer.log"
+    # the viewer's output goes to a file: a pipe nobody reads could fill and stall it, and the
+    # file says why if it dies mid-module
+    with open(log_path, "w") as log:
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "sim_core.cli", "viewer", "--port", str(port)],
+            cwd=home, stdout=log, stderr=subprocess.STDOUT, text=True,
+        )  # fmt: skip
     try:
-        assert proc.stdout is not None
         deadline = time.time() + 120
         url = None
-        while time.time() < deadline and url is None:
-            line = proc.stdout.readline()
-            if line.startswith("viewer: "):
-                url = line.split("viewer: ", 1)[1].strip()
-            elif not line and proc.poll() is not None:
-                break
-        assert url, "the viewer did not print its address"
+        while time.time() < deadline and url is None and proc.poll() is None:
+            for line in log_path.read_text().splitlines():
+                if line.startswith("viewer: "):
+                    url = line.split("viewer: ", 1)[1].strip()
+            time.sleep(0.2)
+        assert url, f"the viewer did not print its address:\n{log_path.read_text()[-2000:]}"
         yield url
+        assert proc.poll() is None, f"the viewer died:\n{log_path.read_text()[-3000:]}"
     finally:
         proc.terminate()
         try:
