@@ -150,6 +150,7 @@ def main() -> int:
                     Path(tmp) / "viewer.log", tmp)  # fmt: skip
     configs = {
         "defaults": env,
+        "nice 19": {**env, "INSECT_GAIT_WORKER_NICE": "19"},
         "old setup": {**env, "INSECT_GAIT_WORKERS": str(cores), "INSECT_GAIT_WORKER_NICE": "0"},
     }
     rows: list[tuple[str, str, list[float], list[float]]] = []

@@ -302,6 +302,11 @@ def test_workers_run_at_lower_priority(make_server: Callable[..., Server]) -> No
     # a worker lowers its priority first thing after it starts
     wait_for(lambda: all(_niceness(pid) == target for pid in workers), timeout=30)
     assert all(os.getpriority(os.PRIO_PROCESS, pid) == target for pid in workers)
+    if Path("/proc/self/autogroup").exists():  # autogroup scheduling: niceness per session
+        server_group = Path(f"/proc/{srv.proc.pid}/autogroup").read_text().split()[0]
+        for pid in workers:
+            group, _, nice = Path(f"/proc/{pid}/autogroup").read_text().split()
+            assert group != server_group and int(nice) == target, (group, nice)
     # a worker started after a crash is niced too
     victim = next(iter(workers))
     os.kill(victim, signal.SIGKILL)
