@@ -5,8 +5,7 @@ python examples/04_batch_sweep.py --betas 0.62 0.66 0.70 --starts 6 --duration-s
 
 import argparse
 
-from sim_core import simulate_batch
-from sim_core.model.spec import spec_grid
+from sim_core import simulate_batch, spec_grid
 from sim_core.paper.protocols import initial_values
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])

@@ -166,7 +166,7 @@ def _grid(
 ) -> list[tuple[float, float, Any]]:
     """Every (beta, d31_init) of the job's grid as independent runs, one batch call."""
     pairs = [(b, d) for b in job.beta_range.values() for d in job.d31_init]
-    specs = [core.RunSpec(beta=b, d31_init=d, **job.run_fields()) for b, d in pairs]
+    specs = core.spec_grid(job.beta_range.values(), job.d31_init, **job.run_fields())
     results = core.simulate_batch(specs, nthread=nthread, progress=progress)
     diverged = [
         f"beta {b:.4g}, d31_init {d:.4g}: {r.error}"

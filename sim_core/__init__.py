@@ -19,7 +19,7 @@ from sim_core.model.live import Simulation
 from sim_core.model.mjspec import build_model
 from sim_core.model.params import INTEGRATORS, ModelParams, nominal_speed, parameter_table
 from sim_core.model.runner import simulate, simulate_batch
-from sim_core.model.spec import RunResult, RunSpec, SimulationDiverged
+from sim_core.model.spec import RunResult, RunSpec, SimulationDiverged, spec_grid
 from sim_core.paper.sweep import SweepResult, sweep
 
 __all__ = [
@@ -38,5 +38,6 @@ __all__ = [
     "parameter_table",
     "simulate",
     "simulate_batch",
+    "spec_grid",
     "sweep",
 ]
