@@ -33,17 +33,12 @@ from typing import Any
 
 from playwright.sync_api import Page, sync_playwright
 
+from web.page_probe import READ_BY_LABEL
+
 REPO = Path(__file__).resolve().parents[1]
 EXE = str(Path(sys.executable).parent / "insect-gait")
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
         "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]  # fmt: skip
-READ_BY_LABEL = """label => {
-  const l = [...document.querySelectorAll('label')].find(e => e.textContent.trim() === label);
-  if (!l) return null;
-  let node = l.parentElement;
-  while (node && !node.querySelector('input:not([type=hidden])')) node = node.parentElement;
-  return node ? node.querySelector('input:not([type=hidden])').value : null;
-}"""
 JOB = {"kind": "run", "beta": 0.66, "duration_s": 600.0, "d31_init": [2.0]}
 
 

@@ -21,6 +21,8 @@ from typing import Any
 import numpy as np
 import pytest
 
+from web.page_probe import READ_BY_LABEL
+
 pytestmark = pytest.mark.browser
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -36,14 +38,6 @@ ARGS = [
     "--enable-unsafe-swiftshader",
 ]
 VIEWPORT = {"width": 1280, "height": 800}
-# The text input next to the control labelled `label` (for a slider: its number box).
-READ_BY_LABEL = """label => {
-  const l = [...document.querySelectorAll('label')].find(e => e.textContent.trim() === label);
-  if (!l) return null;
-  let node = l.parentElement;
-  while (node && !node.querySelector('input:not([type=hidden])')) node = node.parentElement;
-  return node ? node.querySelector('input:not([type=hidden])').value : null;
-}"""
 TAG_BY_LABEL = """([label, tag]) => {
   const l = [...document.querySelectorAll('label')].find(e => e.textContent.trim() === label);
   let node = l.parentElement;
