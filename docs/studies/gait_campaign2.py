@@ -38,7 +38,10 @@ from sim_core.model.gait import angle_diff
 from sim_core.model.params import phi_aep
 
 LEAD1: dict[str, Any] = {
-    "pd_damping": "joint_velocity",
+    "velocity_feedforward_yaw": 0.0,  # was pd_damping="joint_velocity"
+    "velocity_feedforward_lift": 0.0,
+    "kp_lift": 5e-3,  # the defaults of the time, now set explicitly
+    "stand_height": 7e-3,
     "kd_yaw": 1e-5,
     "kd_lift": 1e-5,
     "com_offset_x": 1e-3,

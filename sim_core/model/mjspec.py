@@ -218,12 +218,13 @@ def joint_gains(p: ModelParams, joint: str, pair: int = 0) -> tuple[float, float
 
 
 def servo_leads(p: ModelParams) -> np.ndarray:
-    """(18,) kd/kp of each leg joint (paper leg order, joints 1-3): how far ahead along the
-    desired trajectory the set-point sits so that kp (act - q) carries the feed-forward;
-    0 with `pd_damping` = "joint_velocity" (no feed-forward: tau = kp (q* - q) - kd dq/dt)."""
-    if p.pd_damping == "joint_velocity":
-        return np.zeros(3 * len(LEG_NAMES))
-    per_joint = [kd / kp for kp, kd in (joint_gains(p, j) for j in ("j1", "j2", "j3"))]
+    """(18,) s kd/kp of each leg joint (paper leg order, joints 1-3): how far ahead along the
+    desired trajectory the set-point sits so that kp (act - q) carries the feed-forward
+    s kd dq*/dt, s the joint group's `velocity_feedforward_*` share (0: tau = kp (q* - q) -
+    kd dq/dt, damping on the joint's own velocity)."""
+    share = {"j1": p.velocity_feedforward_yaw, "j2": p.velocity_feedforward_lift,
+             "j3": p.velocity_feedforward_lift}  # fmt: skip
+    per_joint = [share[j] * kd / kp for j, (kp, kd) in ((j, joint_gains(p, j)) for j in share)]
     return np.tile(per_joint, len(LEG_NAMES))
 
 

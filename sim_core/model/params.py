@@ -72,8 +72,9 @@ class ModelParams(BaseModel):
         4.0e-3, "box height for inertia and drawing; an insect thorax is a few mm thick", gt=0
     )
     com_offset_x: float = _ours(
-        0.0,
-        "body centre of mass ahead (+) of the box centre; a lever for fore/hind load sharing",
+        1.0e-3,
+        "body centre of mass ahead (+) of the box centre, m: fore/hind load sharing; 1 mm puts "
+        "the tripod's fold near the paper's beta 0.67 (docs/studies/gait_campaign3.md)",
         ge=-5e-3,
         le=5e-3,
     )
@@ -91,8 +92,9 @@ class ModelParams(BaseModel):
 
     # --- Stance geometry the paper leaves open ------------------------------------------------
     stand_height: float = _ours(
-        7.0e-3,
-        "height of the coxa attachment above the stance line; keeps the 2+10 mm leg mid-range",
+        6.5e-3,
+        "height of the coxa attachment above the stance line; keeps the 2+10 mm leg mid-range; "
+        "6.5 (not 7) mm makes the tripod die at slow speed first (gait_campaign3.md)",
         gt=0,
     )
     foot_y: float = _ours(
@@ -126,12 +128,20 @@ class ModelParams(BaseModel):
 
     # --- Joint control (PD) the paper leaves open -------------------------------------------------
     kp_yaw: float = _ours(5e-3, "joint 1 stiffness, N m/rad: ~0.01 rad sag under stance load", gt=0)
-    kp_lift: float = _ours(5e-3, "joints 2 and 3 stiffness, N m/rad: ~0.1 mm sag under load", gt=0)
+    kp_lift: float = _ours(
+        3e-3,
+        "joints 2 and 3 stiffness, N m/rad: ~0.15 mm sag under load; this load per unit "
+        "stiffness gives the paper's tripod at 2.9-3.0 rad beside the metachronal gait",
+        gt=0,
+    )
     kd_yaw: float = _ours(
         3e-5, "joint 1 damping, N m s/rad: near critical for the loaded leg", gt=0
     )
     kd_lift: float = _ours(
-        3e-5, "joints 2, 3 damping, N m s/rad: critical for the loaded leg", gt=0
+        3e-6,
+        "joints 2, 3 damping, N m s/rad: kd/kp = 1 ms, on the joint velocity (feed-forward "
+        "share 0): a lift lag that grows with the sweep speed",
+        gt=0,
     )
     support_ratio: float = _ours(
         1.0,
@@ -140,11 +150,19 @@ class ModelParams(BaseModel):
         gt=0,
         le=10,
     )
-    pd_damping: Literal["tracking_error", "joint_velocity"] = Field(
-        "tracking_error",
-        description="[invented] PD damping form: 'tracking_error' tau = kp (q* - q) + kd "
-        "(dq*/dt - dq/dt) tracks the swing/stance sweep; 'joint_velocity' tau = kp (q* - q) - "
-        "kd dq/dt (as Aoi et al.) makes a leg lag its target in proportion to the sweep speed",
+    velocity_feedforward_yaw: float = _ours(
+        1.0,
+        "share s of the desired velocity in joint 1's damping, tau = kp (q* - q) + kd (s dq*/dt "
+        "- dq/dt): 1 damps the tracking error, 0 the joint velocity (a lag ~ sweep speed)",
+        ge=0,
+        le=1.5,
+    )
+    velocity_feedforward_lift: float = _ours(
+        0.0,
+        "the same share for joints 2 and 3: below 1 a lift joint lags its target in proportion "
+        "to the sweep speed, which loads the hind legs more at speed (gait-mechanism notes)",
+        ge=0,
+        le=1.5,
     )
     armature: float = _ours(
         2e-10,

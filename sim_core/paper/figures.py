@@ -70,7 +70,11 @@ class Config:
     # Fig. 9 ranges are not stated in the text; ours span light to heavy, downhill to uphill
     mass_range_g: tuple[float, float] = (1.0, 6.0)
     slope_range_deg: tuple[float, float] = (-20.0, 20.0)
-    start_d31: float = METACHRONAL_BRANCH  # every sweep starts on the metachronal side
+    start_d31: float = METACHRONAL_BRANCH  # every sweep starts on the metachronal side ...
+    # ... except Fig. 6a's second protocol: "we reduced the locomotion speed by increasing beta
+    # from 0.62 to 0.7" after a stable gait at 0.62, the paper's tripod; where both gaits live
+    # at 0.62 the ideal tripod (pi, Sec. II B 5) is the start that walks the paper's
+    tripod_start_d31: float = math.pi
     ablation_betas: tuple[float, ...] = (0.62, 0.70)
     ablation_inits: int = 8
     ablation_duration_s: float = 3.0
@@ -104,9 +108,11 @@ def _runs(
     ]
 
 
-def beta_ramp(cfg: Config, slower: bool = False) -> Ramp:
+def beta_ramp(cfg: Config, slower: bool = False, up: bool = False) -> Ramp:
+    """Fig. 6a's triangle: from 0.70 down and back (`up`: from 0.62 up and back)."""
     ramp_s = cfg.ramp_s * (cfg.rate_factor if slower else 1.0)
-    return Ramp("beta", cfg.beta_high, cfg.beta_low, cfg.hold_s, ramp_s)
+    ends = (cfg.beta_low, cfg.beta_high) if up else (cfg.beta_high, cfg.beta_low)
+    return Ramp("beta", *ends, cfg.hold_s, ramp_s)
 
 
 def sweep_ramps(cfg: Config) -> dict[str, Ramp]:
@@ -119,7 +125,9 @@ def sweep_ramps(cfg: Config) -> dict[str, Ramp]:
 
 def _ramp_task(r: Ramp, cfg: Config, p: ModelParams) -> Task:
     beta = r.start if r.param == "beta" else cfg.sweep_beta
-    return ramp_task(r, RunSpec(beta=beta, d31_init=cfg.start_d31), p)
+    up = r.param == "beta" and r.turn > r.start  # Fig. 6a's second protocol
+    d31 = cfg.tripod_start_d31 if up else cfg.start_d31
+    return ramp_task(r, RunSpec(beta=beta, d31_init=d31), p)
 
 
 def figure_tasks(fig: str, cfg: Config, p: ModelParams) -> list[Task]:
@@ -127,7 +135,8 @@ def figure_tasks(fig: str, cfg: Config, p: ModelParams) -> list[Task]:
     if fig == "5":
         return _runs(cfg.fig5_betas, cfg.fig5_inits, cfg.fig5_duration_s, p)
     if fig == "6":
-        return [_ramp_task(beta_ramp(cfg, s), cfg, p) for s in (False, True)]
+        return [_ramp_task(beta_ramp(cfg, s, u), cfg, p) for u in (False, True)
+                for s in (False, True)]  # fmt: skip
     if fig == "7":
         return _runs(cfg.map_betas, cfg.map_inits, cfg.map_duration_s, p)
     if fig == "8":
@@ -207,12 +216,22 @@ def _switch(leg: list[dict[str, Any]], after: str) -> float | None:
 
 
 def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+    """The paper's two protocols: beta falls from 0.70 after a metachronal start, and rises
+    from 0.62 after a tripod start (each ramp then returns to its start)."""
     ramps = {"full": beta_ramp(cfg), "half_rate": beta_ramp(cfg, slower=True)}
+    ups = {"full": beta_ramp(cfg, up=True), "half_rate": beta_ramp(cfg, slower=True, up=True)}
     res = {k: get(_ramp_task(r, cfg, p)) for k, r in ramps.items()}
+    res_up = {k: get(_ramp_task(r, cfg, p)) for k, r in ups.items()}
     sweeps = {k: _sweep(r, res[k]) for k, r in ramps.items()}
-    # the switch of each leg: to the tripod as beta falls, back to the metachronal as it rises
+    sweeps_up = {k: _sweep(r, res_up[k]) for k, r in ups.items()}
+    # the switch to the tripod as beta falls (first protocol's first leg) and back to the
+    # metachronal as it rises (second protocol's first leg); keyed as the legs of a loop
     legs = {"first_leg": "tripod", "second_leg": "metachronal"}
-    at = {k: {leg: _switch(sw[leg], g) for leg, g in legs.items()} for k, sw in sweeps.items()}
+    at = {
+        k: {"first_leg": _switch(sweeps[k]["first_leg"], "tripod"),
+            "second_leg": _switch(sweeps_up[k]["first_leg"], "metachronal")}
+        for k in ramps
+    }  # fmt: skip
     shift: dict[str, float | None] = {}
     at_zero: dict[str, float | None] = {}
     # slow passage through a saddle-node: the switch lags the fold by ~ rate^(2/3), so two
@@ -226,19 +245,29 @@ def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     ok = bool(len(moved) == 2 and max(moved) < cfg.rate_tolerance)
     rate = {"shift": shift, "tolerance": cfg.rate_tolerance, "switch": at,
             "zero_rate": at_zero, "ok": ok}  # fmt: skip
-    series = {k: {key: res[k][key] for key in ("d31_times_s", "value", "d31")} for k in res}
-    rows = _series_rows("full", res["full"]) + _series_rows("half_rate", res["half_rate"])
-    summary = {"sweep": sweeps["full"], "half_rate": sweeps["half_rate"], "rate_check": rate}
+    keys = ("d31_times_s", "value", "d31")
+    series = {k: {key: res[k][key] for key in keys} for k in res}
+    series |= {f"up_{k}": {key: res_up[k][key] for key in keys} for k in res_up}
+    rows = [row for k in res for row in _series_rows(k, res[k])]
+    rows += [row for k in res_up for row in _series_rows(f"up_{k}", res_up[k])]
+    summary = {"sweep": sweeps["full"], "half_rate": sweeps["half_rate"],
+               "sweep_up": sweeps_up["full"], "half_rate_up": sweeps_up["half_rate"],
+               "rate_check": rate}  # fmt: skip
     fig6a = FigureData(
         "fig6a", {"series": series, **summary},
         {"fig6a": (["ramp", "time_s", "beta", "d31_rad"], rows)}, summary,
     )  # fmt: skip
 
     # Fig. 6b: footprints around the metachronal -> tripod switch of the decreasing-beta leg
+    # (or, where there is none, the tripod -> metachronal switch of the increasing one)
     full, r = res["full"], ramps["full"]
     switch = [x for x in sweeps["full"]["first_leg"] if x["after"] == "tripod"]
+    back = [x for x in sweeps_up["full"]["first_leg"] if x["after"] == "metachronal"]
     if switch:
         centre, how = switch[0]["time_s"], "detected metachronal-to-tripod transition"
+    elif back:
+        full, r = res_up["full"], ups["full"]
+        centre, how = back[0]["time_s"], "detected tripod-to-metachronal transition (β rising)"
     else:  # no switch: where the ramp passes the paper's transition
         frac = (PAPER.transition_down - r.start) / (r.turn - r.start)
         centre = r.hold_s + frac * r.ramp_s

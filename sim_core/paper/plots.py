@@ -88,19 +88,31 @@ def _sweep_axes(ax: Any, sweep: dict[str, Any], series: dict[str, Any], xlabel: 
 
 
 def fig6a(data: dict[str, Any], path: Path) -> None:
-    fig, (top, bottom) = plt.subplots(2, 1, figsize=(7.5, 7.5))
+    fig, (top, mid, bottom) = plt.subplots(3, 1, figsize=(7.5, 10))
+    for ax, key, what in ((top, "full", "0.70 → 0.62 → 0.70 (metachronal start)"),
+                          (mid, "up_full", "0.62 → 0.70 → 0.62 (tripod start)")):  # fmt: skip
+        s = data["series"].get(key)
+        if s is None:
+            continue
+        ax.plot(s["d31_times_s"], s["d31"], "k.", ms=2.5)
+        _branches(ax)
+        ax.set_xlabel("time (s)")
+        ax.set_ylabel(D31)
+        ax.set_ylim(0, TWO_PI)
+        twin = ax.twinx()
+        twin.plot(s["d31_times_s"], s["value"], color="tab:orange", lw=1)
+        twin.set_ylabel("duty factor β", color="tab:orange")
+        ax.set_title(f"Δ31 at leg-1 touchdowns while β goes {what}", fontsize=9)
     s = data["series"]["full"]
-    top.plot(s["d31_times_s"], s["d31"], "k.", ms=2.5)
-    _branches(top)
-    top.set_xlabel("time (s)")
-    top.set_ylabel(D31)
-    top.set_ylim(0, TWO_PI)
-    twin = top.twinx()
-    twin.plot(s["d31_times_s"], s["value"], color="tab:orange", lw=1)
-    twin.set_ylabel("duty factor β", color="tab:orange")
-    top.set_title("Δ31 at leg-1 touchdowns while β goes 0.70 → 0.62 → 0.70", fontsize=9)
     _sweep_axes(bottom, data["sweep"], s, "duty factor β",
                 {"↓": 0.645, "↑": 0.67})  # fmt: skip
+    up = data["series"].get("up_full")
+    if up is not None:
+        bottom.plot(up["value"], up["d31"], ".", ms=1.5, color="tab:purple", zorder=1,
+                    label="tripod start at 0.62 ⇄")  # fmt: skip
+        for tr in data.get("sweep_up", {}).get("first_leg", [])[:1]:
+            bottom.axvline(tr["value"], color="tab:purple", lw=1.2, label=f"ours {tr['value']:.4g}")
+        bottom.legend(loc="upper right", fontsize=7)
     h = data["series"]["half_rate"]
     bottom.plot(h["value"], h["d31"], ".", ms=1.2, color="0.75", zorder=0, label="half rate")
     rc = data["rate_check"]

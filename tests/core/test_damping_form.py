@@ -1,21 +1,32 @@
-"""The PD damping form option: 'joint_velocity' drops the feed-forward (leads 0) and walks
-differently from the default 'tracking_error'."""
+"""The PD damping form: the velocity feed-forward share per joint group scales the set-point
+lead (0 = damping on the joint velocity), and a share of 0 walks differently from the default."""
 
 import numpy as np
 
 from sim_core import ModelParams, RunSpec, simulate
 from sim_core.model.mjspec import servo_leads
 
+JOINT_VELOCITY = ModelParams(velocity_feedforward_yaw=0.0, velocity_feedforward_lift=0.0)
+
 
 def test_joint_velocity_has_no_leads() -> None:
-    assert np.all(servo_leads(ModelParams(pd_damping="joint_velocity")) == 0.0)
+    assert np.all(servo_leads(JOINT_VELOCITY) == 0.0)
     assert np.all(servo_leads(ModelParams()) > 0.0)
+
+
+def test_feedforward_share_scales_each_group_alone() -> None:
+    base = servo_leads(ModelParams()).reshape(6, 3)
+    lift = servo_leads(ModelParams(velocity_feedforward_lift=0.25)).reshape(6, 3)
+    assert np.array_equal(lift[:, 0], base[:, 0])  # joint 1 keeps its feed-forward
+    assert np.allclose(lift[:, 1:], 0.25 * base[:, 1:])
+    yaw = servo_leads(ModelParams(velocity_feedforward_yaw=0.5)).reshape(6, 3)
+    assert np.allclose(yaw[:, 0], 0.5 * base[:, 0]) and np.array_equal(yaw[:, 1:], base[:, 1:])
 
 
 def test_damping_forms_differ() -> None:
     spec = RunSpec(beta=0.66, d31_init=2.0, duration_s=0.5)
     a = simulate(spec)
-    b = simulate(spec, ModelParams(pd_damping="joint_velocity"))
+    b = simulate(spec, JOINT_VELOCITY)
     assert a.error is None and b.error is None
     n = min(a.d31.size, b.d31.size)
     assert n > 0
