@@ -375,6 +375,61 @@ def run_borders(args: argparse.Namespace) -> list[dict[str, Any]]:
     return out
 
 
+# The levers the both-folds search may move, each within +-25-50% of the step-one value: the
+# border study (gait_campaign3.md, section 3) found each moves the tripod's border by 0.01-0.05
+# in beta per 10%.
+SEARCH: dict[str, tuple[float, float]] = {
+    "com_offset_x": (0.3e-3, 1.5e-3),
+    "stand_height": (6.0e-3, 7.0e-3),
+    "kp_yaw": (3e-3, 8e-3),
+    "swing_height": (0.6e-3, 1.0e-3),
+    "swing_shape": (0.8, 1.3),
+    "stance_x_hind": (-13.5e-3, -10.5e-3),
+    "kd_lift": (2e-6, 5e-6),
+    "kp_lift": (2.5e-3, 4e-3),
+    "velocity_feedforward_yaw": (0.85, 1.15),
+}
+PAPER_FOLDS = {"tripod": 0.67, "metachronal": 0.645}
+
+
+def search_score(est: dict[str, Any], low: float, high: float) -> float:
+    """Distance of a sweep's two borders from the paper's (beta units). A tripod that never
+    leaves counts as leaving past `high`; a metachronal that never dies, at `low`; where the up
+    leg never reached the metachronal, the metachronal border is unknown and scores as `low`."""
+    t = est.get("tripod_leaves") or (high + 0.01 if "tripod_dies" in est else low - 0.01)
+    m = est.get("metachronal_dies") or low - 0.01
+    return abs(t - PAPER_FOLDS["tripod"]) + abs(m - PAPER_FOLDS["metachronal"])
+
+
+def run_search(args: argparse.Namespace) -> list[dict[str, Any]]:
+    """TPE over SEARCH, two sweeps at a time; each trial is one triangle sweep from a tripod."""
+    from concurrent.futures import ProcessPoolExecutor
+
+    import optuna
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    base = parse_sets(args.set, STEP_ONE)
+    study = optuna.create_study(sampler=optuna.samplers.TPESampler(seed=args.seed))
+    study.enqueue_trial({k: base.get(k, getattr(ModelParams(), k)) for k in SEARCH})
+    out: list[dict[str, Any]] = []
+    with ProcessPoolExecutor(max_workers=args.nthread) as pool:
+        for _ in range(0, args.trials, args.nthread):
+            trials = [study.ask() for _ in range(args.nthread)]
+            sets = [{**base, **{k: t.suggest_float(k, *SEARCH[k]) for k in SEARCH}} for t in trials]
+            jobs = [(st, args.low, args.high, args.rate, args.hold, "up") for st in sets]
+            for t, st, sw in zip(trials, sets, pool.map(_border_sweep, jobs), strict=True):
+                est = fold_estimates(sw) if not sw["error"] else {}
+                score = search_score(est, args.low, args.high) if est else 1.0
+                study.tell(t, score)
+                out.append({"trial": t.number, "score": score, "est": est, "sets": st})
+                print(f"trial {t.number}: score {score:.4f} {est}", flush=True)
+            if args.out:
+                args.out.write_text(json.dumps(out))
+    best = min(out, key=lambda r: r["score"])
+    print("best:", json.dumps(best))
+    return out
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description=(__doc__ or "").splitlines()[0])
     sub = ap.add_subparsers(dest="cmd", required=True)
@@ -417,7 +472,14 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--rate", type=float, default=0.002, help="beta per second")
     b.add_argument("--hold", type=float, default=10.0)
     b.add_argument("--direction", choices=["up", "down"], default="up")
-    for x in (f, m, r, s, b):
+    q = sub.add_parser("search")
+    q.add_argument("--trials", type=int, default=60)
+    q.add_argument("--seed", type=int, default=0)
+    q.add_argument("--low", type=float, default=0.60)
+    q.add_argument("--high", type=float, default=0.72)
+    q.add_argument("--rate", type=float, default=0.004, help="beta per second")
+    q.add_argument("--hold", type=float, default=8.0)
+    for x in (f, m, r, s, b, q):
         x.add_argument("--set", nargs="*", default=[], help="name=value over STEP_ONE")
         x.add_argument("--nthread", type=int, default=2)
         x.add_argument("--out", type=Path, default=None, help="JSON file for the raw rows")
@@ -454,6 +516,8 @@ def main(argv: list[str] | None = None) -> int:
         data = run_robust(args)
     elif args.cmd == "borders":
         data = run_borders(args)
+    elif args.cmd == "search":
+        data = run_search(args)
     else:
         data = run_sweep(args)
         print(json.dumps({k: v for k, v in data.items() if k != "bins"}, indent=1))

@@ -50,7 +50,9 @@ class Config:
 
     fig5_betas: tuple[float, ...] = (0.62, 0.70)
     fig5_inits: int = 8  # the paper used 3; 8 spread over the circle also probe the basins
-    fig5_duration_s: float = 10.0  # ~ 100 strides at 0.70 (T = T_sw / (1 - beta) = 0.11 s)
+    # ~ 270 strides at 0.70 (T = T_sw / (1 - beta) = 0.11 s): past the tripod fold a start near
+    # pi slides for 30-60 s through the ghost (docs/studies/gait_campaign3.md), 10 s is not enough
+    fig5_duration_s: float = 30.0
     map_betas: tuple[float, ...] = (0.64, 0.655, 0.675)  # Fig. 7
     map_inits: int = 24  # a dense set of starts: 24 over the circle, 0.26 rad apart
     map_duration_s: float = 3.0  # ~ 27 strides at 0.70: about 20 pairs per start

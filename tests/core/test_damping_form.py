@@ -7,25 +7,30 @@ from sim_core import ModelParams, RunSpec, simulate
 from sim_core.model.mjspec import servo_leads
 
 JOINT_VELOCITY = ModelParams(velocity_feedforward_yaw=0.0, velocity_feedforward_lift=0.0)
+TRACKING = ModelParams(velocity_feedforward_yaw=1.0, velocity_feedforward_lift=1.0)
 
 
 def test_joint_velocity_has_no_leads() -> None:
     assert np.all(servo_leads(JOINT_VELOCITY) == 0.0)
-    assert np.all(servo_leads(ModelParams()) > 0.0)
+    assert np.all(servo_leads(TRACKING) > 0.0)
+    default = servo_leads(ModelParams()).reshape(6, 3)  # yaw tracks, lift damps its velocity
+    assert np.all(default[:, 0] > 0.0) and np.all(default[:, 1:] == 0.0)
 
 
 def test_feedforward_share_scales_each_group_alone() -> None:
-    base = servo_leads(ModelParams()).reshape(6, 3)
-    lift = servo_leads(ModelParams(velocity_feedforward_lift=0.25)).reshape(6, 3)
+    base = servo_leads(TRACKING).reshape(6, 3)
+    lift = servo_leads(TRACKING.model_copy(update={"velocity_feedforward_lift": 0.25}))
+    lift = lift.reshape(6, 3)
     assert np.array_equal(lift[:, 0], base[:, 0])  # joint 1 keeps its feed-forward
     assert np.allclose(lift[:, 1:], 0.25 * base[:, 1:])
-    yaw = servo_leads(ModelParams(velocity_feedforward_yaw=0.5)).reshape(6, 3)
+    yaw = servo_leads(TRACKING.model_copy(update={"velocity_feedforward_yaw": 0.5}))
+    yaw = yaw.reshape(6, 3)
     assert np.allclose(yaw[:, 0], 0.5 * base[:, 0]) and np.array_equal(yaw[:, 1:], base[:, 1:])
 
 
 def test_damping_forms_differ() -> None:
     spec = RunSpec(beta=0.66, d31_init=2.0, duration_s=0.5)
-    a = simulate(spec)
+    a = simulate(spec, TRACKING)
     b = simulate(spec, JOINT_VELOCITY)
     assert a.error is None and b.error is None
     n = min(a.d31.size, b.d31.size)

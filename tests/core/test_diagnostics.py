@@ -22,7 +22,7 @@ def test_ring_fit_recovers_a_known_damped_oscillation() -> None:
 
 
 def test_support_is_symmetric_fore_and_hind_and_carries_the_weight() -> None:
-    p = ModelParams()
+    p = ModelParams(com_offset_x=0.0)  # the default's centre of mass sits 1 mm forward
     s = support_stiffness(p)
     k = s["k_pair_N_per_m"]
     assert k["fore"] == pytest.approx(k["hind"], rel=0.01)  # mirror-symmetric body and legs

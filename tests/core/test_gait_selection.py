@@ -71,3 +71,20 @@ def test_low_speed_has_no_tripod(finals) -> None:
 def test_high_speed_has_only_the_tripod(finals) -> None:
     d = _settled(finals[(0.62, 1.9)])
     assert abs(float(angle_diff(d, TRIPOD_BRANCH))) < TOLERANCE, d
+
+
+@pytest.mark.slow
+def test_the_viewers_tripod_preset_stays_at_062_and_leaves_past_the_fold() -> None:
+    """The viewer's "start as tripod" preset on the engine it steps: measured 2.95 rad for 40 s
+    at 0.62, then at 0.70 2.81 after 5 s, 'metachronal' after 20 s, 1.68 after 45 s."""
+    import math
+
+    from sim_core import Simulation
+
+    sim = Simulation(RunSpec(beta=0.62))
+    sim.reset(d31_init=math.pi)
+    sim.advance(20.0)
+    assert sim.gait == "tripod" and abs(sim.d31_events[-1][1] - TRIPOD_BRANCH) < TOLERANCE
+    sim.set_beta(0.70)
+    sim.advance(30.0)
+    assert sim.gait == "metachronal"
