@@ -256,26 +256,31 @@ def crossings(bins: dict[str, float], level: float = JUMP_LEVEL) -> list[float]:
     return out
 
 
+def binned_legs(
+    times: list[float], values: list[float], d31: list[float], hold: float, ramp_s: float
+) -> dict[str, dict[str, float]]:
+    """Delta31 of each leg of a triangle sweep, circular mean per 0.005 of the swept value."""
+    t, v, d = (np.asarray(x) for x in (times, values, d31))
+    legs = {}
+    for name, (a, b) in {
+        "first": (hold, hold + ramp_s),
+        "second": (hold + ramp_s, hold + 2 * ramp_s),
+    }.items():
+        m = (t >= a) & (t < b)
+        bins: dict[float, list[float]] = {}
+        for vi, di in zip(v[m], d[m], strict=True):
+            bins.setdefault(round(round(vi / 0.005) * 0.005, 3), []).append(di)
+        legs[name] = {str(k): circular_mean(x) for k, x in sorted(bins.items())}
+    return legs
+
+
 def run_sweep(args: argparse.Namespace) -> dict[str, Any]:
     sets = parse_sets(args.set)
     p = ModelParams(**sets)
     ramp_s = abs(args.turn - args.start) / args.rate
     spec = RunSpec(beta=args.start, d31_init=args.d31_init, duration_s=1.0, dt_s=args.dt)
     res = sweep(spec, parameter="beta", turn=args.turn, hold_s=args.hold, ramp_s=ramp_s, params=p)
-    t = np.asarray(res.times_s)
-    v = np.asarray(res.values)
-    d = np.asarray(res.d31)
-    legs = {}
-    for name, (a, b) in {
-        "first": (args.hold, args.hold + ramp_s),
-        "second": (args.hold + ramp_s, args.hold + 2 * ramp_s),
-    }.items():
-        m = (t >= a) & (t < b)
-        bins: dict[float, list[float]] = {}
-        for vi, di in zip(v[m], d[m], strict=True):
-            key = round(round(vi / 0.005) * 0.005, 3)
-            bins.setdefault(key, []).append(di)
-        legs[name] = {str(k): circular_mean(x) for k, x in sorted(bins.items())}
+    legs = binned_legs(res.times_s, res.values, res.d31, args.hold, ramp_s)
     return {
         "jumps": {k: crossings(b) for k, b in legs.items()},
         "start": args.start,
@@ -286,7 +291,7 @@ def run_sweep(args: argparse.Namespace) -> dict[str, Any]:
         "summary": res.summary,
         "error": res.error,
         "bins": legs,
-        "series": {"t": t.tolist(), "beta": v.tolist(), "d31": d.tolist()},
+        "series": {"t": list(res.times_s), "beta": list(res.values), "d31": list(res.d31)},
     }
 
 
