@@ -34,7 +34,7 @@ from sim_core import (
     simulate_batch,
     sweep,
 )
-from sim_core.model.gait import angle_diff
+from sim_core.model.gait import TAIL_DRIFT_SETTLED, angle_diff, tail_drift
 from sim_core.model.params import phi_aep
 
 LEAD1: dict[str, Any] = {
@@ -48,7 +48,7 @@ LEAD1: dict[str, Any] = {
 }
 EIGHT = [round(2 * math.pi * k / 8, 4) for k in range(8)]
 EXTRA = [1.6, 2.2, 2.6, 3.0, 3.6]
-SETTLE_SLOPE = 0.005  # rad per gait cycle over the last quarter: below it, settled
+SETTLE_SLOPE = TAIL_DRIFT_SETTLED  # rad per gait cycle over the last quarter: below it, settled
 CLUSTER_TOL = 0.08  # rad: finals closer than this count as one attractor
 
 
@@ -64,19 +64,12 @@ def parse_sets(items: list[str]) -> dict[str, Any]:
 
 
 def tail_stats(r: RunResult) -> dict[str, Any]:
-    """Final Delta31 (circular mean of the last quarter of leg-1 touchdowns) and its drift per
-    gait cycle (least-squares slope of the unwrapped last quarter against touchdown index)."""
-    d = np.asarray(r.d31)
-    if d.size < 8:
+    """Final Delta31 and its drift per gait cycle over the last quarter (`gait.tail_drift`)."""
+    tail = tail_drift(r.d31)
+    if tail is None:
         return {"final": None, "slope": None, "settled": False}
-    q = d[-max(4, d.size // 4) :]
-    un = np.unwrap(q)
-    slope = float(np.polyfit(np.arange(q.size), un, 1)[0])
-    return {
-        "final": circular_mean(q),
-        "slope": slope,
-        "settled": abs(slope) < SETTLE_SLOPE,
-    }
+    final, slope = tail
+    return {"final": final, "slope": slope, "settled": abs(slope) < SETTLE_SLOPE}
 
 
 def row(r: RunResult, p: ModelParams) -> dict[str, Any]:

@@ -25,6 +25,9 @@ METACHRONAL_HALF_WIDTH = 0.45
 # less than SETTLED_STD (circular std, rad).
 SETTLED_STD = 0.15
 SETTLED_LAST = 8
+# The studies' stricter test (issue 22): the drift per gait cycle over the last quarter of a
+# run, below this (rad per leg-1 touchdown). A slide through a ghost past a fold moves 0.002-0.004.
+TAIL_DRIFT_SETTLED = 0.005
 
 
 def wrap(x: np.ndarray | float) -> np.ndarray:
@@ -91,6 +94,18 @@ def settled_gait(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:
     """(settled mean or None, gait; 'other' if not settled)."""
     mean = settled_mean(d31)
     return mean, classify_gait(mean)
+
+
+def tail_drift(d31: np.ndarray | Sequence[float]) -> tuple[float, float] | None:
+    """(circular mean, drift per gait cycle) of the last quarter of a run's Delta31 samples (at
+    least 4): the drift is the least-squares slope of the unwrapped quarter per leg-1 touchdown,
+    which tells a slow slide from an attractor where the spread of `is_settled` cannot. None
+    with fewer than 8 samples."""
+    d = np.asarray(d31, dtype=float)
+    if d.size < 8:
+        return None
+    tail = np.unwrap(d[-max(4, d.size // 4) :])
+    return circular_mean(tail), float(np.polyfit(np.arange(tail.size), tail, 1)[0])
 
 
 def phase_jumps(

@@ -228,12 +228,8 @@ def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     sweeps_up = {k: _sweep(r, res_up[k]) for k, r in ups.items()}
     # the switch to the tripod as beta falls (first protocol's first leg) and back to the
     # metachronal as it rises (second protocol's first leg); keyed as the legs of a loop
-    legs = {"first_leg": "tripod", "second_leg": "metachronal"}
-    at = {
-        k: {"first_leg": _switch(sweeps[k]["first_leg"], "tripod"),
-            "second_leg": _switch(sweeps_up[k]["first_leg"], "metachronal")}
-        for k in ramps
-    }  # fmt: skip
+    legs = {"first_leg": (sweeps, "tripod"), "second_leg": (sweeps_up, "metachronal")}
+    at = {k: {leg: _switch(sw[k]["first_leg"], g) for leg, (sw, g) in legs.items()} for k in ramps}
     shift: dict[str, float | None] = {}
     at_zero: dict[str, float | None] = {}
     # slow passage through a saddle-node: the switch lags the fold by ~ rate^(2/3), so two
