@@ -50,6 +50,12 @@ class InstanceLock:
                 "stop it or give this one another --db"
             ) from None
 
+    def probe(self) -> None:
+        """Raise the same RuntimeError as `acquire` if another server holds the lock; hold
+        nothing afterwards (the app's lifespan takes it for real)."""
+        self.acquire()
+        self.release()
+
     def release(self) -> None:
         if self._fd is not None:
             fcntl.flock(self._fd, fcntl.LOCK_UN)

@@ -6,8 +6,11 @@ Flags override the environment (INSECT_GAIT_*), which overrides the defaults in 
 from __future__ import annotations
 
 import argparse
+import sys
 from pathlib import Path
 from typing import Any
+
+from sim_core.cli import port_number
 
 
 def register(subparsers: Any) -> argparse.ArgumentParser:
@@ -25,7 +28,7 @@ def register(subparsers: Any) -> argparse.ArgumentParser:
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument("--host", help="interface to bind (default 127.0.0.1)")
-    parser.add_argument("--port", type=int, help="TCP port (default 8000)")
+    parser.add_argument("--port", type=port_number, help="TCP port, 1..65535 (default 8000)")
     parser.add_argument("--db", type=Path, help="SQLite database path")
     parser.add_argument(
         "--workers", type=int, help="worker processes (default: cores - 1, at least 1)"
@@ -49,13 +52,19 @@ def run_api(args: argparse.Namespace) -> int:
     import uvicorn
     from pydantic import ValidationError
 
-    from server.app import create_app
+    from server.app import InstanceLock, create_app
 
     try:
         settings = settings_from_args(args)
     except ValidationError as exc:
-        print(f"insect-gait api: invalid settings:\n{exc}")
+        print(f"insect-gait api: invalid settings: {settings_problem(exc)}", file=sys.stderr)
         return 2
+    try:  # before uvicorn, whose failed startup would print its traceback first
+        settings.db_path.parent.mkdir(parents=True, exist_ok=True)
+        InstanceLock(str(settings.db_path)).probe()
+    except (RuntimeError, OSError) as exc:
+        print(f"insect-gait api: {exc}", file=sys.stderr)
+        return 1
     app = create_app(settings)
     print(
         f"insect-gait api: http://{settings.host}:{settings.port}/docs "
@@ -65,6 +74,17 @@ def run_api(args: argparse.Namespace) -> int:
     # One process on purpose: the worker pool and the instance lock belong to this process.
     uvicorn.run(app, host=settings.host, port=settings.port, log_level=settings.log_level)
     return 0
+
+
+def settings_problem(exc: Any) -> str:
+    """A settings ValidationError in one line, naming the flag and the environment variable
+    that can set each field (pydantic's own text ends in a library URL)."""
+    parts = []
+    for err in exc.errors():
+        name = ".".join(str(x) for x in err["loc"]) or "settings"
+        flag = {"db_path": "--db"}.get(name, f"--{name.replace('_', '-')}")
+        parts.append(f"{name} ({flag} or INSECT_GAIT_{name.upper()}): {err['msg']}")
+    return "; ".join(parts)
 
 
 def main(argv: list[str] | None = None) -> int:

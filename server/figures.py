@@ -11,6 +11,8 @@ import io
 import math
 from typing import Any
 
+from sim_core.contract import LEG_NAMES
+
 TWO_PI = 2.0 * math.pi
 
 
@@ -45,7 +47,7 @@ def _d31_axis(ax: Any, axis: str = "y") -> None:
         ax.set_xticks(ticks, labels)
 
 
-LEG_LABELS = ["R1", "L1", "R2", "L2", "R3", "L3"]  # paper legs 1..6 (== sim_core.leg_names())
+LEG_LABELS = list(LEG_NAMES)  # paper legs 1..6
 
 
 def figure_png(job: dict[str, Any], result: dict[str, Any]) -> bytes:

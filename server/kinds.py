@@ -12,9 +12,6 @@ from collections.abc import Callable
 from typing import Any
 
 from server.schemas import (
-    DEFAULT_DT_S,
-    DEFAULT_INTEGRATOR,
-    MAX_STABLE_DT_S,
     AnyJob,
     BifurcationJob,
     HysteresisJob,
@@ -23,6 +20,19 @@ from server.schemas import (
     SweepJob,
     _Physics,
     tidy,
+)
+from sim_core.contract import (
+    DEFAULT_DT_S,
+    DEFAULT_INTEGRATOR,
+    LEG_NAMES,
+    MAX_STABLE_DT_S,
+    RETURN_MAP_SKIP,
+    RunFailure,
+    classify_gait,
+    mean_after,
+    resolve_numerics,
+    return_map_from_series,
+    settled_gait,
 )
 
 # Columns of each kind's `records`, so that an empty table still has its header.
@@ -39,8 +49,8 @@ RECORD_COLUMNS: dict[str, list[str]] = {
 # The time-series tables of a run job with include_series (`?table=` of the CSV export).
 SERIES_COLUMNS: dict[str, list[str]] = {
     "d31": ["run", "d31_init", "n", "time_s", "d31"],
-    "samples": ["run", "d31_init", "time_s", "stance_R1", "stance_L1", "stance_R2",
-                "stance_L2", "stance_R3", "stance_L3", "x_m", "y_m", "z_m"],
+    "samples": ["run", "d31_init", "time_s", *(f"stance_{leg}" for leg in LEG_NAMES),
+                "x_m", "y_m", "z_m"],
 }  # fmt: skip
 
 Progress = Callable[[float], None]
@@ -59,14 +69,13 @@ def _core() -> Any:
     return sim_core
 
 
-def advice(job: _Physics, errors: list[str]) -> str:
-    """What the client can do about failed runs: a smaller step only where the step is the
-    likely cause (a numerical blow-up, or a step coarser than the converged default); a fall
-    or flip at a sound step is the insect's physics under these conditions."""
-    integrator = job.integrator or DEFAULT_INTEGRATOR
-    dt = job.dt_s or DEFAULT_DT_S
-    text = " ".join(errors)
-    numerical = any(w in text for w in ("MuJoCo warning", "non-finite", "unstable"))
+def advice(job: _Physics, failures: list[RunFailure]) -> str:
+    """What the client can do about failed runs, chosen from the failures' kinds: a smaller
+    step only where the step is the likely cause (a numerical blow-up, or a step coarser than
+    the converged default); a fall or flip at a sound step is the insect's physics under these
+    conditions."""
+    integrator, dt, _, _ = resolve_numerics(job.integrator, job.dt_s, job.control_dt_s)
+    numerical = any(f.numerical for f in failures)
     if numerical or dt > DEFAULT_DT_S * (1 + 1e-9):
         return (
             f"the timestep is the likely cause ({integrator} at dt_s {dt:g} s): try a smaller "
@@ -81,32 +90,34 @@ def advice(job: _Physics, errors: list[str]) -> str:
     )
 
 
-def _failed(job: _Physics, diverged: list[str], total: int) -> JobFailed:
+def _failed(job: _Physics, failed: list[tuple[str, RunFailure]], total: int) -> JobFailed:
+    """`failed`: (which run, its failure) for every run that stopped early."""
     return JobFailed(
-        f"{len(diverged)} of {total} simulation(s) failed, so the job returns no numbers; "
-        f"{advice(job, diverged)}. " + "; ".join(diverged)
+        f"{len(failed)} of {total} simulation(s) failed, so the job returns no numbers; "
+        f"{advice(job, [f for _, f in failed])}. "
+        + "; ".join(f"{which}: {failure}" for which, failure in failed)
     )
 
 
 def _batch(core: Any, job: RunJob | ReturnMapJob, progress: Progress, nthread: int) -> list[Any]:
     specs = [core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
-    try:
-        results: list[Any] = core.simulate_batch(specs, nthread=nthread, progress=progress)
-    except core.SimulationDiverged as exc:
-        raise JobFailed(f"{exc}; {advice(job, [str(exc)])}") from exc
-    diverged = [
-        f"run {i + 1} of {len(results)} (d31_init = {d:.4g}): {r.error}"
+    results: list[Any] = core.simulate_batch(specs, nthread=nthread, progress=progress)
+    failed = [
+        (f"run {i + 1} of {len(results)} (d31_init = {d:.4g})", r.failure)
         for i, (d, r) in enumerate(zip(job.d31_init, results, strict=True))
-        if r.diverged
+        if r.failure is not None
     ]
-    if diverged:
-        raise _failed(job, diverged, len(results))
+    if failed:
+        raise _failed(job, failed, len(results))
     return results
+
+
+SUMMARY_ONLY = ("d31", "error", "diverged", "failure", "warnings")  # not columns of a row
 
 
 def _summary_row(d31_init: float, summary: dict[str, Any]) -> dict[str, Any]:
     row = {"d31_init": d31_init}
-    row.update({k: v for k, v in summary.items() if k not in ("d31", "error", "diverged")})
+    row.update({k: v for k, v in summary.items() if k not in SUMMARY_ONLY})
     row["n_touchdowns"] = len(summary.get("d31") or [])
     return row
 
@@ -116,10 +127,17 @@ def run_job(job: RunJob, progress: Progress, nthread: int) -> dict[str, Any]:
     results = _batch(core, job, progress, nthread)
     runs = [r.to_dict() if job.include_series else r.summary() for r in results]
     records = [_summary_row(d, r.summary()) for d, r in zip(job.d31_init, results, strict=True)]
-    out: dict[str, Any] = {"kind": "run", "runs": runs, "records": records}
+    out: dict[str, Any] = {"kind": "run", "runs": runs, "records": records,
+                           "warnings": _warnings(results)}  # fmt: skip
     if job.include_series:
         out["series"] = series_tables(job.d31_init, runs)
     return out
+
+
+def _warnings(results: list[Any]) -> list[str]:
+    """Every distinct warning of the job's runs (`RunResult.warnings`), in first-seen order:
+    what the numbers say about themselves, e.g. a duty factor off beta at a coarse step."""
+    return list(dict.fromkeys(w for r in results for w in r.warnings))
 
 
 def series_tables(d31_init: list[float], runs: list[dict[str, Any]]) -> dict[str, Any]:
@@ -141,16 +159,17 @@ def series_tables(d31_init: list[float], runs: list[dict[str, Any]]) -> dict[str
 
 
 def return_map_job(job: ReturnMapJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    """The paper's Fig. 7 construction: Delta31 at touchdown n against touchdown n + lag."""
+    """The paper's Fig. 7 construction, the core's own (`return_map_from_series`, as in
+    `reproduce`): Delta31 at touchdown n against touchdown n + lag, the first
+    RETURN_MAP_SKIP touchdowns of each run dropped; `n` counts from the run's first touchdown."""
     core = _core()
     results = _batch(core, job, progress, nthread)
     records: list[dict[str, Any]] = []
     for d0, res in zip(job.d31_init, results, strict=True):
-        d31 = [float(x) for x in res.summary()["d31"]]
-        for n in range(len(d31) - job.lag):
-            records.append(
-                {"d31_init": d0, "n": n, "d31_n": d31[n], "d31_n_plus_lag": d31[n + job.lag]}
-            )
+        rm = return_map_from_series(job.beta, [res.d31], lag=job.lag)
+        for k, (x, y) in enumerate(zip(rm.x.tolist(), rm.y.tolist(), strict=True)):
+            records.append({"d31_init": d0, "n": RETURN_MAP_SKIP + k, "d31_n": x,
+                            "d31_n_plus_lag": y})  # fmt: skip
     runs = [r.summary() for r in results]
     return {
         "kind": "return_map",
@@ -168,13 +187,13 @@ def _grid(
     pairs = [(b, d) for b in job.beta_range.values() for d in job.d31_init]
     specs = core.spec_grid(job.beta_range.values(), job.d31_init, **job.run_fields())
     results = core.simulate_batch(specs, nthread=nthread, progress=progress)
-    diverged = [
-        f"beta {b:.4g}, d31_init {d:.4g}: {r.error}"
+    failed = [
+        (f"beta {b:.4g}, d31_init {d:.4g}", r.failure)
         for (b, d), r in zip(pairs, results, strict=True)
-        if r.diverged
+        if r.failure is not None
     ]
-    if diverged:
-        raise _failed(job, diverged, len(results))
+    if failed:
+        raise _failed(job, failed, len(results))
     return [(b, d, r) for (b, d), r in zip(pairs, results, strict=True)]
 
 
@@ -182,27 +201,28 @@ def sweep_job(job: SweepJob, progress: Progress, nthread: int) -> dict[str, Any]
     """Final Delta31 and gait for every beta of the grid and every initial Delta31."""
     core = _core()
     records = []
-    for beta, d0, res in _grid(core, job, progress, nthread):
+    grid = _grid(core, job, progress, nthread)
+    for beta, d0, res in grid:
         row = _summary_row(d0, res.summary())
         row["beta"] = beta
         records.append(row)
-    return {"kind": "sweep", "records": records}
+    return {"kind": "sweep", "records": records, "warnings": _warnings([r for _, _, r in grid])}
 
 
 def bifurcation_job(job: BifurcationJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    """Where Delta31 settles after the transient, per beta and initial value (Fig. 8's stable
-    branches); runs still drifting at the end are kept but flagged `settled: false`."""
+    """Where Delta31 sits after the transient, per beta and initial value (Fig. 8's stable
+    branches): the circular mean of the samples after `transient_s` (`mean_after`). `settled`
+    is the core's one rule (`settled_gait`, as `reproduce` reads its finals: the last 8
+    touchdowns spread < 0.15 rad); a run still drifting is kept, flagged `settled: false`, and
+    its gait is "other"."""
     core = _core()
     records = []
     for beta, d0, res in _grid(core, job, progress, nthread):
-        after = [float(x) for t, x in zip(res.d31_times_s, res.d31, strict=True)
-                 if t >= job.transient_s]  # fmt: skip
-        mean = core.circular_mean(after) if after else None
-        settled = res.d31_final is not None and res.gait != "other"
+        mean, count = mean_after(res.d31_times_s, res.d31, job.transient_s)
+        settled = settled_gait(res.d31)[0] is not None
         records.append(
-            {"beta": beta, "d31_init": d0, "d31_after_transient": mean,
-             "n_touchdowns": len(after), "gait": core.classify_gait(mean) if mean is not None
-             else "other", "settled": settled}
+            {"beta": beta, "d31_init": d0, "d31_after_transient": mean, "n_touchdowns": count,
+             "gait": classify_gait(mean) if settled else "other", "settled": settled}
         )  # fmt: skip
     return {"kind": "bifurcation", "records": records}
 
@@ -220,8 +240,8 @@ def hysteresis_job(job: HysteresisJob, progress: Progress, nthread: int) -> dict
         ramp_s=job.ramp_s,
         progress=progress,
     )
-    if res.error:
-        raise _failed(job, [f"the sweep run: {res.error}"], 1)
+    if res.failure is not None:
+        raise _failed(job, [("the sweep run", res.failure)], 1)
     turn_t = job.hold_s + job.ramp_s
     records = [
         {"time_s": t, "leg": "first" if t < turn_t else "second", "value": v, "d31": d}

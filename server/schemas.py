@@ -2,16 +2,19 @@
 
 Job specs are strict (no coercion from strings, no unknown fields, no NaN) because a job runs
 minutes after it was accepted: everything that can be refused must be refused at the door, with
-a message naming the field and its allowed range. The physical ranges mirror `sim_core.RunSpec`
-(a test keeps them in sync); the API process does not import the core to validate, so that a
-request never waits on importing MuJoCo.
+a message naming the field and its allowed range. The rules are the core's own
+(`sim_core.contract`: RunSpec's ranges and defaults, the integrators with their measured step
+limits, the run's numerics): this module composes them and states only tighter bounds, each
+with its reason. The contract loads without MuJoCo, so validating a request never waits on the
+physics engine.
 """
 
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any, Literal, get_args
+from typing import Annotated, Any, Literal
 
+import annotated_types
 from pydantic import (
     BaseModel,
     BeforeValidator,
@@ -22,34 +25,42 @@ from pydantic import (
     field_validator,
 )
 
+from sim_core.contract import (
+    DEFAULT_DT_S,
+    DEFAULT_INTEGRATOR,
+    INTEGRATORS,
+    MAX_STABLE_DT_S,
+    Integrator,
+    RampParam,
+    RunSpec,
+    resolve_numerics,
+    step_problem,
+)
+
 TWO_PI = 2.0 * math.pi
 MAX_LIST = 1000  # hard cap on list lengths; the per-deployment cap is Settings.max_runs_per_job
 
 JobStatus = Literal["queued", "running", "done", "failed", "cancelled"]
 JOB_STATUSES: tuple[str, ...] = ("queued", "running", "done", "failed", "cancelled")
 FINISHED: frozenset[str] = frozenset({"done", "failed", "cancelled"})
-Integrator = Literal["euler", "implicit", "implicitfast", "rk4", "discrete"]
-INTEGRATOR_NAMES: tuple[str, ...] = get_args(Integrator)  # == sim_core.INTEGRATORS (a test)
 
-# The core's numerics defaults (== sim_core.ModelParams(), a test keeps them equal): the API
-# process checks combinations against them without importing MuJoCo.
-DEFAULT_INTEGRATOR = "implicitfast"
-DEFAULT_DT_S = 5e-5
-DEFAULT_CONTROL_DT_S = 5e-4
 
-# The largest timestep at which each integrator keeps this model upright, measured: the
-# docs/NUMERICS.md grid (3 s runs, beta 0.62 and 0.70) and 0.5 s runs at beta 0.66 on
-# 2026-11-25: euler is unstable (MuJoCo BADQACC) at 2e-5 s, rk4 flips at 2.5e-5 s, implicit and
-# implicitfast flip at 1e-3 s in the grid (and within 0.15 s at 2e-3 s), discrete runs at
-# 1e-3 s (inaccurately). The explicit integrators need small steps because the insect-scale
-# links are tiny and strongly damped.
-MAX_STABLE_DT_S: dict[str, float] = {
-    "euler": 1e-5,
-    "implicit": 5e-4,
-    "implicitfast": 5e-4,
-    "rk4": 2e-5,
-    "discrete": 1e-3,
-}
+def core_bounds(name: str) -> dict[str, float]:
+    """RunSpec's bounds on field `name` as keyword arguments (gt/ge/lt/le): the API's ranges
+    are the core's, read from it, never retyped."""
+    out: dict[str, float] = {}
+    for m in RunSpec.model_fields[name].metadata:
+        for key, kind in (("gt", annotated_types.Gt), ("ge", annotated_types.Ge),
+                          ("lt", annotated_types.Lt), ("le", annotated_types.Le)):  # fmt: skip
+            if isinstance(m, kind):
+                out[key] = float(getattr(m, key))
+    return out
+
+
+def core_default(name: str) -> Any:
+    return RunSpec.model_fields[name].default
+
+
 MAX_DT_S = max(MAX_STABLE_DT_S.values())
 DT_REASON = (
     "larger steps cannot be stable for this model: measured limits per integrator "
@@ -61,15 +72,20 @@ DT_REASON = (
 # Body mass: the legs are position-servoed and carry any load, so the model "walks" at ~3.0
 # cm/s from 1 ug to 30 g (measured 2026-11-25, 1 s runs at beta 0.66): the mass does not stop
 # an unphysical insect, the bounds must. Below 0.5 g the body would weigh less than its own
-# six legs (6 x 0.11 g = 0.66 g, Table I); above 30 g (ten times the paper's 3 g) the legs'
-# gains and contacts were never meant to carry it. The paper's Fig. 9 ramps 1-6 g.
+# six legs (6 x 0.11 g = 0.66 g, Table I); the top is RunSpec's (ten times the paper's 3 g).
+# The paper's Fig. 9 ramps 1-6 g. The one bound tighter than the core's.
 MASS_MIN_G = 0.5
-MASS_MAX_G = 30.0
+MASS_MAX_G = core_bounds("body_mass_g")["le"]
 MASS_REASON = (
     "the model's servoed legs carry any load, so lighter or heavier insects would still "
-    "'walk'; below 0.5 g the body weighs less than its six legs (0.66 g), above 30 g is ten "
-    "times the paper's 3 g"
+    f"'walk'; below {MASS_MIN_G:g} g the body weighs less than its six legs (0.66 g), above "
+    f"{MASS_MAX_G:g} g is ten times the paper's 3 g"
 )
+BETA_BOUNDS = core_bounds("beta")
+BETA_DEFAULT: float = core_default("beta")
+SLOPE_BOUNDS = core_bounds("slope_deg")
+DURATION_BOUNDS = core_bounds("duration_s")
+D31_BOUNDS = core_bounds("d31_init")
 
 
 def _num(x: float) -> str:
@@ -136,7 +152,7 @@ def _integral(v: Any) -> Any:
 
 
 IntLike = Annotated[int, BeforeValidator(_integral)]
-D31 = Annotated[float, Field(ge=0.0, le=TWO_PI)]
+D31 = Annotated[float, Field(**D31_BOUNDS)]
 D31_ALLOWED = f"1..{MAX_LIST} values, each 0 <= d31_init <= 2*pi (6.283185) rad"
 
 
@@ -163,15 +179,20 @@ class _Physics(_Strict):
     """
 
     body_mass_g: float = bounded(
-        3.0, "body_mass_g", "body mass, g", ge=MASS_MIN_G, le=MASS_MAX_G, why=MASS_REASON
+        core_default("body_mass_g"), "body_mass_g", "body mass, g", ge=MASS_MIN_G,
+        le=MASS_MAX_G, why=MASS_REASON,
+    )  # fmt: skip
+    slope_deg: float = bounded(
+        core_default("slope_deg"), "slope_deg", "ground slope, deg, uphill +", **SLOPE_BOUNDS
     )
-    slope_deg: float = bounded(0.0, "slope_deg", "ground slope, deg, uphill +", gt=-90.0, lt=90.0)
-    phase_reset: bool = Field(True, description="phase resetting at touchdown (paper eq. 4)")
+    phase_reset: bool = Field(
+        core_default("phase_reset"), description="phase resetting at touchdown (paper eq. 4)"
+    )
     integrator: Integrator | None = Field(
         None,
-        description=f"MuJoCo integrator; allowed: {', '.join(INTEGRATOR_NAMES)} or null "
+        description=f"MuJoCo integrator; allowed: {', '.join(INTEGRATORS)} or null "
         f"(the default, {DEFAULT_INTEGRATOR})",
-        json_schema_extra={"allowed": f"{', '.join(INTEGRATOR_NAMES)} or null"},
+        json_schema_extra={"allowed": f"{', '.join(INTEGRATORS)} or null"},
     )
     dt_s: float | None = bounded(
         None,
@@ -198,15 +219,10 @@ class _Physics(_Strict):
     def _stable_for_the_integrator(cls, v: float | None, info: ValidationInfo) -> Any:
         if "integrator" not in info.data:
             return v  # the integrator itself was refused; that error says enough
-        integrator = info.data.get("integrator") or DEFAULT_INTEGRATOR
-        dt = DEFAULT_DT_S if v is None else v
-        limit = MAX_STABLE_DT_S[integrator]
-        if dt > limit * (1 + 1e-9):
-            given = f"{dt:g}" if v is not None else f"null, i.e. the default {dt:g}"
-            raise ValueError(
-                f"dt_s ({given} s) cannot be stable with integrator {integrator}: it needs "
-                f"dt_s <= {limit:g} s (measured; see docs/NUMERICS.md)"
-            )
+        integrator, dt, _, _ = resolve_numerics(info.data.get("integrator"), v, None)
+        problem = step_problem(integrator, dt, given=v is not None)
+        if problem:
+            raise ValueError(problem)
         return v
 
     @field_validator("control_dt_s")
@@ -223,8 +239,7 @@ class _Physics(_Strict):
         return v
 
     def effective_control_dt_s(self) -> float:
-        dt = self.dt_s or DEFAULT_DT_S
-        return self.control_dt_s or max(DEFAULT_CONTROL_DT_S, dt)
+        return resolve_numerics(self.integrator, self.dt_s, self.control_dt_s)[2]
 
     def run_count(self) -> int:
         raise NotImplementedError
@@ -251,15 +266,19 @@ class _Timed(_Physics):
     """Kinds whose runs last a fixed `duration_s`."""
 
     duration_s: float = bounded(
-        5.0, "duration_s", "simulated time of each run, s", gt=0.0, le=600.0
+        core_default("duration_s"),
+        "duration_s",
+        "simulated time of each run, s",
+        **DURATION_BOUNDS,
     )
 
     @field_validator("duration_s")
     @classmethod
     def _at_least_one_control_period(cls, v: float, info: ValidationInfo) -> float:
         if "dt_s" in info.data and "control_dt_s" in info.data:
-            dt = info.data.get("dt_s") or DEFAULT_DT_S
-            period = info.data.get("control_dt_s") or max(DEFAULT_CONTROL_DT_S, dt)
+            period = resolve_numerics(
+                info.data.get("integrator"), info.data.get("dt_s"), info.data.get("control_dt_s")
+            )[2]
             if v < period:
                 raise ValueError(
                     f"duration_s ({v:g}) is shorter than one control period ({period:g} s): "
@@ -278,8 +297,8 @@ class _Timed(_Physics):
 class BetaRange(_Strict):
     """An evenly spaced duty-factor grid; start > stop sweeps downwards (hysteresis runs)."""
 
-    start: float = bounded(..., "start", "first beta", gt=0.5, lt=1.0)
-    stop: float = bounded(..., "stop", "last beta", gt=0.5, lt=1.0)
+    start: float = bounded(..., "start", "first beta", **BETA_BOUNDS)
+    stop: float = bounded(..., "stop", "last beta", **BETA_BOUNDS)
     steps: IntLike = bounded(11, "steps", "grid points, start and stop included", ge=2, le=201)
 
     def values(self) -> list[float]:
@@ -293,8 +312,8 @@ class RunJob(_Timed):
     """Independent simulations at one beta, one per initial Delta31."""
 
     kind: Literal["run"] = "run"
-    beta: float = bounded(0.66, "beta", "duty factor", gt=0.5, lt=1.0)
-    d31_init: list[D31] = d31_list([TWO_PI / 3.0])
+    beta: float = bounded(BETA_DEFAULT, "beta", "duty factor", **BETA_BOUNDS)
+    d31_init: list[D31] = d31_list([core_default("d31_init")])
     include_series: bool = Field(
         False, description="also keep each run's time series (large); for plots and CSV export"
     )
@@ -307,7 +326,7 @@ class ReturnMapJob(_Timed):
     """Fig. 7 of the paper: pairs (Delta31[n], Delta31[n + lag]) collected over several runs."""
 
     kind: Literal["return_map"] = "return_map"
-    beta: float = bounded(0.66, "beta", "duty factor", gt=0.5, lt=1.0)
+    beta: float = bounded(BETA_DEFAULT, "beta", "duty factor", **BETA_BOUNDS)
     d31_init: list[D31] = d31_list([TWO_PI * i / 12.0 for i in range(12)])
     lag: IntLike = bounded(4, "lag", "touchdowns between the two members of a pair", ge=1, le=50)
 
@@ -320,7 +339,7 @@ class SweepJob(_Timed):
 
     kind: Literal["sweep"] = "sweep"
     beta_range: BetaRange
-    d31_init: list[D31] = d31_list([TWO_PI / 3.0])
+    d31_init: list[D31] = d31_list([core_default("d31_init")])
 
     def run_count(self) -> int:
         return len(self.d31_init) * self.beta_range.steps
@@ -337,7 +356,7 @@ class BifurcationJob(_Timed):
         "transient_s",
         "simulated time discarded before Delta31 is recorded, s",
         ge=0.0,
-        lt=600.0,
+        lt=DURATION_BOUNDS["le"],
         validate_default=True,
     )
 
@@ -356,14 +375,14 @@ class BifurcationJob(_Timed):
         return len(self.d31_init) * self.beta_range.steps
 
 
-SweptParameter = Literal["beta", "body_mass_g", "slope_deg"]
+SweptParameter = RampParam
 # the range each swept parameter may take: the same bounds as the field of that name
 SWEEP_RANGES: dict[str, dict[str, float]] = {
-    "beta": {"gt": 0.5, "lt": 1.0},
+    "beta": BETA_BOUNDS,
     "body_mass_g": {"ge": MASS_MIN_G, "le": MASS_MAX_G},
-    "slope_deg": {"gt": -90.0, "lt": 90.0},
+    "slope_deg": SLOPE_BOUNDS,
 }
-MAX_SWEEP_S = 600.0
+MAX_SWEEP_S = DURATION_BOUNDS["le"]
 
 
 def _in_range(value: float, bounds: dict[str, float]) -> bool:
@@ -388,7 +407,10 @@ class HysteresisJob(_Physics):
         json_schema_extra={"allowed": "beta, body_mass_g, slope_deg"},
     )
     beta: float = bounded(
-        0.66, "beta", "duty factor held while another parameter is swept", gt=0.5, lt=1.0
+        BETA_DEFAULT,
+        "beta",
+        "duty factor held while another parameter is swept",
+        **BETA_BOUNDS,
     )
     d31_init: D31 = Field(
         1.9,
@@ -400,8 +422,9 @@ class HysteresisJob(_Physics):
         ...,
         allow_inf_nan=False,
         description="value held first and last (Fig. 6a: beta 0.70); allowed: the range of "
-        "the swept field (beta 0.5 < x < 1, body_mass_g 0.5 <= x <= 30, slope_deg "
-        "-90 < x < 90)",
+        "the swept field ("
+        + ", ".join(f"{k} {range_text('x', **b)}" for k, b in SWEEP_RANGES.items())
+        + ")",
     )
     turn: float = Field(
         ...,

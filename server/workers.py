@@ -100,13 +100,14 @@ def worker_main(
     # worker must not die first and have its job counted as crashed.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
-    signal.pthread_sigmask(signal.SIG_UNBLOCK, {signal.SIGINT})  # blocked by the parent
     from server.errors import exception_message, sanitize
     from server.kinds import JobFailed, execute
     from server.schemas import JOB_SPEC_ADAPTER
 
     with contextlib.suppress(Exception):
-        import sim_core  # noqa: F401  (warm the import before the first job arrives)
+        # warm the engine (MuJoCo, numba) before the first job arrives; `import sim_core`
+        # alone is lazy and loads neither
+        from sim_core import simulate_batch  # noqa: F401
 
     store = JobStore(db_path)
     conn.send(("ready", os.getpid()))
@@ -186,6 +187,9 @@ class WorkerPool:
     _respawn_at: float = 0.0
 
     def start(self) -> None:
+        # the first workers start here, in the caller's (main) thread, where a spawn can hide
+        # an early Ctrl-C from the child (`_spawn`); the supervisor thread only respawns
+        self._workers = [self._spawn() for _ in range(self.size)]
         self._wake_r, self._wake_w = socket.socketpair()
         self._wake_r.setblocking(False)
         self._wake_w.setblocking(False)
@@ -228,14 +232,25 @@ class WorkerPool:
             name="insect-gait-worker",
             daemon=True,
         )
-        # a Ctrl-C while the child is still importing would print its KeyboardInterrupt
-        # traceback: start it with SIGINT blocked (the mask survives exec); worker_main
-        # ignores the signal and unblocks it
-        old = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        # A Ctrl-C while the child is still importing (spawn re-imports the main script
+        # before worker_main runs) would print its KeyboardInterrupt traceback. The signal
+        # mask does not survive multiprocessing's fork_exec (measured: SigBlk 0 in the child),
+        # but an ignored disposition survives exec, and Python then installs no SIGINT
+        # handler of its own: so the child is started with SIGINT ignored. Here SIGINT is
+        # blocked meanwhile, so that a Ctrl-C in that instant stays pending for this process
+        # (Linux keeps a blocked signal pending even while ignored) and arrives once the
+        # handler is back. Python changes dispositions only in the main thread: the pool's
+        # first workers start there (`start`, from the app's lifespan); a respawn after a
+        # crash starts from the supervisor thread and keeps the short window.
+        main = threading.current_thread() is threading.main_thread()
+        old_mask = signal.pthread_sigmask(signal.SIG_BLOCK, {signal.SIGINT})
+        old_handler = signal.signal(signal.SIGINT, signal.SIG_IGN) if main else None
         try:
             proc.start()
         finally:
-            signal.pthread_sigmask(signal.SIG_SETMASK, old)
+            if main:
+                signal.signal(signal.SIGINT, old_handler)
+            signal.pthread_sigmask(signal.SIG_SETMASK, old_mask)
         child.close()
         return _Worker(proc=proc, conn=parent, started=time.monotonic())
 
@@ -256,7 +271,6 @@ class WorkerPool:
 
     def _run(self) -> None:
         try:
-            self._workers = [self._spawn() for _ in range(self.size)]
             while not self._stop.is_set():
                 self._step()
         except Exception:  # keep the API answering; /healthz shows the workers as gone

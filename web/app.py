@@ -34,6 +34,7 @@ from web.footfall import D31Trace, FootfallBuffer
 from web.heading import HeadingSpeed
 from web.pacing import RateMeter, SimClock
 from web.panels import Panels, Readouts
+from web.paths import DEFAULT_BIFURCATION
 from web.requests import (
     Request,
     RequestQueue,
@@ -52,9 +53,6 @@ from web.scene import HexapodScene
 from web.svg import bifurcation_svg, d31_svg, footfall_svg
 
 log = logging.getLogger(__name__)
-
-REPO_ROOT = Path(__file__).resolve().parents[1]
-DEFAULT_BIFURCATION = REPO_ROOT / "docs" / "figures" / "bifurcation.json"
 
 
 @dataclass(frozen=True)

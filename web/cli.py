@@ -1,19 +1,22 @@
 """`insect-gait viewer`: plugged into the core's command line through an entry point.
 
 sim_core discovers `register` at run time (pyproject `insect_gait.commands`), so the core never
-imports the web package; viser is only imported when the command actually runs.
+imports the web package; viser (and MuJoCo) are imported only when the command runs, so that
+`insect-gait --help` and `insect-gait run` never pay for them.
 """
 
 from __future__ import annotations
 
 import argparse
 import logging
+import sys
 from pathlib import Path
+
+from sim_core.cli import EXIT_USAGE, port_number
+from web.paths import DEFAULT_BIFURCATION
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
-    from web.app import DEFAULT_BIFURCATION
-
     p = subparsers.add_parser(
         "viewer",
         help="live 3D viewer in the browser (viser): sliders for beta, mass, slope",
@@ -22,7 +25,9 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.add_argument(
         "--host", default="127.0.0.1", help="interface to listen on (default %(default)s)"
     )
-    p.add_argument("--port", type=int, default=8080, help="port (default %(default)s)")
+    p.add_argument(
+        "--port", type=port_number, default=8080, help="port, 1..65535 (default %(default)s)"
+    )
     p.add_argument(
         "--bifurcation",
         type=Path,
@@ -37,7 +42,17 @@ def run(args: argparse.Namespace) -> int:
 
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     app = ViewerApp(args.host, args.port, bifurcation_path=args.bifurcation)
-    # viser moves to the next free port if this one is taken: print the real address
+    if app.port != args.port:
+        # viser moves on to the next free port by itself; a URL printed before it started
+        # (make run's) would then name somebody else's server: refuse instead
+        app.server.stop()
+        print(
+            f"insect-gait viewer: port {args.port} on {args.host} is already in use (another "
+            "viewer?); stop that one or choose another with --port (make run VIEWER_PORT=...)",
+            file=sys.stderr,
+            flush=True,
+        )
+        return EXIT_USAGE
     print(f"viewer: http://{args.host}:{app.port}", flush=True)
     app.serve_forever()
     return 0

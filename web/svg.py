@@ -12,9 +12,10 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from sim_core.contract import LEG_NAMES
 from web.footfall import D31Event
 
-LEG_ORDER = ("R1", "L1", "R2", "L2", "R3", "L3")  # the paper's legs 1-6, rows top to bottom
+LEG_ORDER = LEG_NAMES  # the paper's legs 1-6, rows top to bottom
 # Fig. 4's colouring by leg pair: fore (legs 1-2) red, middle (3-4) blue, hind (5-6) green;
 # right legs in the full colour, left legs in a light tint of it, so that both the pair and the
 # side read at a glance: a tripod is a checkerboard (R1 L2 R3 against L1 R2 L3), a metachronal

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import Any
 
 import fastapi_offline
-from fastapi import APIRouter, HTTPException, Request
+from fastapi import APIRouter, Request
 from fastapi.openapi.docs import (
     get_redoc_html,
     get_swagger_ui_html,
@@ -17,15 +17,17 @@ from fastapi.responses import HTMLResponse
 
 from server.deps import PoolDep, SettingsDep, StoreDep
 from server.schemas import (
-    DEFAULT_DT_S,
-    DEFAULT_INTEGRATOR,
-    INTEGRATOR_NAMES,
-    MAX_STABLE_DT_S,
     Health,
     IntegratorInfo,
     ModelParameter,
-    Problem,
     WorkerHealth,
+)
+from sim_core.contract import (
+    DEFAULT_DT_S,
+    DEFAULT_INTEGRATOR,
+    INTEGRATORS,
+    MAX_STABLE_DT_S,
+    parameter_table,
 )
 
 router = APIRouter(tags=["meta"])
@@ -79,7 +81,7 @@ def list_integrators() -> Any:
             "default_dt_s": DEFAULT_DT_S if name == DEFAULT_INTEGRATOR else None,
             "max_stable_dt_s": MAX_STABLE_DT_S[name],
         }
-        for name in INTEGRATOR_NAMES
+        for name in INTEGRATORS
     ]
 
 
@@ -95,16 +97,9 @@ def _plain(v: Any) -> Any:
 @router.get(
     "/v1/model",
     response_model=list[ModelParameter],
-    responses={503: {"model": Problem, "description": "the simulation core is unavailable"}},
     summary="The model parameters in use, with their origin (paper or invented)",
 )
 def get_model() -> Any:
-    try:
-        from sim_core import parameter_table
-    except Exception as exc:
-        raise HTTPException(
-            status_code=503, detail=f"sim_core could not be imported: {exc}"
-        ) from exc
     return [
         {"name": n, "value": _plain(v), "origin": o, "reason": r}
         for n, v, o, r in parameter_table()

@@ -1,5 +1,7 @@
-"""The `insect-gait` command line."""
+"""The `insect-gait` command line; plug-ins (the REST service, the viewer) may use
+`port_number` and `EXIT_USAGE` so that every command checks and words its arguments alike."""
 
+from sim_core.cli.common import EXIT_USAGE, port_number
 from sim_core.cli.main import build_parser, main
 
-__all__ = ["build_parser", "main"]
+__all__ = ["EXIT_USAGE", "build_parser", "main", "port_number"]

@@ -9,6 +9,18 @@ from pathlib import Path
 EXIT_USAGE = 2
 
 
+def port_number(text: str) -> int:
+    """argparse type for a TCP port: 1..65535, said in one line (0 would pick a random port,
+    which a printed URL could not name)."""
+    try:
+        port = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a port number (1..65535)") from None
+    if not 1 <= port <= 65535:
+        raise argparse.ArgumentTypeError(f"{port} is not a port number (1..65535)")
+    return port
+
+
 class Parser(argparse.ArgumentParser):
     """argparse that reports errors in one line and exits 2 (never a traceback)."""
 

@@ -11,8 +11,8 @@ from sim_core.cli.common import EXIT_USAGE, doc_to_update
 
 
 def _add_reproduce(sub: Any) -> None:
-    from sim_core.paper.figures import FIGURES
-    from sim_core.runs.backends import BACKENDS
+    from sim_core.paper.values import FIGURES
+    from sim_core.runs import BACKENDS
 
     p = sub.add_parser(
         "reproduce", help="the paper's Figs. 5-9 + ablation: figures, data, reproduction table"

@@ -12,8 +12,8 @@ from typing import Any
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE
-from sim_core.model.params import INTEGRATORS
-from sim_core.model.spec import RunSpec
+from sim_core.model.params import INTEGRATORS, step_problem
+from sim_core.model.spec import RunSpec, resolve_numerics
 
 
 def _add_run(sub: Any) -> None:
@@ -61,6 +61,12 @@ def _cmd_run(args: argparse.Namespace) -> int:
     except ValidationError as exc:
         print(f"insect-gait run: error: {_validation_message(exc)}", file=sys.stderr)
         return EXIT_USAGE
+    # the REST API's rule and words (server/schemas.py calls the same function)
+    integrator, dt, _, _ = resolve_numerics(spec.integrator, spec.dt_s, spec.control_dt_s)
+    problem = step_problem(integrator, dt, given=spec.dt_s is not None)
+    if problem:
+        print(f"insect-gait run: error: --dt-s: {problem}", file=sys.stderr)
+        return EXIT_USAGE
     result = simulate(spec)
     summary = result.summary()
     if args.json:
@@ -90,10 +96,13 @@ def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
     if s["slip_fraction"] is not None:
         print(f"foot slip per stance {100 * s['slip_fraction']:.1f}% of the stroke")
     if s["landing_swing_share"] is not None:
-        print(f"feet land at {s['landing_swing_share']:.2f} of their swing (1 = at the AEP)")
+        print(f"feet land at {s['landing_swing_share']:.2f} of their swing (1 = at the AEP, "
+              "above 1 = late, below = early)")  # fmt: skip
     if s["retouches_per_stance"] is not None:
         print(f"stance feet leave and re-touch the ground {s['retouches_per_stance']:.2f} times "
               "per stance")  # fmt: skip
+    for w in s["warnings"]:
+        print(f"warning: {w}")
 
 
 def _add_params(sub: Any) -> None:

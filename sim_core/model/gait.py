@@ -15,9 +15,10 @@ import numpy as np
 TWO_PI = 2.0 * math.pi
 TRIPOD = math.pi
 METACHRONAL = 2.0 * math.pi / 3.0
-# Half-widths of the classification windows (rad). Tripod covers [2.54, 3.74] (the paper's
-# tripod branch 2.9 inside), metachronal [1.59, 2.49] (branch 1.9 inside); the gap between them
-# (2.49..2.54) and everything else is "other".
+# Half-widths of the classification windows (rad). Tripod covers [2.542, 3.742] (the paper's
+# tripod branch 2.9 inside), metachronal [1.644, 2.544] (branch 1.9 inside): they overlap by
+# 0.003 rad at 2.542..2.544, where `classify_gait` says tripod (it asks first). Everything
+# outside both windows is "other".
 TRIPOD_HALF_WIDTH = 0.6
 METACHRONAL_HALF_WIDTH = 0.45
 # THE settled rule, used everywhere (RunResult.d31_final, the reproduction's finals, the
@@ -28,6 +29,11 @@ SETTLED_LAST = 8
 # The studies' stricter test (issue 22): the drift per gait cycle over the last quarter of a
 # run, below this (rad per leg-1 touchdown). A slide through a ghost past a fold moves 0.002-0.004.
 TAIL_DRIFT_SETTLED = 0.005
+# What a sound run looks like, for the warnings a result carries (`run_warnings`): at the
+# defaults (beta 0.58-0.75, both gaits, 5 s) the measured duty factor is 0.003-0.008 below the
+# commanded beta and feet land at 1.009-1.018 of their swing (measured 2026-11-25).
+DUTY_TOLERANCE = 0.02
+LANDING_BAND = (0.9, 1.1)
 
 
 def wrap(x: np.ndarray | float) -> np.ndarray:
@@ -96,6 +102,16 @@ def settled_gait(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:
     return mean, classify_gait(mean)
 
 
+def mean_after(
+    times_s: np.ndarray | Sequence[float], d31: np.ndarray | Sequence[float], after_s: float
+) -> tuple[float | None, int]:
+    """(circular mean, count) of the Delta31 samples at or after `after_s`: where a run sits
+    once its transient is dropped (the bifurcation diagram's points); (None, 0) without any."""
+    t = np.asarray(times_s, dtype=float)
+    d = np.asarray(d31, dtype=float)[t >= after_s]
+    return (circular_mean(d) if d.size else None), int(d.size)
+
+
 def tail_drift(d31: np.ndarray | Sequence[float]) -> tuple[float, float] | None:
     """(circular mean, drift per gait cycle) of the last quarter of a run's Delta31 samples (at
     least 4): the drift is the least-squares slope of the unwrapped quarter per leg-1 touchdown,
@@ -160,3 +176,41 @@ def landing_share(
     if ph.size == 0:
         return None
     return float(np.median(1.0 - angle_diff(phi_aep, ph) / phi_aep))
+
+
+def run_warnings(
+    *,
+    beta: float,
+    duty_factor: float | None,
+    landing: float | None,
+    integrator: str,
+    dt_s: float,
+    converged_dt_s: float,
+) -> list[str]:
+    """What a finished run's numbers say about themselves, in words for the person reading
+    them: a duty factor off the commanded beta, feet landing far from the AEP, a step coarser
+    than the converged default. Empty for a sound run."""
+    out = []
+    coarse = dt_s > converged_dt_s * (1 + 1e-9)
+    if duty_factor is not None and abs(duty_factor - beta) > DUTY_TOLERANCE:
+        why = " (a coarse step: see docs/NUMERICS.md)" if coarse else ""
+        out.append(
+            f"measured duty factor {duty_factor:.3f} differs from the commanded beta {beta:.3f} "
+            f"by more than {DUTY_TOLERANCE:g}: the legs do not follow their oscillators{why}"
+        )
+    if landing is not None and not LANDING_BAND[0] <= landing <= LANDING_BAND[1]:
+        when = (
+            "late: the oscillator was already in stance and the foot was still lowering"
+            if landing > 1
+            else "early: mid-swing, before the AEP"
+        )
+        out.append(
+            f"landing_swing_share {landing:.3f}: feet touch down {when} (1 = at the AEP; sound "
+            f"runs land within {LANDING_BAND[0]:g}-{LANDING_BAND[1]:g})"
+        )
+    if coarse:
+        out.append(
+            f"{integrator} at dt_s {dt_s:g} s is coarser than the converged default "
+            f"({converged_dt_s:g} s): the numbers are not converged (docs/NUMERICS.md)"
+        )
+    return out

@@ -16,7 +16,7 @@ from sim_core.model import gait
 from sim_core.model.mjspec import build_model
 from sim_core.model.params import ModelParams
 from sim_core.model.runner import BatchRunner
-from sim_core.model.spec import RunSpec
+from sim_core.model.spec import RunFailure, RunSpec, SimulationDiverged
 
 
 class Simulation:
@@ -52,12 +52,12 @@ class Simulation:
         r = self._runner
         nblocks = max(1, round(sim_seconds / r.control_dt))
         for _ in range(nblocks):
-            if r.errors[0] is not None:
-                raise RuntimeError(r.errors[0])
+            if r.failures[0] is not None:
+                raise SimulationDiverged(r.failures[0])
             r.step_block()
             self._push_history()
-        if r.errors[0] is not None:
-            raise RuntimeError(r.errors[0])
+        if r.failures[0] is not None:
+            raise SimulationDiverged(r.failures[0])
 
     def set_beta(self, beta: float) -> None:
         self._runner.set_beta(0, beta)
@@ -79,7 +79,12 @@ class Simulation:
     # --- state --------------------------------------------------------------------------------
     @property
     def error(self) -> str | None:
-        return self._runner.errors[0]
+        failure = self._runner.failures[0]
+        return None if failure is None else str(failure)
+
+    @property
+    def failure(self) -> RunFailure | None:
+        return self._runner.failures[0]
 
     @property
     def time_s(self) -> float:

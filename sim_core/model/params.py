@@ -17,6 +17,34 @@ from pydantic import BaseModel, ConfigDict, Field
 
 Integrator = Literal["euler", "implicit", "implicitfast", "rk4", "discrete"]
 INTEGRATORS: tuple[Integrator, ...] = ("euler", "implicit", "implicitfast", "rk4", "discrete")
+# The largest timestep at which each integrator keeps this model upright, measured: the
+# docs/NUMERICS.md grid (3 s runs, beta 0.62 and 0.70) and 0.5 s runs at beta 0.66: euler is
+# unstable (MuJoCo BADQACC) at 2e-5 s, rk4 flips at 2.5e-5 s, implicit and implicitfast flip
+# at 1e-3 s in the grid (and within 0.15 s at 2e-3 s), discrete runs at 1e-3 s (inaccurately).
+# The explicit integrators need small steps because the insect-scale links are tiny and
+# strongly damped. The edges (CLI `run`, REST API) refuse larger steps with `step_problem`;
+# `RunSpec` itself accepts them, because the numerics studies must be able to show the failure.
+MAX_STABLE_DT_S: dict[Integrator, float] = {
+    "euler": 1e-5,
+    "implicit": 5e-4,
+    "implicitfast": 5e-4,
+    "rk4": 2e-5,
+    "discrete": 1e-3,
+}
+
+
+def step_problem(integrator: str, dt_s: float, *, given: bool = True) -> str | None:
+    """Why `dt_s` cannot be stable with `integrator`, in the words the CLI and the API both
+    print, or None when it can. `given` False: dt_s is the default, not the user's number."""
+    limit = MAX_STABLE_DT_S[integrator]  # type: ignore[index]
+    if dt_s <= limit * (1 + 1e-9):
+        return None
+    shown = f"{dt_s:g}" if given else f"null, i.e. the default {dt_s:g}"
+    return (
+        f"dt_s ({shown} s) cannot be stable with integrator {integrator}: it needs "
+        f"dt_s <= {limit:g} s (measured; see docs/NUMERICS.md)"
+    )
+
 
 PAPER = "paper"
 INVENTED = "invented"

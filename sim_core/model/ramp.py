@@ -1,32 +1,31 @@
 """A parameter ramped during a run: the paper's quasi-static sweeps (Figs. 6a, 9).
 
 The one definition of the sweep schedule (hold, ramp to the turn, ramp back, hold) and of how
-a ramped value reaches a running simulation, shared by the reproduction's tasks, the public
-`sweep` and the viewer's demo.
+a ramped value reaches a running simulation, shared by the reproduction's tasks and the public
+`sweep` (which the REST API's hysteresis jobs call). The viewer's demo ramp is another schedule
+on purpose (`web/controls.BetaRamp`: down to the slider's low end, up to its top, back to where
+the person stood), because it draws a whole loop from any starting beta.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Literal
+from typing import TYPE_CHECKING, Literal
 
-from sim_core.model.runner import BatchRunner
+if TYPE_CHECKING:  # the schedule itself needs no MuJoCo: the API validates sweeps with it
+    from sim_core.model.runner import BatchRunner
 
 RampParam = Literal["beta", "body_mass_g", "slope_deg"]
 RAMP_PARAMS: tuple[RampParam, ...] = ("beta", "body_mass_g", "slope_deg")
-_SETTERS: dict[str, Callable[[BatchRunner, int, float], None]] = {
-    "beta": BatchRunner.set_beta,
-    "body_mass_g": BatchRunner.set_body_mass_g,
-    "slope_deg": BatchRunner.set_slope_deg,
-}
 
 
 def set_ramped(runner: BatchRunner, index: int, param: str, value: float) -> None:
-    """Set simulation `index`'s `param` (beta, g or degrees) between control periods."""
-    if param not in _SETTERS:
+    """Set simulation `index`'s `param` (beta, g or degrees) between control periods, with
+    the runner's own setter (`set_beta`, `set_body_mass_g`, `set_slope_deg`)."""
+    if param not in RAMP_PARAMS:
         raise ValueError(f"cannot ramp {param!r}; choose from {list(RAMP_PARAMS)}")
-    _SETTERS[param](runner, index, value)
+    getattr(runner, f"set_{param}")(index, value)
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,11 @@ from typing import Any
 import numpy as np
 
 from sim_core.model import gait
-from sim_core.model.spec import RunResult, RunSpec
+from sim_core.model.params import ModelParams
+from sim_core.model.spec import RunFailure, RunResult, RunSpec
+
+# the step docs/NUMERICS.md measured converged; a run on a coarser one says so in its warnings
+CONVERGED_DT_S = ModelParams().dt
 
 
 def _copy(a: np.ndarray | None, shape: tuple[int, ...], dtype: type = float) -> np.ndarray:
@@ -26,7 +30,7 @@ def assemble_result(
     integrator: str,
     dt_s: float,
     control_dt_s: float,
-    error: str | None,
+    failure: RunFailure | None,
     d31: Sequence[float],
     d31_times_s: Sequence[float],
     times_s: np.ndarray | None,
@@ -42,7 +46,7 @@ def assemble_result(
     phi_aep: float,
     duration_s: float,
 ) -> RunResult:
-    """The RunResult of one run; a failed run (`error` set) returns no numbers.
+    """The RunResult of one run; a failed run (`failure` set) returns no numbers.
 
     Args:
         d31, d31_times_s: Delta31 (rad) and time (s) at each leg-1 touchdown.
@@ -62,7 +66,7 @@ def assemble_result(
         "dt_s": dt_s,
         "control_dt_s": control_dt_s,
     }
-    if error is not None:
+    if failure is not None:
         return RunResult(
             **base, d31=empty, d31_times_s=empty, times_s=empty,
             stance=np.zeros((0, 6), dtype=np.bool_), body_pos_m=np.zeros((0, 3)),
@@ -70,7 +74,7 @@ def assemble_result(
             touchdowns=tuple(empty for _ in range(6)),
             touchdown_phases=tuple(empty for _ in range(6)),
             liftoffs=tuple(empty for _ in range(6)), d31_final=None, gait=None,
-            speed_cm_s=None, duty_factor_measured=None, slip_fraction=None, error=error,
+            speed_cm_s=None, duty_factor_measured=None, slip_fraction=None, failure=failure,
         )  # fmt: skip
     times = _copy(times_s, (0,))
     st = _copy(stance, (0, 6), np.bool_)
@@ -81,6 +85,12 @@ def assemble_result(
     tds = tuple(np.array(t) for t in touchdowns)
     tdp = tuple(np.array(t) for t in touchdown_phases)
     ntd = sum(t.size for t in tds)
+    duty = gait.duty_factor(st)
+    landing = gait.landing_share(tds, tdp, phi_aep, after_s=duration_s / 3)
+    warnings = gait.run_warnings(
+        beta=spec.beta, duty_factor=duty, landing=landing, integrator=integrator, dt_s=dt_s,
+        converged_dt_s=CONVERGED_DT_S,
+    )  # fmt: skip
     return RunResult(
         **base,
         d31=d31_arr,
@@ -96,8 +106,9 @@ def assemble_result(
         d31_final=d31_final,
         gait=name,
         speed_cm_s=None if speed is None else speed * 100.0,
-        duty_factor_measured=gait.duty_factor(st),
+        duty_factor_measured=duty,
         slip_fraction=float(np.median(slips)) if slips else None,
         retouches_per_stance=float(retouches) / ntd if ntd else None,
-        landing_swing_share=gait.landing_share(tds, tdp, phi_aep, after_s=duration_s / 3),
+        landing_swing_share=landing,
+        warnings=tuple(warnings),
     )

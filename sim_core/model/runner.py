@@ -5,8 +5,8 @@ and give bit-identical results (`mujoco.batch` is bit-identical to one MjData pe
 any thread count, and the controller treats each simulation independently).
 
 Every control period the runner checks each simulation: finite state, body above the floor,
-not flipped, no MuJoCo warning. A simulation that fails stops there and reports a
-`SimulationDiverged` message naming the time, integrator and timestep; it returns no numbers.
+not flipped, no MuJoCo warning. A simulation that fails stops there and keeps a `RunFailure`
+(kind, time, integrator, timestep, reason); it returns no numbers.
 """
 
 from __future__ import annotations
@@ -36,7 +36,7 @@ from sim_core.model.legs import pack_geometry
 from sim_core.model.mjspec import build_model, gravity_vector, leg_qpos_addresses, servo_leads
 from sim_core.model.params import ModelParams, nominal_speed, omega, phi_aep
 from sim_core.model.records import assemble_result
-from sim_core.model.spec import RunResult, RunSpec, SimulationDiverged
+from sim_core.model.spec import FailureKind, RunFailure, RunResult, RunSpec, resolve_numerics
 
 TORSO = 1  # body id of the torso (world is 0)
 # Guard: the body box touching the floor, or tilted past 60 degrees, is a fall, not walking.
@@ -46,13 +46,9 @@ RECORD_DT = 2e-3  # record period of the time series, s (footfall resolution: 6%
 ProgressFn = Callable[[float], None]
 
 
-def resolve_numerics(spec: RunSpec, params: ModelParams) -> tuple[str, float, float, int]:
+def spec_numerics(spec: RunSpec, params: ModelParams) -> tuple[str, float, float, int]:
     """(integrator, dt, control_dt, substeps per control period) for a spec."""
-    integrator = spec.integrator or params.integrator
-    dt = spec.dt_s or params.dt
-    control_dt = spec.control_dt_s or max(params.control_dt, dt)
-    nsub = max(1, round(control_dt / dt))
-    return integrator, dt, nsub * dt, nsub
+    return resolve_numerics(spec.integrator, spec.dt_s, spec.control_dt_s, params)
 
 
 def bind_kernel(kernel: Any, args: tuple[Any, ...]) -> Callable[..., Any]:
@@ -87,7 +83,7 @@ class BatchRunner:
         if not specs:
             raise ValueError("no simulations to run")
         base = params or ModelParams()
-        numerics = {resolve_numerics(s, base) for s in specs}
+        numerics = {spec_numerics(s, base) for s in specs}
         if len(numerics) != 1:
             raise ValueError("one BatchRunner needs one (integrator, dt, control_dt); group specs")
         self.integrator, self.dt, self.control_dt, self.nsub = numerics.pop()
@@ -141,7 +137,7 @@ class BatchRunner:
         # wall seconds spent in each part of step_block, for `insect-gait bench`
         self.timers = {"controller": 0.0, "physics": 0.0, "bookkeeping": 0.0}
         self.active = np.ones(n, dtype=np.bool_)
-        self.errors: list[str | None] = [None] * n
+        self.failures: list[RunFailure | None] = [None] * n
         self.touchdowns: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
         # phase of each touchdown before resetting: phi_AEP minus it is the reset's jump
         self.touchdown_phases: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
@@ -231,7 +227,7 @@ class BatchRunner:
         qvel[0] = nominal_speed(self.beta[i], p.stroke, p.swing_duration)
         self.qvel[i] = qvel
         self.active[i] = True
-        self.errors[i] = None
+        self.failures[i] = None
         self._lifted[i] = False
         self.retouches[i] = 0
 
@@ -261,7 +257,7 @@ class BatchRunner:
             )
         except mujoco.batch.SimulationError as exc:
             for sim in exc.ids:
-                self._fail(int(sim), f"MuJoCo error: {self.batch.error(int(sim))}")
+                self._fail(int(sim), "mujoco_error", f"MuJoCo error: {self.batch.error(int(sim))}")
         t_phys = clock()
         t0 = self.time
         event_args = (ids, self.feet[:m, :, :, 2], t0, self.dt, self._state, self._drive,
@@ -319,24 +315,26 @@ class BatchRunner:
             return
         for r in np.flatnonzero(codes):
             s = int(ids[r])
-            if self.errors[s] is not None:
+            if self.failures[s] is not None:
                 continue
             code = codes[r]
             if code == WARNED:
                 kinds = self.batch.warning[s, :, 1] > 0
                 names = [mujoco.mjtWarning(k).name for k in np.flatnonzero(kinds)]
                 why = "MuJoCo warning " + ", ".join(names) + " (unstable: state was reset)"
+                kind: FailureKind = "mujoco_warning"
             elif code == NON_FINITE:
-                why = "non-finite state"
+                why, kind = "non-finite state", "non_finite"
             elif code == FLIPPED:
                 up_z = up_axis_z(self.qpos[s, 3:7])
-                why = f"body flipped (up-axis z {up_z:.2f} < {MIN_UP_COS})"
+                why, kind = f"body flipped (up-axis z {up_z:.2f} < {MIN_UP_COS})", "flipped"
             else:
                 why = f"body on the floor (height {self.qpos[s, 2] * 1e3:.2f} mm)"
-            self._fail(s, why)
+                kind = "on_floor"
+            self._fail(s, kind, why)
 
-    def _fail(self, s: int, why: str) -> None:
-        self.errors[s] = str(SimulationDiverged(self.time, self.integrator, self.dt, why))
+    def _fail(self, s: int, kind: FailureKind, why: str) -> None:
+        self.failures[s] = RunFailure(kind, self.time, self.integrator, self.dt, why)
         self.active[s] = False
 
     def _record(self, live: np.ndarray) -> None:
@@ -370,7 +368,7 @@ class BatchRunner:
         n = int(self.rec_len[i]) if self.record else 0
         return assemble_result(
             spec=self.specs[i], integrator=self.integrator, dt_s=self.dt,
-            control_dt_s=self.control_dt, error=self.errors[i], d31=self.d31_v[i],
+            control_dt_s=self.control_dt, failure=self.failures[i], d31=self.d31_v[i],
             d31_times_s=self.d31_t[i], times_s=self.rec_t[:n] if self.record else None,
             stance=self.rec_stance[i, :n] if self.record else None,
             body_pos_m=self.rec_pos[i, :n] if self.record else None,
@@ -404,7 +402,7 @@ def simulate_batch(
     base = params or ModelParams()
     groups: dict[tuple[str, float, float, int], list[int]] = {}
     for i, s in enumerate(specs):
-        groups.setdefault(resolve_numerics(s, base), []).append(i)
+        groups.setdefault(spec_numerics(s, base), []).append(i)
     out: list[RunResult | None] = [None] * len(specs)
     total = float(sum(s.duration_s for s in specs))
     done_before = 0.0

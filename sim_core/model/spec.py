@@ -9,12 +9,12 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from sim_core.model.params import Integrator
+from sim_core.model.params import Integrator, ModelParams
 
 TWO_PI = 2.0 * math.pi
 
@@ -22,7 +22,7 @@ TWO_PI = 2.0 * math.pi
 class RunSpec(BaseModel):
     """One walking simulation. Validation errors name the field and its allowed range."""
 
-    model_config = ConfigDict(frozen=True, extra="forbid")
+    model_config = ConfigDict(frozen=True, extra="forbid", allow_inf_nan=False)
 
     beta: float = Field(0.66, gt=0.5, lt=1.0, description="duty factor (0.5, 1)")
     d31_init: float = Field(
@@ -52,18 +52,72 @@ def spec_grid(betas: Iterable[float], d31_inits: Iterable[float], **fields: Any)
     return [RunSpec(beta=b, d31_init=x, **fields) for b in betas for x in inits]
 
 
+def resolve_numerics(
+    integrator: str | None,
+    dt_s: float | None,
+    control_dt_s: float | None,
+    params: ModelParams | None = None,
+) -> tuple[str, float, float, int]:
+    """(integrator, dt, control_dt, substeps per control period) that a run with these
+    (possibly null) settings uses: null means the model's default, and the control period is a
+    whole number of physics steps, never shorter than one."""
+    p = params or ModelParams()
+    name = integrator or p.integrator
+    dt = dt_s or p.dt
+    nsub = max(1, round((control_dt_s or max(p.control_dt, dt)) / dt))
+    return name, dt, nsub * dt, nsub
+
+
+# Why a run stopped early. The first three are numerical (a smaller step is the remedy); a flip
+# or a fall at a sound step is the insect's physics under those conditions.
+FailureKind = Literal["mujoco_error", "mujoco_warning", "non_finite", "flipped", "on_floor"]
+FAILURE_KINDS: tuple[FailureKind, ...] = (
+    "mujoco_error",
+    "mujoco_warning",
+    "non_finite",
+    "flipped",
+    "on_floor",
+)
+NUMERICAL_FAILURES: frozenset[str] = frozenset({"mujoco_error", "mujoco_warning", "non_finite"})
+
+
+@dataclass(frozen=True)
+class RunFailure:
+    """A run that left the physically meaningful region: what, when, and with which numerics."""
+
+    kind: FailureKind
+    time_s: float
+    integrator: str
+    dt_s: float
+    reason: str
+
+    @property
+    def numerical(self) -> bool:
+        """True when the integration blew up (the step is the suspect), False for a fall."""
+        return self.kind in NUMERICAL_FAILURES
+
+    def __str__(self) -> str:
+        return (
+            f"simulation diverged at t = {self.time_s:.4f} s (integrator {self.integrator}, "
+            f"dt {self.dt_s:.3g} s): {self.reason}"
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        return {
+            "kind": self.kind,
+            "time_s": self.time_s,
+            "integrator": self.integrator,
+            "dt_s": self.dt_s,
+            "reason": self.reason,
+        }
+
+
 class SimulationDiverged(RuntimeError):
     """A simulation left the physically meaningful region; it returns no numbers."""
 
-    def __init__(self, time_s: float, integrator: str, dt_s: float, reason: str) -> None:
-        self.time_s = time_s
-        self.integrator = integrator
-        self.dt_s = dt_s
-        self.reason = reason
-        super().__init__(
-            f"simulation diverged at t = {time_s:.4f} s (integrator {integrator}, "
-            f"dt {dt_s:.3g} s): {reason}"
-        )
+    def __init__(self, failure: RunFailure) -> None:
+        self.failure = failure
+        super().__init__(str(failure))
 
 
 @dataclass(frozen=True)
@@ -96,11 +150,19 @@ class RunResult:
     # stance feet that rose more than `lift_clearance` and pressed in again, per touchdown:
     # ~0.1-0.4 on the defaults, > 2 where a coarse step makes the contact chatter
     retouches_per_stance: float | None = None
-    error: str | None = None
+    failure: RunFailure | None = None
+    # what the numbers say about themselves (`gait.run_warnings`): a duty factor off beta,
+    # feet landing far from the AEP, a step coarser than the converged default
+    warnings: tuple[str, ...] = ()
+
+    @property
+    def error(self) -> str | None:
+        """The failure in words (None for a run that finished)."""
+        return None if self.failure is None else str(self.failure)
 
     @property
     def diverged(self) -> bool:
-        return self.error is not None
+        return self.failure is not None
 
     def summary(self) -> dict[str, Any]:
         """The CLI's `--json` object: plain JSON types only."""
@@ -116,6 +178,8 @@ class RunResult:
             "retouches_per_stance": self.retouches_per_stance,
             "diverged": self.diverged,
             "error": self.error,
+            "failure": None if self.failure is None else self.failure.to_dict(),
+            "warnings": list(self.warnings),
         }
 
     def to_dict(self) -> dict[str, Any]:

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from sim_core.model.gait import TWO_PI, angle_diff, classify_gait, settled_gait
-from sim_core.paper.protocols import ReturnMap
+from sim_core.paper.returnmap import ReturnMap
 
 # The band of Delta31 the paper's return maps and bifurcation diagram are about (branches 1.9
 # and 2.9 rad, with margin). A continuous map of the circle crosses its diagonal an even number

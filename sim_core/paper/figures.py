@@ -34,12 +34,10 @@ from sim_core.paper.analysis import (
     summarise_map,
     sweep_summary,
 )
-from sim_core.paper.protocols import ReturnMap, initial_values, return_map_from_series
-from sim_core.paper.values import METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
+from sim_core.paper.protocols import initial_values
+from sim_core.paper.returnmap import ReturnMap, return_map_from_series
+from sim_core.paper.values import FIGURES, METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
 from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
-
-FIGURES = ("5", "6", "7", "8", "9", "ablation")
-
 
 BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch counts as on it
 

@@ -1,42 +1,24 @@
-"""How the paper's experiments are set up: initial values spread over the circle, and the
-return map's pairs (Fig. 7 construction) from runs or from stored series."""
+"""How the paper's experiments are set up: initial values spread over the circle, and return
+maps run from them (the pairs' construction itself is `paper.returnmap`, MuJoCo-free)."""
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff
 from sim_core.model.params import ModelParams
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import spec_grid
+from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
+
+__all__ = ["ReturnMap", "initial_values", "return_map", "return_map_from_series"]
 
 
 def initial_values(n: int) -> np.ndarray:
     """n initial Delta31 spread evenly over the circle (offset off the symmetric points)."""
     return np.linspace(0.0, 2 * math.pi, n, endpoint=False) + math.pi / n
-
-
-@dataclass
-class ReturnMap:
-    """Pairs (Delta31_n, Delta31_{n+lag}) at leg-1 touchdowns, the paper's Fig. 7 construction."""
-
-    beta: float
-    lag: int
-    x: np.ndarray
-    y: np.ndarray
-
-    def drift_per_cycle(self, bins: int = 24) -> tuple[np.ndarray, np.ndarray]:
-        """Mean (y - x) / lag in bins of x over the circle: > 0 pushes Delta31 up."""
-        edges = np.linspace(0, 2 * math.pi, bins + 1)
-        d = angle_diff(self.y, self.x) / self.lag
-        idx = np.clip(np.digitize(self.x, edges) - 1, 0, bins - 1)
-        centers = 0.5 * (edges[1:] + edges[:-1])
-        means = np.array([d[idx == k].mean() if (idx == k).any() else np.nan for k in range(bins)])
-        return centers, means
 
 
 def return_map(
@@ -46,7 +28,7 @@ def return_map(
     inits: Sequence[float],
     duration_s: float = 2.0,
     lag: int = 4,
-    skip: int = 2,
+    skip: int = RETURN_MAP_SKIP,
     dt_s: float | None = None,
     nthread: int = 0,
 ) -> ReturnMap:
@@ -54,21 +36,3 @@ def return_map(
     specs = spec_grid([beta], inits, duration_s=duration_s, dt_s=dt_s)
     runs = simulate_batch(specs, params, nthread=nthread)
     return return_map_from_series(beta, [r.d31 for r in runs if not r.diverged], lag, skip)
-
-
-def return_map_from_series(
-    beta: float, series: Sequence[Sequence[float] | np.ndarray], lag: int = 4, skip: int = 2
-) -> ReturnMap:
-    """Pairs (Delta31_n, Delta31_n+lag) from stored Delta31 series, first `skip` dropped.
-
-    The one construction of the paper's Fig. 7 pairs; `return_map` runs the simulations first.
-    """
-    xs: list[float] = []
-    ys: list[float] = []
-    for s in series:
-        d = np.asarray(s, dtype=float)[skip:]
-        if d.size <= lag:
-            continue
-        xs.extend(d[:-lag].tolist())
-        ys.extend(d[lag:].tolist())
-    return ReturnMap(beta=beta, lag=lag, x=np.array(xs), y=np.array(ys))

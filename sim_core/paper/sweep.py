@@ -14,7 +14,7 @@ from typing import Any
 
 from sim_core.model.params import ModelParams
 from sim_core.model.ramp import RAMP_PARAMS, Ramp, RampParam
-from sim_core.model.spec import RunSpec
+from sim_core.model.spec import RunFailure, RunSpec
 from sim_core.paper.analysis import sweep_summary
 from sim_core.runs.tasks import execute_chunk, ramp_task
 
@@ -30,7 +30,7 @@ class SweepResult:
         d31: (n,) Delta31 at each touchdown, rad in [0, 2 pi).
         summary: transitions on each leg of the sweep, the loop's width and whether it is a
             hysteresis loop (`sim_core.paper.analysis.sweep_summary`).
-        error: why the run stopped early (divergence, a fall), or None.
+        failure: why the run stopped early (divergence, a fall), or None.
     """
 
     parameter: str
@@ -38,7 +38,11 @@ class SweepResult:
     values: list[float]
     d31: list[float]
     summary: dict[str, Any]
-    error: str | None
+    failure: RunFailure | None
+
+    @property
+    def error(self) -> str | None:
+        return None if self.failure is None else str(self.failure)
 
 
 def sweep(
@@ -80,5 +84,5 @@ def sweep(
         values=list(res["value"]),
         d31=list(res["d31"]),
         summary=summary,
-        error=res["error"],
+        failure=None if res["failure"] is None else RunFailure(**res["failure"]),
     )

@@ -35,12 +35,12 @@ from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wai
 from dataclasses import dataclass
 from typing import Any, Protocol
 
+from sim_core.runs import BACKENDS
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import Task, execute_chunk, make_chunks
 
 Executor = Callable[[Sequence[Task]], list[dict[str, Any]]]
 ChunkResults = Iterator[tuple[list[Task], list[dict[str, Any]]]]
-BACKENDS = ("local", "dask", "ray", "inline")
 RAY_UNSUPPORTED = (
     "the ray backend is not supported: use --backend dask (optionally --address "
     "tcp://scheduler:8786). We chose Dask distributed because it is pure Python and small "

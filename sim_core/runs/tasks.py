@@ -179,6 +179,7 @@ def execute_chunk(
             "speed_cm_s": _finite(res.speed_cm_s),
             "slip_fraction": _finite(res.slip_fraction),
             "error": res.error,
+            "failure": None if res.failure is None else res.failure.to_dict(),
             "compute_s": share,
         }
         if sched is not None:

@@ -5,7 +5,10 @@ functions), so a lazy import cannot hide a cycle or a wrong-way arrow.
 """
 
 import ast
+import json
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
@@ -13,6 +16,8 @@ import pytest
 from sim_core.runs.tasks import code_fingerprint, fingerprint_sources
 
 ROOT = Path(__file__).resolve().parents[2] / "sim_core"
+REPO = ROOT.parent
+HEAVY = ("mujoco", "numba", "viser")  # what the contract must never pull in
 # what each room may import from sim_core (besides itself): model <- runs <- paper <- studies,
 # model <- numerics, everything <- cli; docsections (markdown tables) sits on model only
 ALLOWED = {
@@ -22,6 +27,7 @@ ALLOWED = {
     "numerics": {"model", "docsections"},
     "studies": {"model", "runs", "paper"},
     "docsections": {"model"},
+    "contract": {"model", "paper"},  # the MuJoCo-free contract the edges validate against
     "cli": {"model", "runs", "paper", "numerics", "studies", "docsections"},
     "": {"model", "paper"},  # sim_core/__init__.py: the public API
 }
@@ -132,3 +138,87 @@ def test_the_cache_fingerprint_sees_every_model_file(package_copy: Path) -> None
     assert fingerprint_sources(package_copy) == base
     (package_copy / "model" / "new_rule.py").write_text("X = 1\n")
     assert fingerprint_sources(package_copy) != base
+
+
+def _loaded_after(code: str) -> list[str]:
+    """The HEAVY modules loaded by running `code` in a fresh interpreter."""
+    probe = (
+        f"import sys, json\n{code}\nprint(json.dumps([m for m in {HEAVY!r} if m in sys.modules]))"
+    )
+    out = subprocess.run([sys.executable, "-c", probe], cwd=REPO, capture_output=True, text=True,
+                         check=True)  # fmt: skip
+    loaded: list[str] = json.loads(out.stdout.strip().splitlines()[-1])
+    return loaded
+
+
+@pytest.mark.parametrize(
+    "code",
+    ["import sim_core", "import sim_core.contract", "import server.schemas",
+     "import server.kinds", "from sim_core import RunSpec, ModelParams, leg_names",
+     "from sim_core.cli import build_parser; build_parser()"],  # `insect-gait --help`
+)  # fmt: skip
+def test_the_contract_loads_without_mujoco_or_numba(code: str) -> None:
+    assert _loaded_after(code) == []
+
+
+def test_the_engine_still_loads_on_first_use() -> None:
+    assert "mujoco" in _loaded_after("from sim_core import simulate")
+
+
+def test_insect_gait_run_loads_no_viewer() -> None:
+    code = "from sim_core.cli import main; main(['run', '--beta', '0.62', '--duration-s', '0.01'])"
+    assert _loaded_after(code) == ["mujoco", "numba"]
+
+
+def _core_imports(path: Path) -> list[tuple[str, str]]:
+    """(module, name) for every `from sim_core... import name` and `import sim_core...`."""
+    out = []
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("sim_core"):
+            out += [(node.module or "", a.name) for a in node.names]
+        elif isinstance(node, ast.Import):
+            out += [(a.name, "") for a in node.names if a.name.startswith("sim_core")]
+    return out
+
+
+@pytest.mark.parametrize("package", ["server", "web"])
+def test_the_edges_use_only_the_public_core(package: str) -> None:
+    import sim_core
+    import sim_core.cli
+    import sim_core.contract
+
+    # the package's API, the MuJoCo-free contract, and the CLI's helpers for plug-ins
+    public = {m.__name__: set(m.__all__) for m in (sim_core, sim_core.contract, sim_core.cli)}
+    wrong = []
+    for path in sorted((REPO / package).rglob("*.py")):
+        for module, name in _core_imports(path):
+            if module not in public or (name and name not in public[module]):
+                wrong.append(f"{path.relative_to(REPO)}: {module} {name}".strip())
+    assert not wrong, "server/ and web/ may use only sim_core's public names:\n" + "\n".join(wrong)
+
+
+@pytest.mark.parametrize("package", ["server", "web"])
+def test_the_edges_never_import_each_other(package: str) -> None:
+    other = {"server": "web", "web": "server"}[package]
+    wrong = []
+    for path in sorted((REPO / package).rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            names = (
+                [a.name for a in node.names] if isinstance(node, ast.Import)
+                else [node.module or ""] if isinstance(node, ast.ImportFrom) else []
+            )  # fmt: skip
+            wrong += [f"{path.name}: {n}" for n in names if n.split(".")[0] == other]
+    assert not wrong, wrong
+
+
+def test_no_integrator_is_spelled_in_the_server() -> None:
+    """The integrators are the core's list; the server names them only through it."""
+    from sim_core.contract import INTEGRATORS
+
+    found = []
+    for path in sorted((REPO / "server").rglob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Constant) and isinstance(node.value, str):
+                words = set(node.value.replace(",", " ").replace('"', " ").split())
+                found += [f"{path.name}:{node.lineno} {w}" for w in words & set(INTEGRATORS)]
+    assert not found, found

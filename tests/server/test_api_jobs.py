@@ -15,7 +15,7 @@ from pathlib import Path
 import pytest
 from api_harness import SHORT, Server, pid_alive, submit, wait_for, wait_status
 
-pytest.importorskip("sim_core")
+from sim_core.contract import RETURN_MAP_SKIP
 
 LONG = {"kind": "run", "beta": 0.66, "duration_s": 120.0, "d31_init": [2.0]}
 # a physical failure at a sound step: on an 80 degree slope the insect flips (measured ~0.25 s)
@@ -92,11 +92,14 @@ def test_return_map_pairs_follow_the_runs(make_server: Callable[..., Server]) ->
         result = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]
         assert result["lag"] == 2
         for d0, run in zip([1.0, 3.0], result["runs"], strict=True):
-            d31 = run["d31"]
+            # the core's construction, as `reproduce` builds Fig. 7: the first
+            # RETURN_MAP_SKIP touchdowns are the start's transient and make no pair
+            d31 = run["d31"][RETURN_MAP_SKIP:]
             mine = [p for p in result["records"] if p["d31_init"] == d0]
             assert [(p["d31_n"], p["d31_n_plus_lag"]) for p in mine] == list(
                 zip(d31[:-2], d31[2:], strict=True)
             )
+            assert [p["n"] for p in mine] == list(range(RETURN_MAP_SKIP, len(run["d31"]) - 2))
         assert c.get(f"/v1/jobs/{job['id']}/figure.png").status_code == 200
 
 

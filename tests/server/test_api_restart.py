@@ -10,8 +10,6 @@ from collections.abc import Callable
 import pytest
 from api_harness import SHORT, Server, pid_alive, submit, wait_for, wait_status
 
-pytest.importorskip("sim_core")
-
 MEDIUM = {"kind": "run", "beta": 0.66, "duration_s": 2.0, "d31_init": [2.0]}
 
 
