@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from sim_core.cli import port_number
+from sim_core.cli import port_number, port_taken
 
 
 def register(subparsers: Any) -> argparse.ArgumentParser:
@@ -59,6 +59,13 @@ def run_api(args: argparse.Namespace) -> int:
     except ValidationError as exc:
         print(f"insect-gait api: invalid settings: {settings_problem(exc)}", file=sys.stderr)
         return 2
+    if settings.port and port_taken(settings.host, settings.port):
+        print(
+            f"insect-gait api: port {settings.port} on {settings.host} is already in use "
+            "(another api?); stop that one or choose another with --port",
+            file=sys.stderr,
+        )
+        return 1
     try:  # before uvicorn, whose failed startup would print its traceback first
         settings.db_path.parent.mkdir(parents=True, exist_ok=True)
         InstanceLock(str(settings.db_path)).probe()

@@ -12,7 +12,7 @@ import logging
 import sys
 from pathlib import Path
 
-from sim_core.cli import EXIT_USAGE, port_number
+from sim_core.cli import EXIT_USAGE, port_number, port_taken
 from web.paths import DEFAULT_BIFURCATION
 
 
@@ -37,22 +37,28 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
     p.set_defaults(func=run)
 
 
+def _refuse_busy(args: argparse.Namespace) -> int:
+    print(
+        f"insect-gait viewer: port {args.port} on {args.host} is already in use (another "
+        "viewer?); stop that one or choose another with --port (make run VIEWER_PORT=...)",
+        file=sys.stderr,
+        flush=True,
+    )
+    return EXIT_USAGE
+
+
 def run(args: argparse.Namespace) -> int:
+    # viser moves on to the next free port by itself; a URL printed before it started (make
+    # run's) would then name somebody else's server: refuse instead, before building anything
+    if port_taken(args.host, args.port):
+        return _refuse_busy(args)
     from web.app import ViewerApp
 
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     app = ViewerApp(args.host, args.port, bifurcation_path=args.bifurcation)
-    if app.port != args.port:
-        # viser moves on to the next free port by itself; a URL printed before it started
-        # (make run's) would then name somebody else's server: refuse instead
+    if app.port != args.port:  # taken in the instant between the check and viser's bind
         app.server.stop()
-        print(
-            f"insect-gait viewer: port {args.port} on {args.host} is already in use (another "
-            "viewer?); stop that one or choose another with --port (make run VIEWER_PORT=...)",
-            file=sys.stderr,
-            flush=True,
-        )
-        return EXIT_USAGE
+        return _refuse_busy(args)
     print(f"viewer: http://{args.host}:{app.port}", flush=True)
     app.serve_forever()
     return 0

@@ -1,7 +1,8 @@
-"""The `insect-gait` command line; plug-ins (the REST service, the viewer) may use
-`port_number` and `EXIT_USAGE` so that every command checks and words its arguments alike."""
+"""The `insect-gait` command line. Plug-ins (the REST service, the viewer) may use
+`port_number`, `port_taken` and `EXIT_USAGE`, so that every command checks and words its
+arguments alike."""
 
-from sim_core.cli.common import EXIT_USAGE, port_number
+from sim_core.cli.common import EXIT_USAGE, port_number, port_taken
 from sim_core.cli.main import build_parser, main
 
-__all__ = ["EXIT_USAGE", "build_parser", "main", "port_number"]
+__all__ = ["EXIT_USAGE", "build_parser", "main", "port_number", "port_taken"]

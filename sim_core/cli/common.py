@@ -4,6 +4,7 @@ markdown file a generating command rewrites."""
 from __future__ import annotations
 
 import argparse
+import socket
 from pathlib import Path
 
 EXIT_USAGE = 2
@@ -19,6 +20,22 @@ def port_number(text: str) -> int:
     if not 1 <= port <= 65535:
         raise argparse.ArgumentTypeError(f"{port} is not a port number (1..65535)")
     return port
+
+
+def port_taken(host: str, port: int) -> bool:
+    """True when a server already listens on (host, port): a bind test, as a server's own
+    (SO_REUSEADDR, so a port in TIME_WAIT counts as free)."""
+    try:
+        family, kind, proto, _, addr = socket.getaddrinfo(host, port, type=socket.SOCK_STREAM)[0]
+    except OSError:
+        return False  # an unknown host: let the server say so
+    with socket.socket(family, kind, proto) as s:
+        s.setsockopt(socket.SOL_SOCKET, socket.SO_REUSEADDR, 1)
+        try:
+            s.bind(addr)
+        except OSError:
+            return True
+    return False
 
 
 class Parser(argparse.ArgumentParser):

@@ -83,6 +83,25 @@ def test_a_bad_port_is_one_line_and_exit_2(port: str) -> None:
     assert "Traceback" not in out.stderr and "http" not in out.stderr.replace(repr(port), "")
 
 
+def test_a_busy_api_port_is_refused_in_one_line(tmp_path: Path) -> None:
+    import socket
+
+    with socket.socket() as busy:
+        busy.bind(("127.0.0.1", 0))
+        busy.listen()
+        port = busy.getsockname()[1]
+        out = subprocess.run(
+            [str(Path(sys.executable).parent / "insect-gait"), "api", "--port", str(port),
+             "--db", str(tmp_path / "d.db"), "--workers", "0"],
+            cwd=REPO, capture_output=True, text=True, timeout=60,
+        )  # fmt: skip
+    assert out.returncode == 1
+    assert out.stderr.strip() == (
+        f"insect-gait api: port {port} on 127.0.0.1 is already in use (another api?); "
+        "stop that one or choose another with --port"
+    )
+
+
 def test_second_server_on_same_db_refuses(make_server: Callable[..., Server]) -> None:
     first = make_server(workers=0)
     second = make_server(db=first.db, workers=0, start=False)
