@@ -111,7 +111,6 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         docs_url=None,  # served by routes/meta.py from local assets, not a CDN
         redoc_url=None,
     )
-    app.mount(meta.DOCS_ASSETS, StaticFiles(directory=meta.DOCS_STATIC), name="docs-assets")
     app.state.settings = settings
     app.state.store = store
     app.state.pool = pool
@@ -142,6 +141,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         responses=R401 if token else {},
     )
     app.include_router(meta.router)
+    # after the routers: meta serves one asset itself (ReDoc's bundle, made offline)
+    app.mount(meta.DOCS_ASSETS, StaticFiles(directory=meta.DOCS_STATIC), name="docs-assets")
     return app
 
 

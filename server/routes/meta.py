@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import math
 from pathlib import Path
 from typing import Any
@@ -13,7 +14,7 @@ from fastapi.openapi.docs import (
     get_swagger_ui_html,
     get_swagger_ui_oauth2_redirect_html,
 )
-from fastapi.responses import HTMLResponse
+from fastapi.responses import HTMLResponse, Response
 
 from server.deps import PoolDep, SettingsDep, StoreDep
 from server.schemas import (
@@ -36,6 +37,20 @@ router = APIRouter(tags=["meta"])
 # service is used in labs without internet. create_app mounts this folder at DOCS_ASSETS.
 DOCS_STATIC = Path(fastapi_offline.__file__).parent / "static"
 DOCS_ASSETS = "/docs-assets"
+# ReDoc's bundle still fetches its "API docs by Redocly" logo from a CDN; served with that
+# one address replaced by an inline (empty) image, nothing on /redoc leaves this server.
+REDOC_CDN_LOGO = b"https://cdn.redoc.ly/redoc/logo-mini.svg"
+INLINE_LOGO = b"data:image/svg+xml,%3Csvg xmlns='http://www.w3.org/2000/svg'/%3E"
+
+
+@functools.cache
+def offline_redoc_bundle() -> bytes:
+    return (DOCS_STATIC / "redoc.standalone.js").read_bytes().replace(REDOC_CDN_LOGO, INLINE_LOGO)
+
+
+@router.get(f"{DOCS_ASSETS}/redoc.standalone.js", include_in_schema=False)
+def redoc_bundle() -> Response:
+    return Response(offline_redoc_bundle(), media_type="text/javascript")
 
 
 @router.get("/docs", include_in_schema=False)
@@ -48,6 +63,8 @@ def swagger_ui(request: Request) -> HTMLResponse:
         swagger_js_url=f"{root}{DOCS_ASSETS}/swagger-ui-bundle.js",
         swagger_css_url=f"{root}{DOCS_ASSETS}/swagger-ui.css",
         swagger_favicon_url=f"{root}{DOCS_ASSETS}/favicon.png",
+        # no validator badge: it sends the spec's address to validator.swagger.io
+        swagger_ui_parameters={"validatorUrl": None},
     )
 
 
