@@ -285,7 +285,9 @@ class ViewerApp:
                 self.playing = False
                 break
             advanced += sim.time_s - t0
-            self.footfall.append(sim.time_s, sim.stance)
+            # every control period of the core's own history, not one sample per chunk
+            for t, stance in zip(*sim.footfall_since(self.footfall.t_now), strict=True):
+                self.footfall.append(float(t), stance)
             # Delta31 events with the beta (and ramp direction) in force when they happened
             self.d31.sync(sim.d31_events, sim.beta, direction)
         return advanced

@@ -146,6 +146,19 @@ class Simulation:
         """(times (T,), stance (T, 6) bool) over the kept history."""
         return np.array(self._hist_t), np.array(self._hist_stance).reshape(-1, 6)
 
+    def footfall_since(self, after_s: float | None) -> tuple[np.ndarray, np.ndarray]:
+        """(times (T,), stance (T, 6) bool) of the kept history later than `after_s` (all of it
+        for None): what a caller keeping its own rolling window has not seen yet, at every
+        control period (the viewer's footfall diagram)."""
+        times: list[float] = []
+        stance: list[np.ndarray] = []
+        for t, s in zip(reversed(self._hist_t), reversed(self._hist_stance), strict=True):
+            if after_s is not None and t <= after_s:
+                break
+            times.append(t)
+            stance.append(s)
+        return np.array(times[::-1]), np.array(stance[::-1], dtype=bool).reshape(-1, 6)
+
     def _recent(self, window_s: float = 1.0) -> int:
         t = self._hist_t
         n = len(t)

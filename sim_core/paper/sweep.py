@@ -3,7 +3,9 @@
 A sweep holds a parameter (beta, body mass or slope) at `start`, ramps it linearly to `turn`
 and back, and records Delta31 at every leg-1 touchdown with the value the parameter had then.
 It runs exactly as `insect-gait reproduce` runs its ramps (one `Task`, `execute_chunk`), so the
-REST service, the viewer's demo and the reproduction report see the same numbers.
+REST service's hysteresis jobs and the reproduction report see the same numbers. (The viewer's
+demo ramp is a live triangle from the slider's position, `web/controls.BetaRamp`, on the same
+`Simulation` engine: the same physics, not the same schedule.)
 """
 
 from __future__ import annotations

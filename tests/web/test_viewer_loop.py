@@ -92,3 +92,23 @@ def test_presets_and_the_ramp_drive_the_running_simulation() -> None:
         assert path[-1].beta < path[0].beta  # the path follows beta down as it goes
     finally:
         app.stop()
+
+
+def test_the_footfall_diagram_reads_every_control_period_of_the_core() -> None:
+    """The viewer's footfall buffer is filled from `Simulation`'s own history (one sample per
+    control period), not sampled once per loop chunk; a swing of ~34 ms then spans ~68
+    samples instead of about one."""
+    import numpy as np
+
+    app = ViewerApp("127.0.0.1", 0)
+    try:
+        app._step(0.2, time.perf_counter() + 600)
+        times, stance = app.sim.footfall_since(None)
+        assert len(app.footfall) == times.size > 0.2 / app.sim.control_dt_s
+        dt = np.diff(times)
+        assert np.allclose(dt, app.sim.control_dt_s)
+        assert stance.shape == (times.size, 6)
+        later, _ = app.sim.footfall_since(float(times[-3]))
+        assert later.tolist() == times[-2:].tolist()
+    finally:
+        app.stop()
