@@ -79,9 +79,10 @@ SPEEDS: dict[str, float | None] = {
 DEFAULT_SPEED = "1x"
 
 # Camera modes: the follow camera moves the world under a still camera (web/scene.py).
+# short labels: they are buttons side by side (web/panels.py)
 CAMERA_FIXED = "fixed"
-CAMERA_POSITION = "follow position"
-CAMERA_HEADING = "follow position and heading"
+CAMERA_POSITION = "follow"
+CAMERA_HEADING = "follow + turn"
 CAMERA_MODES = (CAMERA_POSITION, CAMERA_HEADING, CAMERA_FIXED)
 DEFAULT_CAMERA = CAMERA_POSITION
 

@@ -4,10 +4,10 @@ The core's `Simulation.speed_cm_s` is the rate along world x: right while the in
 straight, wrong once it has turned (after sliding on a +30 degree slope the body ended turned,
 and the readout said -0.26 cm/s on flat ground for minutes while it walked forwards). The
 viewer computes its own readout from public state (`Simulation.data.qpos`: the free joint's
-position and quaternion): the displacement over the last second projected on the body's heading,
-the horizontal direction of its x axis (the model's forward axis, sim_core/model.py). The floor
-is the world's z = 0 plane at every slope (the core tilts gravity, not the floor), so
-"horizontal" is the xy plane.
+position and quaternion): the displacement over the last second projected on the body's
+heading, the horizontal direction of its x axis (the model's forward axis,
+sim_core/model/mjspec.py). The floor is the world's z = 0 plane at every slope (the core tilts
+gravity, not the floor), so "horizontal" is the xy plane.
 """
 
 from __future__ import annotations

@@ -76,6 +76,26 @@ class Readouts:
     heading_deg: float | None = None
 
 
+# A heading this far from +x (the slope's uphill direction) gets a word of explanation.
+TURNED_DEG = 20.0
+
+
+def heading_note(heading_deg: float | None) -> str:
+    """Why the insect walks off +x after a slope turned it, or "" while it has not turned.
+
+    The model (as the paper's) has no steering: each leg's stance line is fixed in the body,
+    so a slope that yaws the body leaves it walking the new way when the slope is gone."""
+    if heading_deg is None:
+        return ""
+    off = (heading_deg + 180.0) % 360.0 - 180.0
+    if abs(off) < TURNED_DEG:
+        return ""
+    return (
+        f"turned {round(off)}° from the slope's +x: the model has no steering (nor has the "
+        "paper's), so it keeps walking the way a slope yawed it; Reset faces it uphill again"
+    )
+
+
 def _f(v: float | None, fmt: str, missing: str = "–") -> str:
     return missing if v is None or not math.isfinite(v) else fmt.format(v)
 
@@ -95,6 +115,9 @@ def format_readouts(r: Readouts) -> dict[str, str]:
         status = f"behind: {r.rtf:.2f}x of {r.target_speed:g}x (machine cannot keep up)"
     else:
         status = f"keeping up with {r.target_speed:g}x"
+    turned = heading_note(r.heading_deg)
+    if turned and not r.error:
+        status += f"; {turned}"
     rtf = "paused" if not r.playing else _f(r.rtf, "{:.2f}x")
     return {
         "β (simulation)": f"{r.beta:.4f}",
@@ -132,10 +155,11 @@ class Panels:
             self.beta = self._slider("beta", controls.BETA, SetBeta)
             self.mass = self._slider("mass", controls.BODY_MASS_G, SetBodyMass)
             self.slope = self._slider("slope", controls.SLOPE_DEG, SetSlope)
-            self.speed = gui.add_dropdown(
-                "speed", tuple(controls.SPEEDS), initial_value=controls.DEFAULT_SPEED
-            )
-            self.speed.on_update(
+            # Buttons, not a dropdown: a dropdown opens when Tab reaches it, and Tab out of the
+            # slope box then spread the speed list over the plots. The status readout says
+            # the speed in force.
+            self.speed = gui.add_button_group("speed", tuple(controls.SPEEDS))
+            self.speed.on_click(
                 self._queue(lambda: SetSpeed(controls.speed_value(self.speed.value)))
             )
             self.play = gui.add_button(PAUSE)
@@ -152,10 +176,8 @@ class Panels:
             self.ramp.on_click(self._on_ramp)
             self._ramping = False
             self.window = self._slider("footfall", controls.FOOTFALL_WINDOW_S, SetFootfallWindow)
-            self.camera = gui.add_dropdown(
-                "camera", controls.CAMERA_MODES, initial_value=controls.DEFAULT_CAMERA
-            )
-            self.camera.on_update(self._queue(lambda: SetFollow(str(self.camera.value))))
+            self.camera = gui.add_button_group("camera", controls.CAMERA_MODES)  # as speed
+            self.camera.on_click(self._queue(lambda: SetFollow(str(self.camera.value))))
             self.d31_init = self._slider("d31_init", controls.D31_INIT, None)
             self.reset = gui.add_button("Reset with this initial Δ31")
             self.reset.on_click(

@@ -12,8 +12,8 @@ the opposite: every dynamic node lives under one frame, `/bodies`, rotated by th
 +y, so the floor grid and the insect tilt together while the camera's "up" stays the true
 vertical. The same frame's pose implements the follow camera: moving the world under a still
 camera keeps orbiting and zooming with the user, where moving each browser's camera would fight
-their mouse. "follow position" translates the world so the body stays at the origin; "follow
-position and heading" also turns it about the vertical so the body keeps facing +x (the
+their mouse. "follow" translates the world so the body stays at the origin; "follow + turn"
+also turns it about the vertical so the body keeps facing +x (the
 heading is a one-second circular mean, web/heading.py, so the view does not shake with each
 step).
 """
@@ -32,8 +32,13 @@ from web.svg import LEG_ORDER, PAIR_COLOURS
 
 # Every dynamic node lives under this node; we own its pose (see the module docstring).
 BODIES_NODE = "/bodies"
-# Insect scale: the body is 4.2 cm long, a tibia 0.3 mm thick.
-CAMERA_POSITION = (-0.045, -0.075, 0.045)
+# Insect scale: the body is 4.2 cm long, a tibia 0.3 mm thick. The camera looks down from
+# behind and above the right side (elevation ~45 deg), so the left legs show past the body; the
+# old side view (-45, -75, 45) mm hid them behind it.
+CAMERA_POSITION = (-0.06, -0.05, 0.075)
+# Legs are drawn this many times thicker than their (inertia) radii: at 0.15-0.3 mm against an
+# 8-12 mm leg, true-to-scale links read as hairlines on screen. Drawing only; physics untouched.
+LEG_DRAW_SCALE = 3.0
 CAMERA_NEAR, CAMERA_FAR = 5e-4, 20.0
 # viser's default orbit limits (1 cm .. 10 km) would not let one zoom onto a 2 mm femur
 MIN_ORBIT, MAX_ORBIT = 2e-3, 5.0
@@ -83,7 +88,7 @@ def world_pose(
     """(wxyz, position) of the `/bodies` frame: the slope tilt and the follow camera.
 
     display = R (x - p) with R = tilt(slope) * turn(-heading) and p the body's floor position;
-    "fixed" leaves p = 0 and no turn, "follow position" no turn.
+    "fixed" leaves p = 0 and no turn, "follow" no turn.
     """
     q = slope_wxyz(slope_deg)
     if mode == controls.CAMERA_FIXED:
@@ -165,7 +170,7 @@ class HexapodScene:
         return self._follow
 
     def set_follow(self, mode: str) -> None:
-        """One of controls.CAMERA_MODES; anything else means "follow position"."""
+        """One of controls.CAMERA_MODES; anything else means "follow"."""
         self._follow = mode if mode in controls.CAMERA_MODES else controls.DEFAULT_CAMERA
 
     def update(
@@ -200,8 +205,9 @@ def geom_mesh(model: mujoco.MjModel, g: int) -> trimesh.Trimesh | None:
     kind = model.geom_type[g]
     if kind == mujoco.mjtGeom.mjGEOM_BOX:
         return trimesh.creation.box(extents=2.0 * size)
-    if kind == mujoco.mjtGeom.mjGEOM_CAPSULE:  # along local z, half-length size[1]
-        return trimesh.creation.capsule(height=2.0 * size[1], radius=size[0], count=[12, 12])
+    if kind == mujoco.mjtGeom.mjGEOM_CAPSULE:  # along local z, half-length size[1]; a leg link
+        radius = size[0] * LEG_DRAW_SCALE
+        return trimesh.creation.capsule(height=2.0 * size[1], radius=radius, count=[12, 12])
     if kind == mujoco.mjtGeom.mjGEOM_SPHERE:
         return trimesh.creation.icosphere(subdivisions=2, radius=size[0])
     return None  # the floor plane: drawn as a grid instead

@@ -60,6 +60,21 @@ def _open(kind: str, title: str, **attrs: str) -> list[str]:
     ]
 
 
+def time_window(t_now: float, window_s: float) -> tuple[float, float]:
+    """The scrolling plots' time axis: [0, window] until the run is that old, then the last
+    `window_s` (never a negative time: the run starts at 0)."""
+    t1 = max(t_now, window_s)
+    return t1 - window_s, t1
+
+
+def _time_axis_label() -> str:
+    """The unit of the time ticks, in the free corner left of the axis."""
+    return (
+        f'<text x="{LEFT - 3}" y="{H - BOTTOM + 11}" {FONT} text-anchor="end" '
+        'fill="#666">t (s)</text>'
+    )
+
+
 def _x_ticks(f: Frame, ticks: Sequence[float], fmt: str) -> list[str]:
     out = []
     for v in ticks:
@@ -112,7 +127,7 @@ def footfall_svg(
     bars: Sequence[Sequence[tuple[float, float]]], t_now: float, window_s: float
 ) -> str:
     """Six rows (legs 1-6: R1 L1 R2 L2 R3 L3), one rect per stance interval, scrolling."""
-    t0, t1 = t_now - window_s, t_now
+    t0, t1 = time_window(t_now, window_s)
     f = Frame(t0, t1, 0.0, 6.0)
     out = _open(
         "footfall",
@@ -146,13 +161,14 @@ def footfall_svg(
             )
     fmt = "{:.2f}" if window_s < 1.5 else "{:.1f}"
     out += _x_ticks(f, _time_ticks(t0, t1), fmt)
+    out.append(_time_axis_label())
     out.append(f"<!-- {n_bars} bars --></svg>")
     return "\n".join(out)
 
 
 def d31_svg(events: Sequence[D31Event], t_now: float, window_s: float, gait: str) -> str:
     """Delta31 at each leg-1 touchdown over the last `window_s`, with the two gaits' lines."""
-    t0, t1 = t_now - window_s, t_now
+    t0, t1 = time_window(t_now, window_s)
     f = Frame(t0, t1, 0.0, TWO_PI)
     out = _open("d31", f"Δ31 over time — gait: {gait}", gait=gait, n_events=str(len(events)))
     out += _y_angle_axis(f) + _reference_lines(f)
@@ -170,7 +186,9 @@ def d31_svg(events: Sequence[D31Event], t_now: float, window_s: float, gait: str
             out.append(f'<polyline points="{path}" fill="none" stroke="#444" stroke-width="0.6"/>')
     for x, y in pts:
         out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="1.6" fill="#222"/>')
-    out += _x_ticks(f, _time_ticks(t0, t1), "{:.0f}")
+    fmt = "{:.0f}" if window_s >= 4 else "{:.1f}"
+    out += _x_ticks(f, _time_ticks(t0, t1), fmt)
+    out.append(_time_axis_label())
     out.append("</svg>")
     return "\n".join(out)
 

@@ -6,7 +6,7 @@ batch, compiled with numba so that a single simulation is not dominated by Pytho
 1. `plan_block` advances the oscillators over h (eq. 1 without resetting) and computes joint
    targets at the start and the end of the period from the leg kinematics and inverse
    kinematics: the set-point q*(t0) and the desired velocity (q*(t0 + h) - q*(t0)) / h.
-   MuJoCo's actuators (see model.py) ramp the set-point linearly through the period and apply
+   MuJoCo's actuators (see mjspec.py) ramp the set-point linearly through the period and apply
    kp (q* - q) + kd (dq*/dt - dq/dt), the damping part implicit in time.
 2. MuJoCo runs the k substeps (`Batch.rollout`), recording the feet's positions each substep.
 3. `apply_events` finds each swing leg's first touch in the period that passes the scuff rule,

@@ -241,3 +241,32 @@ def test_the_caption_promises_nothing_reproduction_md_marks_as_missed() -> None:
     if tripod_missed:  # today: the caption must say so, and must not invite "watch it jump"
         assert "no hysteresis" in CAPTION and "does not appear" in CAPTION
         assert "watch" not in CAPTION.lower() and "jump from" not in CAPTION
+
+
+def test_time_axes_never_show_negative_times_and_name_their_unit() -> None:
+    """Early in a run (t = 2 s, a 30 s window) the axis used to run from -28 s."""
+    import re
+
+    from web.footfall import D31Event
+    from web.svg import time_window
+
+    assert time_window(2.0, 30.0) == (0.0, 30.0)
+    assert time_window(45.0, 30.0) == (15.0, 45.0)
+    d = d31_svg([D31Event(1.0, 2.0, 0.66)], 2.0, 30.0, "metachronal")
+    f = footfall_svg([[(0.1, 0.2)], [], [], [], [], []], 0.3, 0.5)
+    for svg in (d, f):
+        ticks = [float(x) for x in re.findall(r'text-anchor="middle">(-?[0-9.]+)</text>', svg)]
+        assert ticks and min(ticks) >= 0.0, ticks
+        assert "t (s)" in svg
+
+
+def test_a_turned_insect_is_explained_not_left_to_guess() -> None:
+    """After a +-30 deg slope the body walked at heading 94 deg on flat ground with no word."""
+    from web.panels import heading_note
+
+    assert heading_note(None) == "" and heading_note(4.0) == "" and heading_note(-15.0) == ""
+    note = heading_note(94.0)
+    assert "turned 94°" in note and "no steering" in note and "Reset" in note
+    assert "turned -90°" in heading_note(270.0)
+    r = Readouts(0.66, 1.0, 2.5, 0.66, "tripod", 3.0, 1.0, 1.2, 1.0, 30.0, "", heading_deg=94.0)
+    assert "no steering" in format_readouts(r)["status"]
