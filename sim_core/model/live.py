@@ -44,18 +44,15 @@ class Simulation:
         self._hist_x: deque[float] = deque(maxlen=nkeep)
         self._hist_stance: deque[np.ndarray] = deque(maxlen=nkeep)
         self._events: list[tuple[float, float]] = []  # grows with the run; never rebuilt
-        self._push_history()
+        self._push_history(self._runner)
 
     # --- controls -----------------------------------------------------------------------------
     def advance(self, sim_seconds: float) -> None:
         """Simulate `sim_seconds` more, in whole control periods (at least one)."""
         r = self._runner
-        nblocks = max(1, round(sim_seconds / r.control_dt))
-        for _ in range(nblocks):
-            if r.failures[0] is not None:
-                raise SimulationDiverged(r.failures[0])
-            r.step_block()
-            self._push_history()
+        if r.failures[0] is None:
+            nblocks = max(1, round(sim_seconds / r.control_dt))
+            r.run(hook=self._push_history, max_blocks=nblocks)
         if r.failures[0] is not None:
             raise SimulationDiverged(r.failures[0])
 
@@ -186,8 +183,8 @@ class Simulation:
         d31 = np.array(self._runner.d31_v[0][-4:])
         return gait.final_d31(d31)[1]
 
-    def _push_history(self) -> None:
-        r = self._runner
+    def _push_history(self, r: BatchRunner) -> None:
+        """The run loop's hook: after every control period, what the short history keeps."""
         t, v = r.d31_t[0], r.d31_v[0]
         for k in range(len(self._events), len(v)):
             self._events.append((t[k], v[k]))

@@ -8,7 +8,7 @@ share, contact chatter) is computed by `model.gait` when a result is asked for.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
@@ -112,3 +112,107 @@ def assemble_result(
         landing_swing_share=landing,
         warnings=tuple(warnings),
     )
+
+
+class Series(NamedTuple):
+    """One simulation's recorded time series; all None when the run was not recorded."""
+
+    times_s: np.ndarray | None  # (T,)
+    stance: np.ndarray | None  # (T, 6) bool
+    body_pos_m: np.ndarray | None  # (T, 3)
+    body_vel_m_s: np.ndarray | None  # (T, 3)
+    body_quat: np.ndarray | None  # (T, 4) w, x, y, z
+
+
+NOT_RECORDED = Series(None, None, None, None, None)
+
+
+class Recorder:
+    """The time series a batch keeps (body pose and velocity, stance), one row every `every`
+    control periods; preallocated for the longest run, so recording never allocates."""
+
+    def __init__(self, n: int, nrec: int, every: int) -> None:
+        self.every = every
+        self.n_rows = 0
+        self.t = np.zeros(nrec)
+        self.stance = np.zeros((n, nrec, 6), dtype=np.bool_)
+        self.pos = np.zeros((n, nrec, 3))
+        self.vel = np.zeros((n, nrec, 3))
+        self.quat = np.zeros((n, nrec, 4))
+        self.length = np.zeros(n, dtype=np.int64)  # rows each simulation has (stops on failure)
+
+    def take(
+        self,
+        time_s: float,
+        live: np.ndarray,
+        stance: np.ndarray,
+        qpos: np.ndarray,
+        qvel: np.ndarray,
+    ) -> None:
+        """One row for the simulations `live`, from the batch's (n, ...) state arrays."""
+        k = self.n_rows
+        if k >= self.t.shape[0]:
+            return
+        self.t[k] = time_s
+        self.stance[live, k] = stance[live] != 0
+        self.pos[live, k] = qpos[live, 0:3]
+        self.vel[live, k] = qvel[live, 0:3]
+        self.quat[live, k] = qpos[live, 3:7]
+        self.length[live] = k + 1
+        self.n_rows = k + 1
+
+    def series(self, i: int) -> Series:
+        """Simulation i's rows (views, not copies)."""
+        n = int(self.length[i])
+        return Series(self.t[:n], self.stance[i, :n], self.pos[i, :n], self.vel[i, :n],
+                      self.quat[i, :n])  # fmt: skip
+
+
+class EventJournal:
+    """What happened, per simulation: touchdowns (time, phase before eq. 4), lift-offs, Delta31
+    at each leg-1 touchdown, and each stance's foot slip as a share of the stroke. Appended
+    from the controller's per-period event arrays (NaN = no event), in time order."""
+
+    def __init__(self, n: int, stroke: float) -> None:
+        self.stroke = stroke
+        self.touchdowns: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
+        # phase of each touchdown before resetting: phi_AEP minus it is the reset's jump
+        self.touchdown_phases: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
+        self.liftoffs: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
+        self.d31_t: list[list[float]] = [[] for _ in range(n)]
+        self.d31_v: list[list[float]] = [[] for _ in range(n)]
+        self.slips: list[list[float]] = [[] for _ in range(n)]
+        self._td_xy = np.zeros((n, 6, 2))
+
+    def collect(
+        self,
+        ids: np.ndarray,
+        td_time: np.ndarray,
+        td_phase: np.ndarray,
+        lo_time: np.ndarray,
+        d31: np.ndarray,
+        feet_xy: np.ndarray,
+    ) -> None:
+        """This period's events of the simulations `ids`.
+
+        Args:
+            ids: (m,) simulation indices; row r of `td_time`, `lo_time`, `feet_xy` is ids[r].
+            td_time, lo_time: (m, 6) touchdown / lift-off time (s) this period, NaN if none.
+            td_phase, d31: (n, 6) phase at touchdown and (n,) Delta31 at a leg-1 touchdown,
+                indexed by simulation.
+            feet_xy: (m, 6, 2) foot positions at the period's last substep (m).
+        """
+        for r, leg in zip(*np.nonzero(np.isfinite(td_time)), strict=True):
+            s = int(ids[r])
+            self.touchdowns[s][leg].append(float(td_time[r, leg]))
+            self.touchdown_phases[s][leg].append(float(td_phase[s, leg]))
+            self._td_xy[s, leg] = feet_xy[r, leg]
+            if leg == 0:
+                self.d31_t[s].append(float(td_time[r, 0]))
+                self.d31_v[s].append(float(d31[s]))
+        for r, leg in zip(*np.nonzero(np.isfinite(lo_time)), strict=True):
+            s = int(ids[r])
+            self.liftoffs[s][leg].append(float(lo_time[r, leg]))
+            if self.touchdowns[s][leg]:
+                slip = float(np.hypot(*(feet_xy[r, leg] - self._td_xy[s, leg])))
+                self.slips[s].append(slip / self.stroke)

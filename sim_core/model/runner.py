@@ -35,7 +35,7 @@ from sim_core.model.guard import FLIPPED, NON_FINITE, WARNED, guard_codes, up_ax
 from sim_core.model.legs import pack_geometry
 from sim_core.model.mjspec import build_model, gravity_vector, leg_qpos_addresses, servo_leads
 from sim_core.model.params import ModelParams, nominal_speed, omega, phi_aep
-from sim_core.model.records import assemble_result
+from sim_core.model.records import NOT_RECORDED, EventJournal, Recorder, assemble_result
 from sim_core.model.spec import FailureKind, RunFailure, RunResult, RunSpec, resolve_numerics
 
 TORSO = 1  # body id of the torso (world is 0)
@@ -44,6 +44,7 @@ MIN_UP_COS = 0.5
 RECORD_DT = 2e-3  # record period of the time series, s (footfall resolution: 6% of T_sw)
 
 ProgressFn = Callable[[float], None]
+BlockHook = Callable[["BatchRunner"], None]
 
 
 def spec_numerics(spec: RunSpec, params: ModelParams) -> tuple[str, float, float, int]:
@@ -138,26 +139,13 @@ class BatchRunner:
         self.timers = {"controller": 0.0, "physics": 0.0, "bookkeeping": 0.0}
         self.active = np.ones(n, dtype=np.bool_)
         self.failures: list[RunFailure | None] = [None] * n
-        self.touchdowns: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
-        # phase of each touchdown before resetting: phi_AEP minus it is the reset's jump
-        self.touchdown_phases: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
-        self.liftoffs: list[list[list[float]]] = [[[] for _ in range(6)] for _ in range(n)]
-        self.d31_t: list[list[float]] = [[] for _ in range(n)]
-        self.d31_v: list[list[float]] = [[] for _ in range(n)]
-        self.slips: list[list[float]] = [[] for _ in range(n)]
-        self._td_xy = np.zeros((n, 6, 2))
-
-        self.record = record
-        self.rec_every = max(1, round(record_dt / self.control_dt))
-        self.rec_n = 0
+        # what happened (events) and what was sampled (time series): kept beside the stepping
+        self.journal = EventJournal(n, p.stroke)
+        self.recorder: Recorder | None = None
         if record:
-            nrec = math.ceil(self.duration.max() / (self.rec_every * self.control_dt)) + 2
-            self.rec_t = np.zeros(nrec)
-            self.rec_stance = np.zeros((n, nrec, 6), dtype=np.bool_)
-            self.rec_pos = np.zeros((n, nrec, 3))
-            self.rec_vel = np.zeros((n, nrec, 3))
-            self.rec_quat = np.zeros((n, nrec, 4))
-            self.rec_len = np.zeros(n, dtype=np.int64)
+            every = max(1, round(record_dt / self.control_dt))
+            nrec = math.ceil(self.duration.max() / (every * self.control_dt)) + 2
+            self.recorder = Recorder(n, nrec, every)
 
         self.batch.reset()
         for i, spec in enumerate(specs):
@@ -169,6 +157,16 @@ class BatchRunner:
                 self.set_slope_deg(i, spec.slope_deg)
             self.init_state(i, spec.d31_init, spec.phi1_init)
         self._record(np.arange(n))
+
+    @property
+    def d31_t(self) -> list[list[float]]:
+        """Per simulation, the times (s) of its leg-1 touchdowns so far."""
+        return self.journal.d31_t
+
+    @property
+    def d31_v(self) -> list[list[float]]:
+        """Per simulation, Delta31 (rad) at each of its leg-1 touchdowns so far."""
+        return self.journal.d31_v
 
     # --- per-simulation settings, live ---------------------------------------------------
     @property
@@ -233,7 +231,7 @@ class BatchRunner:
 
     # --- stepping ---------------------------------------------------------------------------
     def step_block(self) -> None:
-        """Advance every active simulation by one control period."""
+        """Advance every active simulation by one control period (`run` is the loop)."""
         ids = np.flatnonzero(self.active)
         m = ids.size
         if m == 0:
@@ -267,34 +265,16 @@ class BatchRunner:
         events = self._events(*event_args)
         self.nblock += 1
         if events:
-            self._collect_events(ids)
+            self.journal.collect(ids, self.td_time[ids], self.td_phase, self.lo_time[ids],
+                                 self.d31_evt, self.feet[:m, -1, :, :2])  # fmt: skip
         t_ctrl = clock()
-        if self.record and self.nblock % self.rec_every == 0:
+        if self.recorder is not None and self.nblock % self.recorder.every == 0:
             self._record(ids)
         self._guard(ids)
         tm = self.timers
         tm["controller"] += (t_plan - t_start) + (t_ctrl - t_phys)
         tm["physics"] += t_phys - t_plan
         tm["bookkeeping"] += clock() - t_ctrl
-
-    def _collect_events(self, ids: np.ndarray) -> None:
-        td = self.td_time[ids]
-        lo = self.lo_time[ids]
-        feet = self.feet[: ids.size, -1, :, :2]  # last recorded substep, row r = ids[r]
-        for r, leg in zip(*np.nonzero(np.isfinite(td)), strict=True):
-            s = int(ids[r])
-            self.touchdowns[s][leg].append(float(td[r, leg]))
-            self.touchdown_phases[s][leg].append(float(self.td_phase[s, leg]))
-            self._td_xy[s, leg] = feet[r, leg]
-            if leg == 0:
-                self.d31_t[s].append(float(td[r, 0]))
-                self.d31_v[s].append(float(self.d31_evt[s]))
-        for r, leg in zip(*np.nonzero(np.isfinite(lo)), strict=True):
-            s = int(ids[r])
-            self.liftoffs[s][leg].append(float(lo[r, leg]))
-            if self.touchdowns[s][leg]:
-                slip = float(np.hypot(*(feet[r, leg] - self._td_xy[s, leg])))
-                self.slips[s].append(slip / self.params.stroke)
 
     def _guard(self, ids: np.ndarray) -> None:
         codes = self._guard_codes[: ids.size]
@@ -338,44 +318,53 @@ class BatchRunner:
         self.active[s] = False
 
     def _record(self, live: np.ndarray) -> None:
-        if not self.record:
-            return
-        k = self.rec_n
-        if k >= self.rec_t.shape[0]:
-            return
-        self.rec_t[k] = self.time
-        self.rec_stance[live, k] = self.stance[live] != 0
-        self.rec_pos[live, k] = self.qpos[live, 0:3]
-        self.rec_vel[live, k] = self.qvel[live, 0:3]
-        self.rec_quat[live, k] = self.qpos[live, 3:7]
-        self.rec_len[live] = k + 1
-        self.rec_n = k + 1
+        if self.recorder is not None:
+            self.recorder.take(self.time, live, self.stance, self.qpos, self.qvel)
 
-    def run(self, progress: ProgressFn | None = None) -> None:
-        """Step until every simulation reached its duration or failed."""
+    def run(
+        self,
+        progress: ProgressFn | None = None,
+        *,
+        hook: BlockHook | None = None,
+        max_blocks: int | None = None,
+    ) -> None:
+        """Step until every simulation reached its duration or failed, or for `max_blocks`
+        control periods: the one run loop under `simulate`, `simulate_batch`, the
+        reproduction's tasks (ramps), `Simulation` (the viewer) and the benchmarks.
+
+        Args:
+            progress: called with the share of the simulated time done (0..1), about every
+                1% and at the end (finite durations only).
+            hook: called as hook(self) after every control period: the place to read state
+                (a live history) or to set a value for the next period (a ramp).
+            max_blocks: stop after this many control periods (a live simulation's advance).
+        """
         total = float(self.duration.sum())
+        report = progress is not None and math.isfinite(total) and total > 0
         last = -1.0
-        while self.active.any():
+        done_blocks = 0
+        while self.active.any() and (max_blocks is None or done_blocks < max_blocks):
             self.step_block()
-            if progress is not None:
+            done_blocks += 1
+            if hook is not None:
+                hook(self)
+            if report:
                 done = float(np.minimum(self.time, self.duration).sum()) / total
                 if done - last >= 0.01 or not self.active.any():
-                    progress(done)
+                    progress(done)  # type: ignore[misc]
                     last = done
 
     # --- results ----------------------------------------------------------------------------
     def result(self, i: int) -> RunResult:
-        n = int(self.rec_len[i]) if self.record else 0
+        ev = self.journal
+        ser = NOT_RECORDED if self.recorder is None else self.recorder.series(i)
         return assemble_result(
             spec=self.specs[i], integrator=self.integrator, dt_s=self.dt,
-            control_dt_s=self.control_dt, failure=self.failures[i], d31=self.d31_v[i],
-            d31_times_s=self.d31_t[i], times_s=self.rec_t[:n] if self.record else None,
-            stance=self.rec_stance[i, :n] if self.record else None,
-            body_pos_m=self.rec_pos[i, :n] if self.record else None,
-            body_vel_m_s=self.rec_vel[i, :n] if self.record else None,
-            body_quat=self.rec_quat[i, :n] if self.record else None,
-            touchdowns=self.touchdowns[i], touchdown_phases=self.touchdown_phases[i],
-            liftoffs=self.liftoffs[i], slips=self.slips[i], retouches=int(self.retouches[i]),
+            control_dt_s=self.control_dt, failure=self.failures[i], d31=ev.d31_v[i],
+            d31_times_s=ev.d31_t[i], times_s=ser.times_s, stance=ser.stance,
+            body_pos_m=ser.body_pos_m, body_vel_m_s=ser.body_vel_m_s, body_quat=ser.body_quat,
+            touchdowns=ev.touchdowns[i], touchdown_phases=ev.touchdown_phases[i],
+            liftoffs=ev.liftoffs[i], slips=ev.slips[i], retouches=int(self.retouches[i]),
             phi_aep=float(self.phi_aep[i]), duration_s=float(self.duration[i]),
         )  # fmt: skip
 

@@ -20,7 +20,7 @@ PAPER_DT = 2e-5
 def _single(spec: RunSpec) -> tuple[float, float]:
     """(simulated s per wall s, controller share of step time) for one simulation."""
     runner = BatchRunner([spec], nthread=1)
-    runner.step_block()  # compile/warm up outside the clock
+    runner.run(max_blocks=1)  # compile/warm up outside the clock
     for k in runner.timers:
         runner.timers[k] = 0.0
     t0 = time.perf_counter()
@@ -36,7 +36,7 @@ def _batch(spec: RunSpec, nsim: int) -> float:
         for x in np.linspace(0, 2 * np.pi, nsim, endpoint=False)
     ]
     runner = BatchRunner(specs, nthread=0)
-    runner.step_block()
+    runner.run(max_blocks=1)
     t0 = time.perf_counter()
     runner.run()
     wall = time.perf_counter() - t0

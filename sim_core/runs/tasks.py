@@ -136,7 +136,7 @@ def execute_chunk(
     """Run compatible tasks as one single-threaded batch; one JSON-able dict per task.
 
     progress, if given, is called with the share of the chunk's simulated time done (0..1),
-    about every 1% of the longest task.
+    about every 1% (`BatchRunner.run`).
 
     Single-threaded on purpose: parallelism comes from running many chunks at once (a process
     pool or cluster workers), which also parallelises the controller, not only the physics.
@@ -150,26 +150,26 @@ def execute_chunk(
     t0 = time.perf_counter()
     # always recorded, so that a result never depends on which tasks share its batch
     runner = BatchRunner(specs, params, nthread=1, record=True)
-    schedules = [None if t.ramp is None else t.ramp.schedule() for t in tasks]
+    ramps = [(i, t.ramp) for i, t in enumerate(tasks) if t.ramp is not None]
     every = max(1, round(RAMP_UPDATE_S / runner.control_dt))
     last = [math.nan] * len(tasks)
-    longest = float(runner.duration.max())
-    report_every = max(1, round(0.01 * longest / runner.control_dt))
-    while runner.active.any():
-        if progress is not None and runner.nblock % report_every == 0:
-            progress(min(1.0, runner.time / longest))
-        if runner.nblock % every == 0:
-            for i, sched in enumerate(schedules):
-                if sched is None or not runner.active[i]:
-                    continue
-                v = float(sched(runner.time))
+
+    def set_ramps(r: BatchRunner) -> None:
+        """Each ramped run's value for the coming control period (every RAMP_UPDATE_S)."""
+        if r.nblock % every:
+            return
+        for i, ramp in ramps:
+            if r.active[i]:
+                v = float(ramp.value(r.time))
                 if v != last[i]:
-                    set_ramped(runner, i, tasks[i].ramp.param, v)  # type: ignore[union-attr]
+                    set_ramped(r, i, ramp.param, v)
                     last[i] = v
-        runner.step_block()
+
+    set_ramps(runner)  # the values of the first period
+    runner.run(progress, hook=set_ramps if ramps else None)
     share = (time.perf_counter() - t0) / len(tasks)
     out = []
-    for i, sched in enumerate(schedules):
+    for i, task in enumerate(tasks):
         res = runner.result(i)
         item: dict[str, Any] = {
             "d31": res.d31.tolist(),
@@ -182,8 +182,8 @@ def execute_chunk(
             "failure": None if res.failure is None else res.failure.to_dict(),
             "compute_s": share,
         }
-        if sched is not None:
-            item["value"] = [float(sched(float(t))) for t in res.d31_times_s]
+        if task.ramp is not None:
+            item["value"] = [float(task.ramp.value(float(t))) for t in res.d31_times_s]
             item["touchdowns_s"] = [t.tolist() for t in res.touchdowns]
             item["liftoffs_s"] = [t.tolist() for t in res.liftoffs]
         out.append(item)

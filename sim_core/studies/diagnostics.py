@@ -167,12 +167,13 @@ def load_share(
     runner = BatchRunner(specs, params, nthread=1)
     p = runner.params
     depth = np.zeros((len(specs), 6))
-    while runner.active.any():
-        runner.step_block()
-        if runner.time < settle_s:
-            continue
-        h = runner.feet[: len(specs), :, :6, 2] - p.foot_radius  # (n, k, 6) clearance
-        depth += np.clip(-h, 0.0, None).sum(axis=1)
+
+    def press(r: BatchRunner) -> None:
+        if r.time >= settle_s:
+            h = r.feet[: len(specs), :, :6, 2] - p.foot_radius  # (n, k, 6) clearance
+            depth[:] += np.clip(-h, 0.0, None).sum(axis=1)
+
+    runner.run(hook=press)
     out = {}
     for i, beta in enumerate(betas):
         res = runner.result(i)
