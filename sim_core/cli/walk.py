@@ -62,7 +62,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(f"insect-gait run: error: {_validation_message(exc)}", file=sys.stderr)
         return EXIT_USAGE
     # the REST API's rule and words (server/schemas.py calls the same function)
-    integrator, dt, _, _ = resolve_numerics(spec.integrator, spec.dt_s, spec.control_dt_s)
+    try:
+        integrator, dt, _, _ = resolve_numerics(spec.integrator, spec.dt_s, spec.control_dt_s)
+    except ValueError as exc:
+        print(f"insect-gait run: error: --dt-s: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     problem = step_problem(integrator, dt, given=spec.dt_s is not None)
     if problem:
         print(f"insect-gait run: error: --dt-s: {problem}", file=sys.stderr)

@@ -52,6 +52,10 @@ def spec_grid(betas: Iterable[float], d31_inits: Iterable[float], **fields: Any)
     return [RunSpec(beta=b, d31_init=x, **fields) for b in betas for x in inits]
 
 
+# physics steps per control period beyond which a run could not finish (1e-13 s steps)
+MAX_SUBSTEPS = 1e9
+
+
 def resolve_numerics(
     integrator: str | None,
     dt_s: float | None,
@@ -64,7 +68,13 @@ def resolve_numerics(
     p = params or ModelParams()
     name = integrator or p.integrator
     dt = dt_s or p.dt
-    nsub = max(1, round((control_dt_s or max(p.control_dt, dt)) / dt))
+    ratio = (control_dt_s or max(p.control_dt, dt)) / dt
+    if not ratio <= MAX_SUBSTEPS:  # also inf, for a step like 5e-324 s
+        raise ValueError(
+            f"dt_s ({dt:g} s) is too small: one control period would take more than "
+            f"{MAX_SUBSTEPS:.0e} physics steps"
+        )
+    nsub = max(1, round(ratio))
     return name, dt, nsub * dt, nsub
 
 

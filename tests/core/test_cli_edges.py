@@ -86,3 +86,11 @@ def test_landing_share_above_one_is_explained() -> None:
     assert not run_warnings(beta=0.66, duty_factor=0.655, landing=1.02, integrator="rk4",
                             dt_s=2e-5, converged_dt_s=5e-5)  # fmt: skip
     assert math.isfinite(DUTY_TOLERANCE)
+
+
+def test_a_vanishing_step_is_refused_not_a_crash(capsys: pytest.CaptureFixture[str]) -> None:
+    """dt_s 5e-324 made the substep count overflow (a 500 found by the API fuzz test)."""
+    words = _api_error(dt_s=5e-324, control_dt_s=5e-324, duration_s=1.0)
+    assert "too small" in words
+    code, err = _cli_error(["--beta", "0.62", "--dt-s", "5e-324"], capsys)
+    assert code == 2 and "too small" in err and err.count("\n") == 0
