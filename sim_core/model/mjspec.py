@@ -19,6 +19,7 @@ import math
 import mujoco
 import numpy as np
 
+from sim_core.model import ground
 from sim_core.model.anatomy import LEG_NAMES, LEG_PAIR, LEG_SIDE, attachment_points, stance_line
 from sim_core.model.legs import inverse_kinematics, pack_geometry
 from sim_core.model.params import ModelParams
@@ -78,6 +79,8 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
     # The hexapod is one constraint island whenever a foot touches, so MuJoCo's island
     # discovery only costs: off, one simulation runs 4-5% faster with bit-identical results.
     opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_ISLAND)
+    if p.ground == "penalty":  # nothing collides: skip collision detection altogether
+        opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
 
     world = spec.worldbody
     floor = world.add_geom(
@@ -163,7 +166,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
             type=mujoco.mjtGeom.mjGEOM_SPHERE,
             size=[p.foot_radius, 0, 0],
             pos=tip_pos,
-            contype=1,
+            contype=0 if p.ground == "penalty" else 1,  # the penalty ground is ground.py's
             conaffinity=0,
             condim=3,
             mass=0.0,
@@ -199,6 +202,9 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
             act.biasprm[0] = 0.0
             act.biasprm[1] = -kp
             act.biasprm[2] = -kd
+    if p.ground == "penalty":  # its parameters ride in the model; ids filled in by build_model
+        spec.add_numeric(name=ground.NUMERIC_NAME, data=[0.0] * ground.N_PARAMS)
+        spec.nuserdata = ground.N_USERDATA  # anchors: part of each simulation's state
     return spec
 
 
@@ -285,4 +291,15 @@ def build_model(
     """Compile the hexapod; `params.dt`/`params.integrator` set the physics options. The
     simulation runs visual=False; drawing uses visual=True with the same bodies and joints, so
     a state (qpos) of one is a state of the other."""
-    return build_spec(params or ModelParams(), slope_deg, visual).compile()
+    p = params or ModelParams()
+    model = build_spec(p, slope_deg, visual).compile()
+    if p.ground == "penalty":
+        sites = [model.site(f"{n}_foot_site").id for n in LEG_NAMES]
+        model.numeric(ground.NUMERIC_NAME).data[:] = ground.ground_numeric(
+            stiffness=p.ground_stiffness, damping=p.ground_damping,
+            tangential_stiffness=p.ground_tangential_stiffness,
+            tangential_damping=p.ground_tangential_damping, friction=p.friction,
+            foot_radius=p.foot_radius, site_ids=sites,
+            body_ids=[int(model.site_bodyid[s]) for s in sites],
+        )  # fmt: skip
+    return model

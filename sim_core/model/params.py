@@ -238,6 +238,28 @@ class ModelParams(BaseModel):
     rolling_friction: float = _ours(
         0.0001, "MuJoCo's rolling friction of the foot contact (condim 3 leaves it unused)", ge=0
     )
+    ground: Literal["constraint", "penalty"] = Field(
+        "constraint",
+        description="[invented] foot-ground contact: 'constraint' = MuJoCo's soft constraint "
+        "(solref/solimp below, elliptic cone); 'penalty' = the paper's viscoelastic elements, "
+        "normal and tangential spring-dampers per foot anchored at touchdown "
+        "(sim_core/model/ground.py, ground_* below)",
+    )
+    ground_stiffness: float = _ours(
+        2000.0,
+        "N/m normal spring of the penalty ground: the body's weight over ~3 feet presses a "
+        "foot in ~4 um; stiffer needs a smaller step (explicit in MuJoCo's integrators)",
+        gt=0,
+    )
+    ground_damping: float = _ours(
+        0.1, "N s/m normal damper of the penalty ground: ~0.35 of critical for a 10 mg tip", ge=0
+    )
+    ground_tangential_stiffness: float = _ours(
+        2000.0, "N/m tangential spring from the touchdown point (penalty ground)", gt=0
+    )
+    ground_tangential_damping: float = _ours(
+        0.1, "N s/m tangential damper (penalty ground)", ge=0
+    )
     contact_timeconst: float = _ours(
         5e-4, "contact solref time constant, s: stiff 'viscoelastic ground' as in the paper", gt=0
     )
