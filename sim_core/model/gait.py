@@ -34,6 +34,9 @@ TAIL_DRIFT_SETTLED = 0.005
 # commanded beta and feet land at 1.009-1.018 of their swing (measured 2026-11-25).
 DUTY_TOLERANCE = 0.02
 LANDING_BAND = (0.9, 1.1)
+# stance feet leaving and pressing in again, per touchdown: 0-0.75 on sound runs (both grounds),
+# 10-30 where a ground too stiff for the step chatters (penalty ground 2e4 N/m at 5e-5 s)
+RETOUCH_LIMIT = 2.0
 
 
 def wrap(x: np.ndarray | float) -> np.ndarray:
@@ -186,6 +189,7 @@ def run_warnings(
     integrator: str,
     dt_s: float,
     converged_dt_s: float,
+    retouches: float | None = None,
 ) -> list[str]:
     """What a finished run's numbers say about themselves, in words for the person reading
     them: a duty factor off the commanded beta, feet landing far from the AEP, a step coarser
@@ -207,6 +211,12 @@ def run_warnings(
         out.append(
             f"landing_swing_share {landing:.3f}: feet touch down {when} (1 = at the AEP; sound "
             f"runs land within {LANDING_BAND[0]:g}-{LANDING_BAND[1]:g})"
+        )
+    if retouches is not None and retouches > RETOUCH_LIMIT:
+        out.append(
+            f"stance feet leave and press into the ground {retouches:.1f} times per stance "
+            f"(sound runs: below {RETOUCH_LIMIT:g}): the contact chatters, the step is too "
+            "coarse for the ground's stiffness"
         )
     if coarse:
         out.append(

@@ -38,12 +38,11 @@ from __future__ import annotations
 import ctypes
 import functools
 from pathlib import Path
-from typing import Any
+from typing import Any, cast, no_type_check
 
 import mujoco
 import numpy as np
-from numba import cfunc, carray, types
-from numba.core import cgutils  # noqa: F401  (numba's own helpers for the intrinsics below)
+from numba import carray, cfunc, types
 from numba.extending import intrinsic
 
 NUMERIC_NAME = "penalty_ground"
@@ -192,7 +191,8 @@ def install() -> int:
     off_nnum, off_num, off_ud, off_passive, off_site = struct_offsets()
     site_obj = int(mujoco.mjtObj.mjOBJ_SITE)
 
-    @cfunc(types.void(types.voidptr, types.voidptr), nopython=True, cache=False)
+    @cfunc(types.void(types.voidptr, types.voidptr))
+    @no_type_check  # numba's intrinsics and carray are beyond a type checker
     def passive(m: Any, d: Any) -> None:  # pragma: no cover (compiled)
         ma = _as_int(m)
         da = _as_int(d)
@@ -240,4 +240,4 @@ def install() -> int:
 
     install.callback = passive  # type: ignore[attr-defined]  # keep it alive
     mujoco.set_mjcb_passive(passive.ctypes)
-    return int(passive.address)
+    return int(cast(int, passive.address))

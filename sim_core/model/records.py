@@ -87,9 +87,10 @@ def assemble_result(
     ntd = sum(t.size for t in tds)
     duty = gait.duty_factor(st)
     landing = gait.landing_share(tds, tdp, phi_aep, after_s=duration_s / 3)
+    retouch = float(retouches) / ntd if ntd else None
     warnings = gait.run_warnings(
         beta=spec.beta, duty_factor=duty, landing=landing, integrator=integrator, dt_s=dt_s,
-        converged_dt_s=CONVERGED_DT_S,
+        converged_dt_s=CONVERGED_DT_S, retouches=retouch,
     )  # fmt: skip
     return RunResult(
         **base,
@@ -108,7 +109,7 @@ def assemble_result(
         speed_cm_s=None if speed is None else speed * 100.0,
         duty_factor_measured=duty,
         slip_fraction=float(np.median(slips)) if slips else None,
-        retouches_per_stance=float(retouches) / ntd if ntd else None,
+        retouches_per_stance=retouch,
         landing_swing_share=landing,
         warnings=tuple(warnings),
     )
