@@ -175,6 +175,12 @@ REFERENCE_CHECK_DT = 1e-5  # the reference is itself checked against RK4 at this
 BATCH_N = 16  # simulations in the throughput measurement (1 s each, every core)
 # (label, integrator, parameter overrides): the touchdown-timing variant runs as its own series
 STEP_TOUCHDOWN = ("step touchdown", "implicitfast", {"touchdown_interpolation": False})
+# The paper's ground (docs/MODEL.md) as its own series, each measured against RK4 at 2e-5 s on
+# the same ground: a column of its own, side by side with today's contact in one run
+PENALTY_GROUND: tuple[tuple[str, Integrator, dict[str, object]], ...] = (
+    ("penalty ground", "implicitfast", {"ground": "penalty"}),
+    ("penalty ground", "rk4", {"ground": "penalty"}),
+)
 # A configuration whose stance feet leave and re-touch the ground this many times per stance
 # more than the reference's do chatters: measured 0.0-0.43 on the reference and the default,
 # 2.2-2.5 for implicitfast at 5e-4 s (docs/NUMERICS.md)
@@ -191,6 +197,7 @@ def grid_study(
     params: ModelParams | None = None,
     progress: Callable[[str], None] | None = None,
     with_step_touchdown: bool = True,
+    with_penalty_ground: bool = True,
     with_batch: bool = True,
     check_reference: bool = True,
     drift_reference: tuple[Integrator, float] | None = DRIFT_REFERENCE,
@@ -251,16 +258,25 @@ def grid_study(
     variants: list[tuple[str, Integrator, dict[str, object]]] = [("", i, {}) for i in integrators]
     if with_step_touchdown:
         variants.append(STEP_TOUCHDOWN)  # type: ignore[arg-type]
+    if with_penalty_ground:
+        variants.extend(PENALTY_GROUND)
+    # the reference each variant is measured against: RK4 at 2e-5 s on its own ground
+    refs: dict[str, list[float | None]] = {p.ground: ref}
     out: list[GridPoint] = []
     for label, integ, over in variants:
         pv = p.model_copy(update=over) if over else p
+        if pv.ground not in refs:
+            refs[pv.ground] = [r.d31_final for r in simulate_batch(specs(*REFERENCE), pv)]
+            info[f"reference_{pv.ground}"] = refs[pv.ground]
+        own_ref = refs[pv.ground]
         for dt in dts:
             t0 = time.perf_counter()
             runs = simulate_batch(specs(integ, dt), pv, nthread=1)
             wall = (time.perf_counter() - t0) / (duration_s * len(runs))
-            failed = [r.error for r in runs if r.diverged]
+            failed = [r.failure for r in runs if r.failure is not None]
             if failed:
-                point = GridPoint(integ, dt, wall, None, False, _failure_kind(failed[0]), label)
+                point = GridPoint(integ, dt, wall, None, False, FAILURE_LABEL[failed[0].kind],
+                                  label)  # fmt: skip
             else:
                 finals = [r.d31_final for r in runs]
                 slips = [r.slip_fraction for r in runs if r.slip_fraction is not None]
@@ -274,14 +290,14 @@ def grid_study(
                     simulate_batch(bspecs, pv, nthread=0)
                     thr = BATCH_N / (time.perf_counter() - t1)
                 drift_err = None
-                if ref_drift is not None:
+                if ref_drift is not None and pv.ground == p.ground:  # drift: today's ground
                     drift = drift_rates(integ, dt, params=pv, betas=betas, d31s=drift_d31s)
                     drift_err = float(np.max(np.abs(drift - ref_drift)))  # NaN if a probe failed
                     drift_err = None if math.isnan(drift_err) else drift_err
                 retouch = max(r.retouches_per_stance or 0.0 for r in runs)
                 chatter = "contact chatter" if retouch > ref_retouch + CHATTER_MARGIN else None
-                point = GridPoint(integ, dt, wall, worst_error(finals, ref),
-                                  same_gaits(finals, ref), chatter, label, thr,
+                point = GridPoint(integ, dt, wall, worst_error(finals, own_ref),
+                                  same_gaits(finals, own_ref), chatter, label, thr,
                                   max(slips) if slips else None, tuple(finals),
                                   drift_err, retouch)  # fmt: skip
             out.append(point)
@@ -315,10 +331,11 @@ def same_gaits(
     return True
 
 
-def _failure_kind(message: str | None) -> str:
-    text = message or ""
-    for key, kind in (("warning", "unstable (MuJoCo warning)"), ("non-finite", "non-finite"),
-                      ("flipped", "flip"), ("floor", "fall")):  # fmt: skip
-        if key in text:
-            return kind
-    return "failed"
+# the grid's words for each typed failure kind (sim_core.contract.FailureKind)
+FAILURE_LABEL: dict[str, str] = {
+    "mujoco_error": "MuJoCo error",
+    "mujoco_warning": "unstable (MuJoCo warning)",
+    "non_finite": "non-finite",
+    "flipped": "flip",
+    "on_floor": "fall",
+}

@@ -15,7 +15,13 @@ from typing import Any
 import numpy as np
 
 from sim_core.docsections import replace_section
-from sim_core.numerics.convergence import STEP_TOUCHDOWN, TARGET_SPEEDUP, TOLERANCE_RAD, GridPoint
+from sim_core.numerics.convergence import (
+    PENALTY_GROUND,
+    STEP_TOUCHDOWN,
+    TARGET_SPEEDUP,
+    TOLERANCE_RAD,
+    GridPoint,
+)
 
 SECTION = "numerics"  # the generated section of docs/NUMERICS.md
 
@@ -113,7 +119,9 @@ def plot_grid(
 
     fig, (ax, ax2) = plt.subplots(1, 2, figsize=(12, 4.8))
     markers = {"euler": "o", "implicit": "s", "implicitfast": "^", "rk4": "D", "discrete": "P",
-               f"implicitfast ({STEP_TOUCHDOWN[0]})": "v"}  # fmt: skip
+               f"implicitfast ({STEP_TOUCHDOWN[0]})": "v",
+               f"implicitfast ({PENALTY_GROUND[0][0]})": "*",
+               f"rk4 ({PENALTY_GROUND[0][0]})": "X"}  # fmt: skip
     colors = {"ok": "tab:green", "inaccurate": "tab:orange", "fails": "tab:red"}
     for pt in points:
         y = pt.error_rad if pt.error_rad is not None else math.pi

@@ -117,6 +117,10 @@ def test_numerics_grid_reports_a_failing_configuration_as_failed() -> None:
     assert bad.failure.split(" ")[0] in ("unstable", "non-finite", "flip", "fall")
     good = status[("implicitfast", 5e-5)]
     assert good.status != "fails" and good.error_rad is not None and good.wall_per_sim_s > 0
+    # the paper's ground is a column of its own, measured against RK4 on the same ground
+    penalty = status[("implicitfast (penalty ground)", 5e-5)]
+    assert penalty.status == "ok", penalty
+    assert ("rk4 (penalty ground)", 5e-5) in status
 
 
 def test_drift_error_shrinks_with_the_timestep_and_a_failed_probe_is_nan() -> None:
@@ -152,7 +156,7 @@ def test_a_chattering_configuration_is_reported_as_failed_with_its_kind() -> Non
     points, info = grid_study(
         integrators=("implicitfast",), dts=(7.5e-4, 5e-5), betas=(0.62,), inits=(2.0,),
         duration_s=1.0, with_batch=False, check_reference=False, drift_reference=None,
-        with_step_touchdown=False,
+        with_step_touchdown=False, with_penalty_ground=False,
     )  # fmt: skip
     coarse, default = points
     # measured on the 2026-11-25 defaults: 3.2 re-touches per stance at 7.5e-4 s (1.07 at 5e-4,
