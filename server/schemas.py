@@ -33,8 +33,8 @@ from sim_core.contract import (
     Integrator,
     RampParam,
     RunSpec,
+    numerics_problem,
     resolve_numerics,
-    step_problem,
 )
 
 TWO_PI = 2.0 * math.pi
@@ -219,8 +219,7 @@ class _Physics(_Strict):
     def _stable_for_the_integrator(cls, v: float | None, info: ValidationInfo) -> Any:
         if "integrator" not in info.data:
             return v  # the integrator itself was refused; that error says enough
-        integrator, dt, _, _ = resolve_numerics(info.data.get("integrator"), v, None)
-        problem = step_problem(integrator, dt, given=v is not None)
+        problem = numerics_problem(info.data.get("integrator"), v)
         if problem:
             raise ValueError(problem)
         return v

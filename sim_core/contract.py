@@ -37,6 +37,7 @@ from sim_core.model.spec import (
     FailureKind,
     RunFailure,
     RunSpec,
+    numerics_problem,
     resolve_numerics,
 )
 from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
@@ -69,6 +70,7 @@ __all__ = [
     "classify_gait",
     "final_d31",
     "mean_after",
+    "numerics_problem",
     "parameter_table",
     "resolve_numerics",
     "return_map_from_series",

@@ -2,6 +2,7 @@
 
 Usage: K=2000 LABELS=default,half,rk4 python docs/studies/penalty_ground.py
 Beta 0.62 and 0.70 from Delta31 1.9 and 3.0, 30 s each; writes out/penalty_ground_K_LABELS.json.
+VARY=ground_damping:1.1 scales one more field (the +-10% check).
 """
 
 import json
@@ -15,12 +16,16 @@ from sim_core.model.gait import tail_drift
 K = float(os.environ.get("K", "2000"))
 C = 0.1 * (K / 2000) ** 0.5  # the same damping ratio as 0.1 N s/m at 2000 N/m
 LABELS = os.environ.get("LABELS", "default,half,rk4").split(",")
+VARY = os.environ.get("VARY", "")
 STEPS = {"default": (None, None), "half": (None, 2.5e-5), "rk4": ("rk4", 2e-5)}
 
 
 def main() -> None:
     p = ModelParams(ground="penalty", ground_stiffness=K, ground_tangential_stiffness=K,
                     ground_damping=C, ground_tangential_damping=C)  # fmt: skip
+    if VARY:
+        field, factor = VARY.split(":")
+        p = p.model_copy(update={field: getattr(p, field) * float(factor)})
     out = {}
     for label in LABELS:
         integ, dt = STEPS[label]
@@ -40,7 +45,9 @@ def main() -> None:
         out[label] = {"wall_s": wall, "rows": rows}
         print(label, f"{wall:.0f} s", [(x["beta"], x["start"], x["final"]) for x in rows])
     Path("out").mkdir(exist_ok=True)
-    Path(f"out/penalty_ground_{K:g}_{'-'.join(LABELS)}.json").write_text(json.dumps(out, indent=1))
+    Path(f"out/penalty_ground_{K:g}_{'-'.join(LABELS)}{VARY.replace(':', '')}.json").write_text(
+        json.dumps(out, indent=1)
+    )
 
 
 if __name__ == "__main__":

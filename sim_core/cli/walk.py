@@ -12,8 +12,8 @@ from typing import Any
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE
-from sim_core.model.params import INTEGRATORS, step_problem
-from sim_core.model.spec import RunSpec, resolve_numerics
+from sim_core.model.params import INTEGRATORS
+from sim_core.model.spec import RunSpec, numerics_problem
 
 
 def _add_run(sub: Any) -> None:
@@ -62,12 +62,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
         print(f"insect-gait run: error: {_validation_message(exc)}", file=sys.stderr)
         return EXIT_USAGE
     # the REST API's rule and words (server/schemas.py calls the same function)
-    try:
-        integrator, dt, _, _ = resolve_numerics(spec.integrator, spec.dt_s, spec.control_dt_s)
-    except ValueError as exc:
-        print(f"insect-gait run: error: --dt-s: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    problem = step_problem(integrator, dt, given=spec.dt_s is not None)
+    problem = numerics_problem(spec.integrator, spec.dt_s, spec.control_dt_s)
     if problem:
         print(f"insect-gait run: error: --dt-s: {problem}", file=sys.stderr)
         return EXIT_USAGE

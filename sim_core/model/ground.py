@@ -88,34 +88,22 @@ def _as_int(typingctx: Any, ptr: Any) -> Any:
     return sig, codegen
 
 
-@intrinsic
-def _f64_ptr(typingctx: Any, addr: Any) -> Any:
-    sig = types.CPointer(types.float64)(types.int64)
+def _from_int(target: Any) -> Any:
+    """A compiled cast of an address (int64) to the pointer type `target`."""
 
-    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
-        return builder.inttoptr(args[0], context.get_value_type(types.CPointer(types.float64)))
+    @intrinsic
+    def cast(typingctx: Any, addr: Any) -> Any:
+        def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
+            return builder.inttoptr(args[0], context.get_value_type(target))
 
-    return sig, codegen
+        return target(types.int64), codegen
 
-
-@intrinsic
-def _i64_ptr(typingctx: Any, addr: Any) -> Any:
-    sig = types.CPointer(types.int64)(types.int64)
-
-    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
-        return builder.inttoptr(args[0], context.get_value_type(types.CPointer(types.int64)))
-
-    return sig, codegen
+    return cast
 
 
-@intrinsic
-def _void_ptr(typingctx: Any, addr: Any) -> Any:
-    sig = types.voidptr(types.int64)
-
-    def codegen(context: Any, builder: Any, signature: Any, args: Any) -> Any:
-        return builder.inttoptr(args[0], context.get_value_type(types.voidptr))
-
-    return sig, codegen
+_f64_ptr = _from_int(types.CPointer(types.float64))
+_i64_ptr = _from_int(types.CPointer(types.int64))
+_void_ptr = _from_int(types.voidptr)
 
 
 def _candidates(base: int, size: int, value: int) -> set[int]:

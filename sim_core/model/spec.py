@@ -8,13 +8,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Iterable
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any, Literal
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
-from sim_core.model.params import Integrator, ModelParams
+from sim_core.model.params import Integrator, ModelParams, step_problem
 
 TWO_PI = 2.0 * math.pi
 
@@ -78,6 +78,18 @@ def resolve_numerics(
     return name, dt, nsub * dt, nsub
 
 
+def numerics_problem(
+    integrator: str | None, dt_s: float | None, control_dt_s: float | None = None
+) -> str | None:
+    """Why a run with these (possibly null) numerics cannot be stable, in the words the CLI and
+    the REST API both print (`step_problem`, or a step too small to finish); None if it can."""
+    try:
+        name, dt, _, _ = resolve_numerics(integrator, dt_s, control_dt_s)
+    except ValueError as exc:
+        return str(exc)
+    return step_problem(name, dt, given=dt_s is not None)
+
+
 # Why a run stopped early. The first three are numerical (a smaller step is the remedy); a flip
 # or a fall at a sound step is the insect's physics under those conditions.
 FailureKind = Literal["mujoco_error", "mujoco_warning", "non_finite", "flipped", "on_floor"]
@@ -113,13 +125,7 @@ class RunFailure:
         )
 
     def to_dict(self) -> dict[str, Any]:
-        return {
-            "kind": self.kind,
-            "time_s": self.time_s,
-            "integrator": self.integrator,
-            "dt_s": self.dt_s,
-            "reason": self.reason,
-        }
+        return asdict(self)
 
 
 class SimulationDiverged(RuntimeError):

@@ -224,3 +224,12 @@ def test_no_integrator_is_spelled_in_the_server() -> None:
                 words = set(node.value.replace(",", " ").replace('"', " ").split())
                 found += [f"{path.name}:{node.lineno} {w}" for w in words & set(INTEGRATORS)]
     assert not found, found
+
+
+def test_every_public_name_has_a_home_and_loads() -> None:
+    """`sim_core.__all__`, the lazy loader's table and what each name resolves to agree."""
+    import sim_core
+
+    assert sorted(sim_core.__all__) == sorted(sim_core._HOME)
+    for name in sim_core.__all__:
+        assert getattr(sim_core, name) is not None
