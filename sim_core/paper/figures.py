@@ -18,12 +18,12 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff, circular_mean
+from sim_core.model.gait import angle_diff, circular_mean, classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec, spec_grid
 from sim_core.paper.analysis import (
     PAPER_WINDOW,
-    MapSummary,
+    FixedPoint,
     branch_census,
     folds,
     max_drift,
@@ -31,11 +31,12 @@ from sim_core.paper.analysis import (
     settled_gait,
     stable_ranges,
     stance_intervals,
-    summarise_map,
     sweep_summary,
 )
+from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe
 from sim_core.paper.protocols import initial_values
 from sim_core.paper.returnmap import ReturnMap, return_map_from_series
+from sim_core.paper.search import probe_task
 from sim_core.paper.values import FIGURES, METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
 from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
 
@@ -52,12 +53,10 @@ class Config:
     # pi slides for 30-60 s through the ghost (docs/studies/gait_campaign3.md), 10 s is not enough
     fig5_duration_s: float = 30.0
     map_betas: tuple[float, ...] = (0.64, 0.655, 0.675)  # Fig. 7
-    map_inits: int = 24  # a dense set of starts: 24 over the circle, 0.26 rad apart
-    map_duration_s: float = 3.0  # ~ 27 strides at 0.70: about 20 pairs per start
-    # kernel width of the smoothed drift curve, rad: half the spacing of the starts, so that
-    # every part of the circle a start passes through is sampled
-    map_bandwidth_rad: float = 0.13
-    # Fig. 8: 17 betas, 0.005 apart, containing the Fig. 7 betas (their runs are shared)
+    # Figs. 7-8 come from the settled fixed-point finder (`paper.fixedpoints`); its starts,
+    # durations and border resolution are chosen from measurement in `FinderConfig`
+    finder: FinderConfig = field(default_factory=FinderConfig)
+    # Fig. 8: 17 betas, 0.005 apart, containing the Fig. 7 betas (their searches are shared)
     bif_betas: tuple[float, ...] = tuple(round(0.62 + 0.005 * k, 3) for k in range(17))
     beta_high: float = 0.70
     beta_low: float = 0.62
@@ -86,8 +85,8 @@ class Config:
     def quick(cls) -> Config:
         """Tiny sizes for tests and smoke runs: the machinery, not the science."""
         return cls(
-            fig5_inits=3, fig5_duration_s=1.0, map_inits=3, map_duration_s=0.8,
-            map_bandwidth_rad=0.5, bif_betas=(0.62, 0.64, 0.655, 0.675, 0.70), hold_s=0.3,
+            fig5_inits=3, fig5_duration_s=1.0, finder=FinderConfig.quick(),
+            bif_betas=(0.62, 0.64, 0.655, 0.675, 0.70), hold_s=0.3,
             ramp_s=0.6, ablation_betas=(0.66,), ablation_inits=2, ablation_duration_s=0.5,
             footprint_window_s=0.3, name="quick",
         )  # fmt: skip
@@ -138,10 +137,9 @@ def figure_tasks(fig: str, cfg: Config, p: ModelParams) -> list[Task]:
         return [_ramp_task(beta_ramp(cfg, s, u), cfg, p) for u in (False, True)
                 for s in (False, True)]  # fmt: skip
     if fig == "7":
-        return _runs(cfg.map_betas, cfg.map_inits, cfg.map_duration_s, p)
+        return []  # the finder's runs (`finder_cells`), adaptive, not a fixed list
     if fig == "8":
-        maps = _runs(cfg.bif_betas, cfg.map_inits, cfg.map_duration_s, p)
-        return [*maps, _ramp_task(beta_ramp(cfg), cfg, p)]
+        return [_ramp_task(beta_ramp(cfg, up=u), cfg, p) for u in (False, True)]
     if fig == "9":
         return [_ramp_task(r, cfg, p) for r in sweep_ramps(cfg).values()]
     if fig == "ablation":
@@ -282,54 +280,106 @@ def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     return [fig6a, fig6b]
 
 
-def _maps(
-    betas: tuple[float, ...], cfg: Config, p: ModelParams, get: Lookup
-) -> list[tuple[ReturnMap, MapSummary]]:
-    by = _by_beta(_runs(betas, cfg.map_inits, cfg.map_duration_s, p), get)
-    out = []
-    for beta in betas:
-        series = [r["d31"] for _, r in by[beta] if r["error"] is None]
-        rm = return_map_from_series(beta, series)
-        out.append((rm, summarise_map(rm, cfg.map_bandwidth_rad)))
-    return out
+def finder_cells(figs: list[str], cfg: Config) -> list[Cell]:
+    """The conditions the finder searches for the asked-for figures (Fig. 7's betas are on
+    Fig. 8's grid in the full config, so their searches are shared)."""
+    betas: set[float] = set()
+    if "7" in figs:
+        betas |= set(cfg.map_betas)
+    if "8" in figs:
+        betas |= set(cfg.bif_betas)
+    return [Cell(b) for b in sorted(betas)]
 
 
-def _fig7(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+Found = dict[float, CellResult]
+
+
+def _pairs(cell: CellResult, p: ModelParams, get: Lookup) -> ReturnMap:
+    """Fig. 7's n -> n+4 pairs: every settled run of the search (the first touchdowns dropped,
+    as `return_map_from_series`)."""
+    c = Cell(cell.beta, cell.body_mass_g, cell.slope_deg)
+    series = [
+        get(probe_task(c, Probe(r.d31_init, r.duration_s), p))["d31"]
+        for r in cell.runs
+        if r.settled and r.failure is None
+    ]
+    return return_map_from_series(cell.beta, series)
+
+
+def _points(cell: CellResult) -> list[dict[str, Any]]:
+    """Stable (attractors) and unstable (borders' saddles) points, by Delta31."""
+    pts = [
+        {"d31": a.d31, "stable": True, "gait": a.gait, "slope": a.slope} for a in cell.attractors
+    ]
+    pts += [
+        {"d31": b.d31, "stable": False, "gait": classify_gait(b.d31), "slope": b.slope}
+        for b in cell.borders
+        if b.d31 is not None
+    ]
+    return sorted(pts, key=lambda f: f["d31"])
+
+
+def _in_window(pts: list[dict[str, Any]]) -> list[dict[str, Any]]:
+    return [f for f in pts if PAPER_WINDOW[0] <= f["d31"] <= PAPER_WINDOW[1]]
+
+
+def _fig7(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[FigureData]:
     maps = []
     rows: list[list[Any]] = []
-    for rm, s in _maps(cfg.map_betas, cfg, p, get):
-        drift = [None if math.isnan(d) else float(d) for d in s.drift]
-        extra = {"x": rm.x.tolist(), "y": rm.y.tolist(), "drift_x": s.centers.tolist()}
-        maps.append(s.to_dict() | extra | {"drift_per_cycle": drift})
-        rows += [[rm.beta, x, y] for x, y in zip(rm.x.tolist(), rm.y.tolist(), strict=True)]
-    summary = {str(m["beta"]): {k: m[k] for k in ("window_pattern", "window_fixed_points",
-                                                   "ghosts")} for m in maps}  # fmt: skip
+    for beta in cfg.map_betas:
+        cell = found[beta]
+        rm = _pairs(cell, p, get)
+        pts = _points(cell)
+        maps.append({
+            "beta": beta, "x": rm.x.tolist(), "y": rm.y.tolist(), "fixed_points": pts,
+            "window_fixed_points": _in_window(pts), "window_pattern": cell.pattern(PAPER_WINDOW),
+            "ghosts": [g.d31 for g in cell.ghosts],
+            "ghost_drifts": [g.drift for g in cell.ghosts],
+            "unsettled": [r.model_dump() for r in cell.unsettled], "pairs": int(rm.x.size),
+        })  # fmt: skip
+        rows += [[beta, x, y] for x, y in zip(rm.x.tolist(), rm.y.tolist(), strict=True)]
+    keys = ("window_pattern", "window_fixed_points", "ghosts", "unsettled")
+    summary = {str(m["beta"]): {k: m[k] for k in keys} for m in maps}
     data = {"maps": maps, "lag": 4, "window_rad": PAPER_WINDOW}
     return [FigureData("fig7", data, {"fig7": (["beta", "d31_n", "d31_n4"], rows)}, summary)]
 
 
-def _fig8(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
-    betas = list(cfg.bif_betas)
-    sums = [s for _, s in _maps(cfg.bif_betas, cfg, p, get)]
-    fixed = [s.fixed for s in sums]
-    out: dict[str, Any] = {}
-    for gait in ("tripod", "metachronal"):
-        rng = stable_ranges(betas, fixed, gait)
-        out[gait] = {"ranges": rng, "ends": range_ends(betas, rng),
-                     "folds": [asdict(f) for f in folds(betas, rng, gait)]}  # fmt: skip
+def branch_ranges(cells: list[CellResult], gait: str) -> dict[str, Any]:
+    """Where `gait` has an attractor on the grid: ranges, their ends and the folds between
+    (beta of the last point on each branch, +- half the grid step)."""
+    betas = [c.beta for c in cells]
+    fixed = [[FixedPoint(a.d31, a.slope or 0.0, True) for a in c.attractors] for c in cells]
+    rng = stable_ranges(betas, fixed, gait)
+    return {"ranges": rng, "ends": range_ends(betas, rng),
+            "folds": [asdict(f) for f in folds(betas, rng, gait)]}  # fmt: skip
+
+
+def _fig8(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[FigureData]:
+    cells = [found[b] for b in cfg.bif_betas]
+    out = {gait: branch_ranges(cells, gait) for gait in ("tripod", "metachronal")}
     r = beta_ramp(cfg)
     res = get(_ramp_task(r, cfg, p))
     sweep = _sweep(r, res)
-    points = [s.to_dict() for s in sums]
-    rows = [[s.beta, f.d31, f.slope, int(f.stable)] for s in sums for f in s.fixed]
+    r_up = beta_ramp(cfg, up=True)
+    res_up = get(_ramp_task(r_up, cfg, p))
+    points: list[dict[str, Any]] = [
+        {"beta": c.beta, "fixed_points": _points(c), "ghosts": [g.model_dump() for g in c.ghosts],
+         "unsettled": [u.model_dump() for u in c.unsettled]}
+        for c in cells
+    ]  # fmt: skip
+    rows = [[pt["beta"], f["d31"], f["slope"], int(f["stable"])] for pt in points
+            for f in pt["fixed_points"]]  # fmt: skip
     data = {
         "points": points,
         "branches": out,
         "sweep": sweep,
         "sweep_series": {k: res[k] for k in ("value", "d31")},
+        "sweep_up_series": {k: res_up[k] for k in ("value", "d31")},
         "window_rad": PAPER_WINDOW,
     }
-    summary = {"branches": out, "grid": betas}
+    unsettled = sum(len(c.unsettled) for c in cells)
+    summary = {"branches": out, "grid": list(cfg.bif_betas), "unsettled": unsettled,
+               "runs": sum(len(c.runs) for c in cells)}  # fmt: skip
     csv: Csv = {"fig8": (["beta", "d31_rad", "slope", "stable"], rows)}
     return [FigureData("fig8", data, csv, summary)]
 
@@ -363,9 +413,16 @@ def _ablation(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     return [FigureData("ablation", {"runs": runs, "summary": summary}, csv, summary)]
 
 
-def analyse(fig: str, cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
-    """The figure data of `fig` from its tasks' results (`get(task)` -> result dict)."""
-    fn = {"5": _fig5, "6": _fig6, "7": _fig7, "8": _fig8, "9": _fig9, "ablation": _ablation}
+def analyse(
+    fig: str, cfg: Config, p: ModelParams, get: Lookup, found: Found | None = None
+) -> list[FigureData]:
+    """The figure data of `fig` from its tasks' results (`get(task)` -> result dict) and, for
+    Figs. 7-8, the finder's results by beta (`found`)."""
+    if fig in ("7", "8"):
+        if found is None:
+            raise ValueError(f"Fig. {fig} needs the finder's results")
+        return (_fig7 if fig == "7" else _fig8)(cfg, p, get, found)
+    fn = {"5": _fig5, "6": _fig6, "9": _fig9, "ablation": _ablation}
     if fig not in fn:
         raise ValueError(f"unknown figure {fig!r}; choose from {FIGURES}")
     return fn[fig](cfg, p, get)

@@ -164,23 +164,33 @@ def fig7(data: dict[str, Any], path: Path, paper_ghosts: dict[float, float] | No
         if pg is not None:
             ax.plot(pg, pg, "x", ms=9, color="0.45", label=f"paper ghost {pg}")
             ax.legend(loc="upper left", fontsize=7)
-        ax.set_title(f"β = {m['beta']}: {m['window_pattern'] or 'none'} in the band", fontsize=9)
+        n_un = len(m.get("unsettled", []))
+        ax.set_title(f"β = {m['beta']}: {m['window_pattern'] or 'none'} in the band"
+                     + (f"; {n_un} run(s) not settled" if n_un else ""), fontsize=9)  # fmt: skip
         ax.set_xlabel("Δ31 n (rad)")
         ax.set_xlim(0, TWO_PI)
         ax.set_ylim(0, TWO_PI)
         ax.set_aspect("equal")
     axes[0][0].set_ylabel(f"Δ31 n+{data['lag']} (rad)")
-    fig.suptitle("return maps; solid: stable, open: unstable; grey band: the paper's range",
-                 fontsize=9)  # fmt: skip
+    fig.suptitle("return maps of the settled runs; solid: stable, open: unstable (bisected "
+                 "basin border); grey band: the paper's range", fontsize=9)  # fmt: skip
     _save(fig, path)
 
 
 def fig8(data: dict[str, Any], path: Path, paper: PaperValues | None = None) -> None:
-    fig, ax = plt.subplots(figsize=(7, 4.8))
-    sw = data["sweep_series"]
-    ax.plot(sw["value"], sw["d31"], ".", ms=1.2, color="0.8", zorder=0, label="β sweep (Fig. 6a)")
+    fig, ax = plt.subplots(figsize=(7.5, 5))
+    for key, colour, label in (("sweep_series", "0.78", "β sweep down from 0.70 (Fig. 6a)"),
+                               ("sweep_up_series", "#c9b3e6", "β sweep up from 0.62")):  # fmt: skip
+        sw = data.get(key)
+        if sw:
+            ax.plot(sw["value"], sw["d31"], ".", ms=1.2, color=colour, zorder=0, label=label)
     for p in data["points"]:
         _fixed_points(ax, p["fixed_points"], x=p["beta"])
+        for g in p.get("ghosts", []):
+            ax.plot(p["beta"], g["d31"], "x", ms=6, color="tab:red", zorder=4)
+        for u in p.get("unsettled", []):
+            if u["final"] is not None:
+                ax.plot(p["beta"], u["final"], "v", ms=4, color="0.45", zorder=3)
     if paper:
         for (a, b), y in ((paper.tripod_stable, TRIPOD_BRANCH),
                           (paper.metachronal_stable, METACHRONAL_BRANCH)):  # fmt: skip
@@ -189,20 +199,18 @@ def fig8(data: dict[str, Any], path: Path, paper: PaperValues | None = None) -> 
     for gait, b in data["branches"].items():
         for f in b["folds"]:
             ax.axvline(f["beta"], ls="--", lw=0.8, color="tab:purple")
-            ax.text(f["beta"], 0.2, f" fold ({gait}) {f['beta']:.4g}", rotation=90, fontsize=7)
-    sweep = data["sweep"]
-    for leg, (y0, y1) in (("first_leg", (METACHRONAL_BRANCH, TRIPOD_BRANCH)),
-                          ("second_leg", (TRIPOD_BRANCH, METACHRONAL_BRANCH))):  # fmt: skip
-        for tr in sweep[leg][:1]:
-            ax.annotate("", (tr["value"], y1), (tr["value"], y0),
-                        arrowprops={"arrowstyle": "->", "color": "tab:red", "lw": 1.5})  # fmt: skip
-    ax.plot([], [], "ko", label="stable fixed point")
-    ax.plot([], [], "o", mfc="w", mec="k", label="unstable fixed point")
+            ax.text(f["beta"], 0.2, f" fold ({gait}) {f['beta']:.4g} ± {f['half_width']:.4g}",
+                    rotation=90, fontsize=7)  # fmt: skip
+    ax.plot([], [], "ko", label="stable (settled runs)")
+    ax.plot([], [], "o", mfc="w", mec="k", label="unstable (basin border, bisected)")
+    ax.plot([], [], "x", color="tab:red", label="ghost (slowest passage)")
+    ax.plot([], [], "v", color="0.45", label="not settled in the time given")
     ax.set_xlabel("duty factor β")
     ax.set_ylabel(D31)
     ax.set_ylim(0, TWO_PI)
-    ax.set_title("stable and unstable gaits from the return maps; arrows: sweep jumps", fontsize=9)
-    ax.legend(loc="upper right", fontsize=7)
+    ax.set_title("stable and unstable gaits from settled walking (the fixed-point finder)",
+                 fontsize=9)  # fmt: skip
+    ax.legend(loc="upper right", fontsize=6.5)
     _save(fig, path)
 
 

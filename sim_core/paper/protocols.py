@@ -3,22 +3,19 @@ maps run from them (the pairs' construction itself is `paper.returnmap`, MuJoCo-
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
-
-import numpy as np
 
 from sim_core.model.params import ModelParams
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import spec_grid
-from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
+from sim_core.paper.returnmap import (
+    RETURN_MAP_SKIP,
+    ReturnMap,
+    initial_values,
+    return_map_from_series,
+)
 
 __all__ = ["ReturnMap", "initial_values", "return_map", "return_map_from_series"]
-
-
-def initial_values(n: int) -> np.ndarray:
-    """n initial Delta31 spread evenly over the circle (offset off the symmetric points)."""
-    return np.linspace(0.0, 2 * math.pi, n, endpoint=False) + math.pi / n
 
 
 def return_map(

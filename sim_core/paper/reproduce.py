@@ -24,7 +24,16 @@ from sim_core.docsections import markers, replace_section
 from sim_core.model.gait import classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
-from sim_core.paper.figures import BRANCH_TOL, FIGURES, Config, analyse, figure_tasks
+from sim_core.paper.figures import (
+    BRANCH_TOL,
+    FIGURES,
+    Config,
+    analyse,
+    figure_tasks,
+    finder_cells,
+)
+from sim_core.paper.fixedpoints import FinderOutput, find
+from sim_core.paper.search import task_runner
 from sim_core.paper.values import PAPER
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
@@ -68,18 +77,19 @@ class Report:
     summaries: dict[str, Any] = field(default_factory=dict)
 
 
-VIEWER_BIFURCATION = "bifurcation.json"
+VIEWER_BIFURCATION = "bifurcation.json"  # a FinderOutput: the viewer validates it as such
 
 
-def viewer_bifurcation(fig8_data: dict[str, Any]) -> dict[str, Any]:
-    """Fig. 8's fixed points as the viewer's panel reads them: (beta, d31, stable/unstable)."""
-    points = [
-        {"beta": float(pt["beta"]), "d31": float(fp["d31"]),
-         "branch": "stable" if fp["stable"] else "unstable"}
-        for pt in fig8_data["points"]
-        for fp in pt["fixed_points"]
-    ]  # fmt: skip
-    return {"source": "insect-gait reproduce: Fig. 8 return-map fixed points", "points": points}
+def _add_stats(a: RunStats, b: RunStats) -> RunStats:
+    return RunStats(a.tasks + b.tasks, a.computed + b.computed, a.cached + b.cached,
+                    a.compute_s + b.compute_s)  # fmt: skip
+
+
+def _cached(cache: ResultCache, t: Task) -> dict[str, Any]:
+    hit = cache.get(t)
+    if hit is None:
+        raise KeyError(f"no result for task {t.key} in the cache")
+    return hit
 
 
 def _write_csv(path: Path, header: list[str], rows: list[list[Any]]) -> None:
@@ -120,15 +130,26 @@ def reproduce(
     p = params or ModelParams()
     figs = expand(figures)
     tasks: list[Task] = [t for f in figs for t in figure_tasks(f, cfg, p)]
-    results, stats = run_tasks(tasks, ResultCache(cache_dir), backend, cfg.chunk_size,
-                               progress, executor)  # fmt: skip
+    cache = ResultCache(cache_dir)
+    results, stats = run_tasks(tasks, cache, backend, cfg.chunk_size, progress, executor)
+    # Figs. 7-8: the settled fixed-point finder, round by round through the same cache
+    cells = finder_cells(figs, cfg)
+    finder_stats = RunStats()
+    run_fn = task_runner(cache, backend, p, chunk_size=cfg.chunk_size, progress=progress,
+                      stats=finder_stats, executor=executor)  # fmt: skip
+    found = {c.beta: c for c in find(cells, cfg.finder, run_fn)} if cells else {}
+    stats = _add_stats(stats, finder_stats)
+
+    def get(t: Task) -> dict[str, Any]:
+        return results[t.key] if t.key in results else _cached(cache, t)
+
     out.mkdir(parents=True, exist_ok=True)
     identity = {"params": params_hash(p), "code": code_fingerprint(), "config": cfg.to_dict()}
     identity = json.loads(json.dumps(identity))  # as read back from the state file
     summaries = _load_state(out / STATE_FILE, identity)
     files: list[Path] = []
     for f in figs:
-        for fd in analyse(f, cfg, p, lambda t: results[t.key]):
+        for fd in analyse(f, cfg, p, get, found):
             meta = {"figure": fd.name, "identity": identity, "summary": fd.summary}
             (out / f"{fd.name}.json").write_text(json.dumps(meta | {"data": fd.data}))
             files.append(out / f"{fd.name}.json")
@@ -138,7 +159,11 @@ def reproduce(
             draw(fd.name, fd.data, out / f"{fd.name}.png", PAPER)
             files.append(out / f"{fd.name}.png")
             if fd.name == "fig8":  # the viewer draws the live (beta, Delta31) point on this
-                (out / VIEWER_BIFURCATION).write_text(json.dumps(viewer_bifurcation(fd.data)))
+                fo = FinderOutput(
+                    source="insect-gait reproduce: Fig. 8, the settled fixed-point finder",
+                    config=asdict(cfg.finder), cells=[found[b] for b in cfg.bif_betas],
+                )  # fmt: skip
+                (out / VIEWER_BIFURCATION).write_text(fo.model_dump_json())
                 files.append(out / VIEWER_BIFURCATION)
             summaries[fd.name] = fd.summary
     wall = time.perf_counter() - t0

@@ -38,6 +38,11 @@ class ReturnMap:
         return centers, means
 
 
+def initial_values(n: int) -> np.ndarray:
+    """n initial Delta31 spread evenly over the circle (offset off the symmetric points)."""
+    return np.linspace(0.0, 2 * math.pi, n, endpoint=False) + math.pi / n
+
+
 def return_map_from_series(
     beta: float,
     series: Sequence[Sequence[float] | np.ndarray],

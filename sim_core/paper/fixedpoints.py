@@ -1,0 +1,521 @@
+"""The settled fixed-point finder: which gaits are stable at one condition, and where the
+border between their basins runs, read from settled walking (issue 28).
+
+Why not a smoothed return map (the old Figs. 7-8): near the branches this model's Delta31
+drifts by 0-5 mrad per gait cycle, far below what 3 s runs resolve, and a kernel-smoothed
+curve through such data finds zeros where the noise crosses zero. Here every answer comes
+from whole runs judged by the one settled rule (`sim_core.model.gait.settling`):
+
+- **stable gaits**: runs from starts spread over the circle; each settled final is an
+  attractor (finals within CLUSTER_TOL are one), with how many starts reach it and how fast
+  it attracts (the slope of the n -> n+4 map at it, fitted to the approach of its runs);
+- **unstable gaits**: the border between two basins, by bisection of the start between two
+  starts that end on attractors of different gaits, to `border_tol_rad`; the two bracketing
+  runs dwell at the unstable fixed point before they part, which gives its Delta31, and the
+  growth of their separation gives its slope;
+- **ghosts**: where a run that slides on spends the most cycles (its slowest passage), with
+  the drift there;
+- runs that do not settle in the time given are listed as such, never guessed.
+
+The search is a set of coroutines, one per condition (`Cell`): each yields the runs it needs
+next and receives their results, so every round of every condition goes to the backend as one
+batch (`find`). Nothing here simulates: the caller's `run` does (`reproduce` through the
+result cache and the local or Dask backend). MuJoCo-free, so the API and the viewer validate
+the output schema (`CellResult`) without loading the engine.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Generator, Sequence
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+from pydantic import BaseModel, ConfigDict
+
+from sim_core.model.gait import (
+    TWO_PI,
+    Settling,
+    angle_diff,
+    circular_mean,
+    classify_gait,
+    settling,
+    wrap,
+)
+from sim_core.paper.returnmap import RETURN_MAP_SKIP, initial_values
+
+# Settled finals closer than this (rad) are one attractor: 10x the spread of a settled tail
+# (1-4 mrad measured) and 4x below the closest pair of distinct states seen (2.12 / 2.27 at
+# beta 0.62, measured 2026-11-26).
+CLUSTER_TOL = 0.05
+# A slowest passage counts as a ghost when Delta31 moves less than this per cycle there (the
+# old smoothed-map rule, GHOST_DRIFT in `analysis`) and the run later leaves it by > 0.1 rad.
+GHOST_DRIFT = 0.02
+GHOST_LEAVE = 0.1
+# ... and it spent at least this many cycles within CLUSTER_TOL of it (a bottleneck, not a
+# point a run merely crosses: a 0.5 rad slide at 20 mrad per cycle crosses 0.1 rad in 5).
+GHOST_MIN_CYCLES = 20
+# The local drift along a run: Delta31 change over this many cycles, per cycle (the paper's
+# lag of 4, twice, so that a period-2 wobble of the skewed tripod averages out).
+DRIFT_WINDOW = 8
+# Approach pairs within this of an attractor give its map slope (rad); closer than SLOPE_MIN
+# they are the settled tail's scatter, not an approach.
+SLOPE_RADIUS = 0.3
+SLOPE_MIN = 0.005
+SLOPE_MIN_PAIRS = 5
+LAG = 4  # the paper's return map: Delta31(n) -> Delta31(n + 4)
+
+
+@dataclass(frozen=True)
+class FinderConfig:
+    """How hard the finder looks; each choice measured (docs/NUMERICS.md, "The finder")."""
+
+    starts: int = 8  # spread over the circle (`initial_values`), 0.79 rad apart
+    # Measured (beta 0.62-0.70, 8 starts, 40 s): attractors settle (< 0.2 mrad per cycle)
+    # within 13-30 s; a tripod start at beta 0.655 sits 15-20 s on its ghost at 2.97 with
+    # < 0.05 mrad per cycle before it slides (so 20 s calls it settled, 40 s does not).
+    duration_s: float = 40.0
+    # Bisection runs only decide a basin between two known attractors; one that has not
+    # settled by then is re-run at `duration_s`.
+    bisect_duration_s: float = 20.0
+    border_tol_rad: float = 0.02  # the bracket of a border's starts (issue 28)
+    # At most this many borders per condition, preferring those in the paper's window: each
+    # costs ~6 runs (0.79 -> 0.02 rad).
+    max_borders: int = 2
+    # Borders are bisected between attractors of different gaits only (classify_gait);
+    # two settled states of one gait (e.g. 1.77 / 2.12 at 0.62) are both listed, unbisected.
+    window: tuple[float, float] = (1.4, 3.4)  # PAPER_WINDOW
+
+    @classmethod
+    def quick(cls) -> FinderConfig:
+        """The machinery on short runs (tests, --quick): nothing here settles by the rule."""
+        return cls(starts=3, duration_s=1.5, bisect_duration_s=1.0, border_tol_rad=0.4,
+                   max_borders=1)  # fmt: skip
+
+
+@dataclass(frozen=True)
+class Cell:
+    """One condition: beta and the physics a RunSpec takes besides the start."""
+
+    beta: float
+    body_mass_g: float = 3.0
+    slope_deg: float = 0.0
+
+    def spec_fields(self) -> dict[str, float]:
+        return {"beta": self.beta, "body_mass_g": self.body_mass_g, "slope_deg": self.slope_deg}
+
+
+@dataclass(frozen=True)
+class Probe:
+    """One run a search asks for: a start and a duration, at its cell's condition."""
+
+    d31_init: float
+    duration_s: float
+
+
+# --- the output schema (what reproduce, the REST kinds and the viewer read) --------------------
+class _Model(BaseModel):
+    model_config = ConfigDict(extra="forbid", frozen=True)
+
+
+class RunOutcome(_Model):
+    """One settled-or-not run of the search."""
+
+    d31_init: float
+    duration_s: float
+    final: float | None  # circular mean of the last quarter (rad)
+    drift: float | None  # rad per gait cycle over the last quarter
+    settled: bool
+    why: str  # why not settled ("" if settled)
+    attractor: int | None  # index into CellResult.attractors, None if unsettled or failed
+    failure: str | None = None
+    role: Literal["start", "bisect"] = "start"
+
+
+class Attractor(_Model):
+    """A stable gait: where settled runs end (finals within CLUSTER_TOL)."""
+
+    d31: float  # circular mean of its runs' finals, rad
+    lo: float  # lowest and highest final (a spread > 0 is a flat band, or slow drift)
+    hi: float
+    gait: str  # classify_gait of d31
+    starts: int  # how many of the spread starts end here
+    runs: int  # all runs that end here (starts and bisection)
+    slope: float | None  # of the n -> n+4 map at it, from its runs' approach (< 1: attracts)
+    slope_pairs: int
+    max_drift: float  # largest |drift| per cycle of its runs' settled tails
+
+
+class Border(_Model):
+    """An unstable gait: the border between two basins, by bisection of the start."""
+
+    below: int  # attractor reached from the lower start of the bracket
+    above: int  # ... from the upper start
+    start_lo: float  # the bracket of starts, rad (start_hi may exceed 2 pi: on the circle)
+    start_hi: float
+    resolved: bool  # bracket narrower than the finder's border_tol_rad
+    d31: float | None  # where the bracketing runs dwell before they part (the saddle), rad
+    slope: float | None  # growth of their separation per 4 cycles (> 1: repels)
+    steps: int  # bisection runs made
+    note: str = ""
+
+
+class Ghost(_Model):
+    """A slowest passage: a run slides on through here, slowly."""
+
+    d31: float
+    drift: float  # rad per cycle at the slowest point (signed)
+    cycles: int  # cycles the run spent within CLUSTER_TOL of it
+    d31_init: float  # the run that shows it
+
+
+class CellResult(_Model):
+    """Everything the finder knows about one condition."""
+
+    beta: float
+    body_mass_g: float
+    slope_deg: float
+    attractors: list[Attractor]
+    borders: list[Border]
+    ghosts: list[Ghost]
+    runs: list[RunOutcome]
+    sim_s: float  # simulated seconds spent
+
+    @property
+    def unsettled(self) -> list[RunOutcome]:
+        return [r for r in self.runs if not r.settled and r.failure is None]
+
+    def stable(self, gait: str | None = None) -> list[Attractor]:
+        return [a for a in self.attractors if gait is None or a.gait == gait]
+
+    def pattern(self, window: tuple[float, float] = (1.4, 3.4)) -> str:
+        """'S U S'-style, in order of Delta31 inside `window`: the paper's Fig. 7 reading."""
+        pts = [(a.d31, "S") for a in self.attractors]
+        pts += [(b.d31, "U") for b in self.borders if b.d31 is not None]
+        return " ".join(s for x, s in sorted(pts) if window[0] <= x <= window[1])
+
+
+class FinderOutput(_Model):
+    """The finder over a set of conditions: the one data file Figs. 7-8, the REST
+    `bifurcation` and `atlas` kinds and the viewer's panels read."""
+
+    source: str
+    config: dict[str, Any]
+    cells: list[CellResult]
+
+
+# --- pure analyses of one run's series ---------------------------------------------------------
+def local_drift(
+    d31: np.ndarray | Sequence[float], window: int = DRIFT_WINDOW
+) -> tuple[np.ndarray, np.ndarray]:
+    """(Delta31 at the middle of each window, drift per cycle across it) along one run."""
+    d = np.unwrap(np.asarray(d31, dtype=float)[RETURN_MAP_SKIP:])
+    if d.size <= window:
+        return np.empty(0), np.empty(0)
+    drift = (d[window:] - d[:-window]) / window
+    mid = wrap(0.5 * (d[window:] + d[:-window]))
+    return mid, drift
+
+
+def slowest_passage(d31: Sequence[float], final: float | None) -> Ghost | None:
+    """The run's slowest point away from where it ends (a ghost), or None."""
+    mid, drift = local_drift(d31)
+    if mid.size == 0:
+        return None
+    away = (
+        np.ones(mid.size, bool) if final is None else np.abs(angle_diff(mid, final)) > GHOST_LEAVE
+    )
+    # only the part before the run last came within GHOST_LEAVE of its end
+    if final is not None:
+        near = np.nonzero(~away)[0]
+        if near.size:
+            away[near[0] :] = False
+    else:  # still moving at its end: only what it did before its last quarter
+        away[-max(1, mid.size // 4) :] = False
+    if not away.any():
+        return None
+    k = int(np.argmin(np.where(away, np.abs(drift), np.inf)))
+    if abs(drift[k]) >= GHOST_DRIFT:
+        return None
+    cycles = int(np.sum(np.abs(angle_diff(mid, mid[k])) <= CLUSTER_TOL))
+    if cycles < GHOST_MIN_CYCLES:
+        return None
+    return Ghost(d31=float(mid[k]), drift=float(drift[k]), cycles=cycles, d31_init=math.nan)
+
+
+def map_slope(series: Sequence[Sequence[float]], x_star: float) -> tuple[float | None, int]:
+    """Slope of the n -> n+LAG map at x_star, least squares through (x_star, x_star) over the
+    approach pairs of `series` within SLOPE_MIN..SLOPE_RADIUS of it."""
+    us: list[np.ndarray] = []
+    vs: list[np.ndarray] = []
+    for s in series:
+        d = np.asarray(s, dtype=float)[RETURN_MAP_SKIP:]
+        if d.size <= LAG:
+            continue
+        u, v = angle_diff(d[:-LAG], x_star), angle_diff(d[LAG:], x_star)
+        sel = (np.abs(u) >= SLOPE_MIN) & (np.abs(u) <= SLOPE_RADIUS)
+        us.append(u[sel])
+        vs.append(v[sel])
+    u = np.concatenate(us) if us else np.empty(0)
+    v = np.concatenate(vs) if vs else np.empty(0)
+    if u.size < SLOPE_MIN_PAIRS:
+        return None, int(u.size)
+    return float(u @ v / (u @ u)), int(u.size)
+
+
+def parting(a: Sequence[float], b: Sequence[float]) -> tuple[float | None, float | None]:
+    """Two runs that start on either side of a border: (where they dwell together before they
+    part, growth of their separation per LAG cycles while it is 0.01-0.3 rad)."""
+    x = np.asarray(a, dtype=float)[RETURN_MAP_SKIP:]
+    y = np.asarray(b, dtype=float)[RETURN_MAP_SKIP:]
+    n = min(x.size, y.size)
+    if n <= LAG:
+        return None, None
+    x, y = x[:n], y[:n]
+    sep = np.abs(angle_diff(x, y))
+    together = np.nonzero(sep <= CLUSTER_TOL)[0]
+    dwell = None
+    if together.size:
+        upto = together[-1] + 1  # until they last were together
+        mids = np.unwrap(x[:upto]) + 0.5 * angle_diff(y[:upto], x[:upto])
+        _, drift = local_drift(np.concatenate([[0.0] * RETURN_MAP_SKIP, wrap(mids)]))
+        if drift.size:
+            k = int(np.argmin(np.abs(drift)))
+            dwell = float(wrap(mids[min(k + DRIFT_WINDOW // 2, upto - 1)]))
+        else:
+            dwell = circular_mean(wrap(mids))
+    growth = [
+        sep[k + LAG] / sep[k]
+        for k in range(n - LAG)
+        if 0.01 <= sep[k] <= 0.3 and sep[k + LAG] <= 0.6
+    ]
+    return dwell, (float(np.median(growth)) if growth else None)
+
+
+# --- the search --------------------------------------------------------------------------------
+@dataclass
+class _Run:
+    probe: Probe
+    role: Literal["start", "bisect"]
+    d31: list[float]
+    settle: Settling
+    failure: str | None
+    label: int | None = None
+
+
+@dataclass
+class _Cluster:
+    finals: list[float] = field(default_factory=list)
+
+    @property
+    def value(self) -> float:
+        return circular_mean(self.finals)
+
+
+def _run_of(probe: Probe, role: Literal["start", "bisect"], res: dict[str, Any]) -> _Run:
+    failure = res.get("error")
+    d31 = [] if failure else list(res["d31"])
+    return _Run(probe, role, d31, settling(d31), failure)
+
+
+def _clusters(finals: list[float]) -> list[_Cluster]:
+    """Group settled finals on the circle: neighbours closer than CLUSTER_TOL chain together."""
+    if not finals:
+        return []
+    xs = sorted(float(wrap(f)) for f in finals)
+    groups = [[xs[0]]]
+    for x in xs[1:]:
+        if x - groups[-1][-1] <= CLUSTER_TOL:
+            groups[-1].append(x)
+        else:
+            groups.append([x])
+    if len(groups) > 1 and xs[0] + TWO_PI - xs[-1] <= CLUSTER_TOL:  # across the wrap
+        groups[0] = groups.pop() + groups[0]
+    return [_Cluster(g) for g in groups]
+
+
+def _label(x: float, clusters: list[_Cluster]) -> int | None:
+    for k, c in enumerate(clusters):
+        if min(abs(float(angle_diff(x, f))) for f in c.finals) <= CLUSTER_TOL:
+            return k
+    return None
+
+
+def _search(
+    cell: Cell, cfg: FinderConfig
+) -> Generator[list[Probe], list[dict[str, Any]], CellResult]:
+    """One condition's search: yields the probes it needs, receives their results."""
+    sim_s = 0.0
+
+    def ask(
+        probes: list[Probe],
+    ) -> Generator[list[Probe], list[dict[str, Any]], list[dict[str, Any]]]:
+        nonlocal sim_s
+        sim_s += sum(p.duration_s for p in probes)
+        out = yield probes
+        return out
+
+    starts = [Probe(float(x), cfg.duration_s) for x in initial_values(cfg.starts)]
+    runs = [_run_of(p, "start", r) for p, r in zip(starts, (yield from ask(starts)), strict=True)]
+    clusters = _clusters(
+        [r.settle.final for r in runs if r.settle.settled and r.settle.final is not None]
+    )
+    for r in runs:
+        if r.settle.settled and r.settle.final is not None:
+            r.label = _label(r.settle.final, clusters)
+
+    # borders: neighbouring starts (on the circle) that end on attractors of different gaits
+    gait = [classify_gait(c.value) for c in clusters]
+    cand: list[tuple[_Run, _Run]] = []
+    n = len(runs)
+    for i in range(n):
+        a, b = runs[i], runs[(i + 1) % n]
+        if a.label is None or b.label is None or a.label == b.label:
+            continue
+        if gait[a.label] == gait[b.label]:
+            continue
+        cand.append((a, b))
+    lo_w, hi_w = cfg.window
+
+    def inside(pair: tuple[_Run, _Run]) -> int:
+        return -sum(lo_w <= clusters[r.label].value <= hi_w for r in pair if r.label is not None)
+
+    cand = sorted(cand, key=inside)[: cfg.max_borders]
+    # each border: [lo run, hi run, steps, note]
+    brackets: list[list[Any]] = [[a, b, 0, ""] for a, b in cand]
+    active = [k for k, br in enumerate(brackets) if _width(br) > cfg.border_tol_rad]
+    while active:
+        probes = [Probe(_mid(brackets[k]), cfg.bisect_duration_s) for k in active]
+        outs = yield from ask(probes)
+        retry: list[tuple[int, Probe]] = []
+        for k, p, res in zip(active, probes, outs, strict=True):
+            r = _run_of(p, "bisect", res)
+            runs.append(r)
+            brackets[k][2] += 1
+            if not r.settle.settled:
+                retry.append((k, Probe(p.d31_init, cfg.duration_s)))
+                continue
+            _narrow(brackets[k], r, clusters)
+        if retry:
+            outs = yield from ask([p for _, p in retry])
+            for (k, p), res in zip(retry, outs, strict=True):
+                r = _run_of(p, "bisect", res)
+                runs.append(r)
+                brackets[k][2] += 1
+                if not r.settle.settled:
+                    brackets[k][3] = (
+                        f"a run from {p.d31_init:.3f} did not settle in {p.duration_s:g} s"
+                    )
+                    continue
+                _narrow(brackets[k], r, clusters)
+        active = [
+            k for k in active if not brackets[k][3] and _width(brackets[k]) > cfg.border_tol_rad
+        ]
+
+    # the record
+    attractors = []
+    for k, c in enumerate(clusters):
+        mine = [r for r in runs if r.label == k]
+        slope, pairs = map_slope([r.d31 for r in mine], c.value)
+        xs = np.unwrap(np.asarray(c.finals))
+        attractors.append(Attractor(
+            d31=c.value, lo=float(wrap(xs.min())), hi=float(wrap(xs.max())), gait=gait_of(c.value),
+            starts=sum(1 for r in mine if r.role == "start"), runs=len(mine), slope=slope,
+            slope_pairs=pairs, max_drift=max(abs(r.settle.drift or 0.0) for r in mine),
+        ))  # fmt: skip
+    borders = []
+    for a, b, steps, note in brackets:
+        dwell, growth = parting(a.d31, b.d31)
+        lo = a.probe.d31_init
+        hi = b.probe.d31_init + (TWO_PI if b.probe.d31_init < lo else 0.0)
+        borders.append(Border(
+            below=a.label, above=b.label, start_lo=lo, start_hi=hi,
+            resolved=hi - lo <= cfg.border_tol_rad + 1e-12, d31=dwell, slope=growth,
+            steps=steps, note=note,
+        ))  # fmt: skip
+    ghosts = _ghosts(runs, [a.d31 for a in attractors] + [b.d31 for b in borders if b.d31])
+    outcomes = [
+        RunOutcome(
+            d31_init=r.probe.d31_init, duration_s=r.probe.duration_s, final=r.settle.final,
+            drift=r.settle.drift, settled=r.settle.settled, why=r.settle.why,
+            attractor=r.label, failure=r.failure, role=r.role,
+        )
+        for r in runs
+    ]  # fmt: skip
+    return CellResult(
+        beta=cell.beta, body_mass_g=cell.body_mass_g, slope_deg=cell.slope_deg,
+        attractors=attractors, borders=borders, ghosts=ghosts, runs=outcomes, sim_s=sim_s,
+    )  # fmt: skip
+
+
+def gait_of(d31: float) -> str:
+    return classify_gait(d31)
+
+
+def _width(br: list[Any]) -> float:
+    lo, hi = br[0].probe.d31_init, br[1].probe.d31_init
+    return float((hi - lo) % TWO_PI)
+
+
+def _mid(br: list[Any]) -> float:
+    return float(wrap(br[0].probe.d31_init + 0.5 * _width(br)))
+
+
+def _narrow(br: list[Any], r: _Run, clusters: list[_Cluster]) -> None:
+    """Put a settled bisection run on the side of the bracket whose attractor it reached."""
+    assert r.settle.final is not None
+    r.label = _label(r.settle.final, clusters)
+    if r.label == br[0].label:
+        br[0] = r
+    elif r.label == br[1].label:
+        br[1] = r
+    else:  # a third state between the two: say so and stop this border
+        clusters.append(_Cluster([r.settle.final]))
+        r.label = len(clusters) - 1
+        br[3] = f"a run from {r.probe.d31_init:.3f} settles on a third state, {r.settle.final:.3f}"
+
+
+def _ghosts(runs: list[_Run], known: list[float]) -> list[Ghost]:
+    """The slowest passage of each run that slides on, away from every attractor and saddle;
+    one per place (within GHOST_LEAVE), the slowest kept."""
+    found: list[Ghost] = []
+    for r in runs:
+        if r.failure:
+            continue
+        g = slowest_passage(r.d31, r.settle.final if r.settle.settled else None)
+        if g is None or any(abs(float(angle_diff(g.d31, x))) <= GHOST_LEAVE for x in known):
+            continue
+        found.append(g.model_copy(update={"d31_init": r.probe.d31_init}))
+    out: list[Ghost] = []
+    for g in sorted(found, key=lambda g: abs(g.drift)):
+        if all(abs(float(angle_diff(g.d31, o.d31))) > GHOST_LEAVE for o in out):
+            out.append(g)
+    return sorted(out, key=lambda g: g.d31)
+
+
+RunFn = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
+
+
+def find(cells: Sequence[Cell], cfg: FinderConfig, run: RunFn) -> list[CellResult]:
+    """The finder over many conditions: each round, every search's probes in one `run` call
+    (one batch for the backend). `run` takes (cell, probe) pairs and returns one result dict
+    per pair with the task result's keys (`d31`, `error`)."""
+    searches = [_search(c, cfg) for c in cells]
+    pending: dict[int, list[Probe]] = {}
+    results: dict[int, CellResult] = {}
+    for k, s in enumerate(searches):
+        pending[k] = next(s)
+    while pending:
+        batch = [(cells[k], p) for k, ps in pending.items() for p in ps]
+        outs = run(batch)
+        i = 0
+        nxt: dict[int, list[Probe]] = {}
+        for k, ps in pending.items():
+            mine, i = outs[i : i + len(ps)], i + len(ps)
+            try:
+                nxt[k] = searches[k].send(mine)
+            except StopIteration as stop:
+                results[k] = stop.value
+        pending = nxt
+    return [results[k] for k in range(len(cells))]

@@ -1,0 +1,66 @@
+"""The finder's searches run as cached tasks on a backend (local pool or Dask).
+
+`task_runner` turns the finder's (cell, probe) requests into `Task`s, so that every finder run
+is content-addressed in the result cache (an interrupted search resumes: the rounds it had
+finished are read back, and a search is deterministic, so it asks for the same runs again)
+and goes to whichever backend `reproduce` or `atlas` was given.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from typing import Any
+
+from sim_core.model.params import ModelParams
+from sim_core.model.spec import RunSpec
+from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe, RunFn, find
+from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
+from sim_core.runs.cache import ResultCache
+from sim_core.runs.tasks import Task, execute_chunk, run_task
+
+
+def probe_task(cell: Cell, probe: Probe, params: ModelParams | None) -> Task:
+    """The task of one finder run (the start wrapped onto [0, 2 pi))."""
+    spec = RunSpec(d31_init=probe.d31_init, duration_s=probe.duration_s, **cell.spec_fields())
+    return run_task(spec, params)
+
+
+def task_runner(
+    cache: ResultCache,
+    backend: Backend,
+    params: ModelParams | None,
+    *,
+    chunk_size: int = 8,
+    progress: bool = True,
+    stats: RunStats | None = None,
+    executor: Executor = execute_chunk,
+) -> RunFn:
+    """A `RunFn` for `find` that runs each round through the cache on `backend`; `stats`, if
+    given, accumulates what every round computed and read from the cache."""
+
+    def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
+        tasks = [probe_task(c, p, params) for c, p in batch]
+        results, st = run_tasks(tasks, cache, backend, chunk_size, progress, executor)
+        if stats is not None:
+            stats.tasks += st.tasks
+            stats.computed += st.computed
+            stats.cached += st.cached
+            stats.compute_s += st.compute_s
+        return [results[t.key] for t in tasks]
+
+    return run
+
+
+def find_cached(
+    cells: Sequence[Cell],
+    cfg: FinderConfig,
+    cache: ResultCache,
+    backend: Backend,
+    params: ModelParams | None = None,
+    *,
+    progress: bool = True,
+    stats: RunStats | None = None,
+) -> list[CellResult]:
+    """`find` with every run cached and on `backend`."""
+    run = task_runner(cache, backend, params, progress=progress, stats=stats)
+    return find(cells, cfg, run)
