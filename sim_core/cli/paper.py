@@ -97,6 +97,71 @@ def _cmd_study(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_atlas(sub: Any) -> None:
+    from sim_core.runs import BACKENDS
+
+    p = sub.add_parser(
+        "atlas",
+        help="the gait atlas: stable gaits over beta x body mass or beta x slope (settled runs)",
+    )
+    p.add_argument("--axis", choices=["mass", "slope"], required=True,
+                   help="the second axis: body mass (g) or slope (deg)")  # fmt: skip
+    p.add_argument("--quick", action="store_true",
+                   help="a 2 x 2 grid of short runs: the machinery, not science")  # fmt: skip
+    p.add_argument("--out", default=None,
+                   help="folder for atlas_<axis>.json/png (default docs/figures; --quick: "
+                   "out/atlas-quick)")  # fmt: skip
+    p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
+    p.add_argument("--backend", choices=[b for b in BACKENDS if b != "ray"], default="local",
+                   help="local: process pool here; dask: dask.distributed")  # fmt: skip
+    p.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
+    p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    p.add_argument("--no-progress", action="store_true", help="no progress output")
+    p.set_defaults(func=_cmd_atlas)
+
+
+def _cmd_atlas(args: argparse.Namespace) -> int:
+    import time
+
+    from sim_core.paper.atlas import AtlasConfig, run_atlas, summary_lines, write_atlas
+    from sim_core.runs.backends import BackendUnavailable, RunStats, get_backend
+    from sim_core.runs.cache import ResultCache
+
+    prog = "insect-gait atlas"
+    if args.workers is not None and args.workers < 1:
+        print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
+        return EXIT_USAGE
+    cfg = AtlasConfig.quick(args.axis) if args.quick else AtlasConfig(args.axis)
+    out = Path(args.out or ("out/atlas-quick" if args.quick else "docs/figures"))
+    try:
+        backend = get_backend(args.backend, args.workers, args.address)
+    except BackendUnavailable as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    stats = RunStats()
+    t0 = time.perf_counter()
+    try:
+        atlas = run_atlas(cfg, ResultCache(args.cache), backend, progress=not args.no_progress,
+                          stats=stats)  # fmt: skip
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted; finished simulations are cached in {args.cache}: run the "
+              "same command again to resume", file=sys.stderr)  # fmt: skip
+        return 130
+    finally:
+        backend.close()
+    files = write_atlas(atlas, out)
+    wall = time.perf_counter() - t0
+    print("\n".join(summary_lines(atlas)))
+    sim_s = sum(c.sim_s for c in atlas.cells)
+    print(
+        f"\nwall time {wall:.1f} s on {backend.name} with {backend.workers} worker(s); "
+        f"{stats.computed} simulations computed, {stats.cached} cached; {sim_s:.0f} "
+        f"simulated s ({sim_s / wall:.2f} per wall s); wrote {', '.join(map(str, files))}"
+    )
+    return 0
+
+
 def register(sub: Any) -> None:
     _add_reproduce(sub)
+    _add_atlas(sub)
     _add_study(sub)

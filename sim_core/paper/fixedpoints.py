@@ -101,6 +101,9 @@ class Cell:
     beta: float
     body_mass_g: float = 3.0
     slope_deg: float = 0.0
+    # extra starts beside the spread ones: where neighbouring conditions found attractors (the
+    # atlas), since a start near an attractor that still exists settles at once
+    seeds: tuple[float, ...] = ()
 
     def spec_fields(self) -> dict[str, float]:
         return {"beta": self.beta, "body_mass_g": self.body_mass_g, "slope_deg": self.slope_deg}
@@ -119,6 +122,9 @@ class _Model(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
+Role = Literal["start", "seed", "bisect"]
+
+
 class RunOutcome(_Model):
     """One settled-or-not run of the search."""
 
@@ -130,7 +136,7 @@ class RunOutcome(_Model):
     why: str  # why not settled ("" if settled)
     attractor: int | None  # index into CellResult.attractors, None if unsettled or failed
     failure: str | None = None
-    role: Literal["start", "bisect"] = "start"
+    role: Role = "start"
 
 
 class Attractor(_Model):
@@ -140,7 +146,7 @@ class Attractor(_Model):
     lo: float  # lowest and highest final (a spread > 0 is a flat band, or slow drift)
     hi: float
     gait: str  # classify_gait of d31
-    starts: int  # how many of the spread starts end here
+    starts: int  # how many of the spread starts end here (seeds not counted)
     runs: int  # all runs that end here (starts and bisection)
     slope: float | None  # of the n -> n+4 map at it, from its runs' approach (< 1: attracts)
     slope_pairs: int
@@ -297,7 +303,7 @@ def parting(a: Sequence[float], b: Sequence[float]) -> tuple[float | None, float
 @dataclass
 class _Run:
     probe: Probe
-    role: Literal["start", "bisect"]
+    role: Role
     d31: list[float]
     settle: Settling
     failure: str | None
@@ -313,7 +319,7 @@ class _Cluster:
         return circular_mean(self.finals)
 
 
-def _run_of(probe: Probe, role: Literal["start", "bisect"], res: dict[str, Any]) -> _Run:
+def _run_of(probe: Probe, role: Role, res: dict[str, Any]) -> _Run:
     failure = res.get("error")
     d31 = [] if failure else list(res["d31"])
     return _Run(probe, role, d31, settling(d31), failure)
@@ -356,8 +362,12 @@ def _search(
         out = yield probes
         return out
 
-    starts = [Probe(float(x), cfg.duration_s) for x in initial_values(cfg.starts)]
-    runs = [_run_of(p, "start", r) for p, r in zip(starts, (yield from ask(starts)), strict=True)]
+    spread = [(float(x), "start") for x in initial_values(cfg.starts)]
+    seeds = [(float(wrap(x)), "seed") for x in cell.seeds]
+    first: list[tuple[float, Role]] = sorted(spread + seeds)  # type: ignore[arg-type]
+    starts = [Probe(x, cfg.duration_s) for x, _ in first]
+    outs = yield from ask(starts)
+    runs = [_run_of(p, role, r) for p, (_, role), r in zip(starts, first, outs, strict=True)]
     clusters = _clusters(
         [r.settle.final for r in runs if r.settle.settled and r.settle.final is not None]
     )
@@ -519,3 +529,56 @@ def find(cells: Sequence[Cell], cfg: FinderConfig, run: RunFn) -> list[CellResul
                 results[k] = stop.value
         pending = nxt
     return [results[k] for k in range(len(cells))]
+
+
+# --- the gait atlas's schema (`sim_core.paper.atlas` writes it; the REST kind and the viewer
+# read it) ---------------------------------------------------------------------------------------
+AtlasAxis = Literal["mass", "slope"]
+AXIS_PARAM: dict[str, str] = {"mass": "body_mass_g", "slope": "slope_deg"}
+AXIS_LABEL: dict[str, str] = {"mass": "body mass (g)", "slope": "slope (deg, uphill +)"}
+Region = Literal["both", "tripod only", "metachronal only", "other states", "not settled"]
+REGIONS: tuple[str, ...] = ("both", "tripod only", "metachronal only", "other states",
+                            "not settled")  # fmt: skip
+
+
+def region_of(cell: CellResult) -> Region:
+    """Which of the paper's two gaits are stable at one condition (classify_gait of each
+    attractor); 'not settled' when no run settled at all."""
+    gaits = {a.gait for a in cell.attractors}
+    if "tripod" in gaits and "metachronal" in gaits:
+        return "both"
+    if "tripod" in gaits:
+        return "tripod only"
+    if "metachronal" in gaits:
+        return "metachronal only"
+    return "other states" if cell.attractors else "not settled"
+
+
+class AtlasFold(_Model):
+    """Where a gait's stable range along beta ends, at one value of the other axis."""
+
+    gait: str
+    value: float
+    side: str  # "upper": the gait lives below this beta; "lower": above it
+    beta: float
+    half_width: float
+
+
+class AtlasOutput(_Model):
+    """The finder over a beta x (body mass | slope) grid: regions, attractors, fold lines."""
+
+    source: str
+    axis: AtlasAxis
+    param: str  # the RunSpec field of the axis: body_mass_g or slope_deg
+    betas: list[float]
+    values: list[float]
+    cells: list[CellResult]  # value-major: cells[i * len(betas) + j] is (values[i], betas[j])
+    regions: list[list[Region]]  # [value][beta]
+    folds: list[AtlasFold]
+    sweep_beta: float  # the paper's Fig. 9 sweeps run at this beta ...
+    sweep_range: tuple[float, float]  # ... over this range of the axis (ours, `Config`)
+    paper_direction: str
+    config: dict[str, Any]
+
+    def cell(self, value_index: int, beta_index: int) -> CellResult:
+        return self.cells[value_index * len(self.betas) + beta_index]
