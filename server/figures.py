@@ -107,9 +107,10 @@ def figure_png(job: dict[str, Any], result: dict[str, Any]) -> bytes:
         _d31_axis(ax)
         ax.set_title(f"hysteresis sweep: {spec.get('start')} → {spec.get('turn')} → back")
         ax.legend(fontsize="small")
+    elif kind in ("bifurcation", "atlas"):
+        _finder_points(ax, records)
     else:
-        key = "d31_after_transient" if kind == "bifurcation" else "d31_final"
-        pts = [(r["beta"], r[key]) for r in records if r.get(key) is not None]
+        pts = [(r["beta"], r["d31_final"]) for r in records if r.get("d31_final") is not None]
         ax.scatter([p[0] for p in pts], [p[1] for p in pts], s=6)
         ax.set_xlabel("β")
         ax.set_ylabel("Δ31 (rad)")
@@ -120,6 +121,25 @@ def figure_png(job: dict[str, Any], result: dict[str, Any]) -> bytes:
     buf = io.BytesIO()
     fig.savefig(buf, format="png")
     return buf.getvalue()
+
+
+FINDER_MARKERS = {  # kind -> (marker, face colour, label)
+    "stable": ("o", "k", "stable (settled runs)"),
+    "unstable": ("o", "w", "unstable (basin border)"),
+    "ghost": ("x", "tab:red", "ghost (slowest passage)"),
+    "not settled": ("v", "0.6", "not settled"),
+}
+
+
+def _finder_points(ax: Any, records: list[dict[str, Any]]) -> None:
+    """The finder's rows against beta: stable, unstable, ghosts, unsettled finals."""
+    for kind, (marker, face, label) in FINDER_MARKERS.items():
+        pts = [(r["beta"], r["d31"]) for r in records if r["kind"] == kind and r["d31"] is not None]
+        if pts:
+            edge = "k" if marker == "o" else face
+            xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+            ax.scatter(xs, ys, s=22, marker=marker, facecolors=face, edgecolors=edge, label=label)
+    ax.legend(fontsize="small")
 
 
 def _footfall(ax: Any, run: dict[str, Any]) -> None:

@@ -9,10 +9,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable
+from dataclasses import asdict
 from typing import Any
 
 from server.schemas import (
     AnyJob,
+    AtlasJob,
     BifurcationJob,
     HysteresisJob,
     ReturnMapJob,
@@ -27,14 +29,21 @@ from sim_core.contract import (
     LEG_NAMES,
     MAX_STABLE_DT_S,
     RETURN_MAP_SKIP,
+    AtlasOutput,
+    Cell,
+    CellResult,
+    FinderConfig,
+    FinderOutput,
+    Probe,
     RunFailure,
-    classify_gait,
-    mean_after,
+    find,
+    region_of,
     resolve_numerics,
     return_map_from_series,
-    settled_gait,
 )
 
+FINDER_COLUMNS = ["beta", "body_mass_g", "slope_deg", "kind", "d31", "gait", "starts", "slope",
+                  "drift"]  # fmt: skip
 # Columns of each kind's `records`, so that an empty table still has its header.
 RECORD_COLUMNS: dict[str, list[str]] = {
     "run": ["d31_init", "beta", "d31_final", "gait", "speed_cm_s", "duty_factor_measured",
@@ -42,8 +51,8 @@ RECORD_COLUMNS: dict[str, list[str]] = {
     "return_map": ["d31_init", "n", "d31_n", "d31_n_plus_lag"],
     "sweep": ["d31_init", "beta", "d31_final", "gait", "speed_cm_s", "duty_factor_measured",
               "slip_fraction", "landing_swing_share", "retouches_per_stance", "n_touchdowns"],
-    "bifurcation": ["beta", "d31_init", "d31_after_transient", "n_touchdowns", "gait",
-                    "settled"],
+    "bifurcation": FINDER_COLUMNS,
+    "atlas": [*FINDER_COLUMNS, "region"],
     "hysteresis": ["time_s", "leg", "value", "d31"],
 }  # fmt: skip
 # The time-series tables of a run job with include_series (`?table=` of the CSV export).
@@ -181,7 +190,7 @@ def return_map_job(job: ReturnMapJob, progress: Progress, nthread: int) -> dict[
 
 
 def _grid(
-    core: Any, job: SweepJob | BifurcationJob, progress: Progress, nthread: int
+    core: Any, job: SweepJob, progress: Progress, nthread: int
 ) -> list[tuple[float, float, Any]]:
     """Every (beta, d31_init) of the job's grid as independent runs, one batch call."""
     pairs = [(b, d) for b in job.beta_range.values() for d in job.d31_init]
@@ -209,22 +218,81 @@ def sweep_job(job: SweepJob, progress: Progress, nthread: int) -> dict[str, Any]
     return {"kind": "sweep", "records": records, "warnings": _warnings([r for _, _, r in grid])}
 
 
+FinderRun = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
+
+
+def _finder_runner(
+    core: Any, job: BifurcationJob | AtlasJob, progress: Progress, nthread: int
+) -> FinderRun:
+    """The finder's `run`: each round as one `simulate_batch` (this worker's threads), with
+    the job's numerics; progress as the share of the job's estimated simulated time done."""
+    budget = max(job.total_sim_seconds(), 1e-9)
+    done = 0.0
+
+    def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
+        nonlocal done
+        specs = [
+            core.RunSpec(d31_init=p.d31_init, duration_s=p.duration_s, **c.spec_fields(),
+                         **job.numerics_fields())
+            for c, p in batch
+        ]  # fmt: skip
+        results = core.simulate_batch(specs, nthread=nthread)
+        done += sum(p.duration_s for _, p in batch)
+        progress(min(0.99, done / budget))
+        return [{"d31": r.d31.tolist(), "error": r.error} for r in results]
+
+    return run
+
+
+def _finder_rows(
+    cells: list[CellResult], extra: dict[str, Any] | None = None
+) -> list[dict[str, Any]]:
+    """One row per point the finder reports: stable, unstable, ghost or not settled."""
+    rows: list[dict[str, Any]] = []
+    for c in cells:
+        base = {"beta": c.beta, "body_mass_g": c.body_mass_g, "slope_deg": c.slope_deg}
+        for a in c.attractors:
+            rows.append(base | {"kind": "stable", "d31": a.d31, "gait": a.gait,
+                                "starts": a.starts, "slope": a.slope,
+                                "drift": a.max_drift})  # fmt: skip
+        for b in c.borders:
+            rows.append(base | {"kind": "unstable", "d31": b.d31, "gait": None, "starts": None,
+                                "slope": b.slope, "drift": None})  # fmt: skip
+        for g in c.ghosts:
+            rows.append(base | {"kind": "ghost", "d31": g.d31, "gait": None, "starts": None,
+                                "slope": None, "drift": g.drift})  # fmt: skip
+        for u in c.unsettled:
+            rows.append(base | {"kind": "not settled", "d31": u.final, "gait": None,
+                                "starts": None, "slope": None, "drift": u.drift})  # fmt: skip
+    return rows
+
+
 def bifurcation_job(job: BifurcationJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    """Where Delta31 sits after the transient, per beta and initial value (Fig. 8's stable
-    branches): the circular mean of the samples after `transient_s` (`mean_after`). `settled`
-    is the core's one rule (`settled_gait`, as `reproduce` reads its finals: the last 8
-    touchdowns spread < 0.15 rad); a run still drifting is kept, flagged `settled: false`, and
-    its gait is "other"."""
+    """Fig. 8 from settled walking: the fixed-point finder (`find`, the function `reproduce`
+    uses) at every beta of the grid; its typed output (`FinderOutput`) plus flat rows."""
     core = _core()
-    records = []
-    for beta, d0, res in _grid(core, job, progress, nthread):
-        mean, count = mean_after(res.d31_times_s, res.d31, job.transient_s)
-        settled = settled_gait(res.d31)[0] is not None
-        records.append(
-            {"beta": beta, "d31_init": d0, "d31_after_transient": mean, "n_touchdowns": count,
-             "gait": classify_gait(mean) if settled else "other", "settled": settled}
-        )  # fmt: skip
-    return {"kind": "bifurcation", "records": records}
+    cells = [Cell(beta=b, body_mass_g=job.body_mass_g, slope_deg=job.slope_deg)
+             for b in job.beta_range.values()]  # fmt: skip
+    found = find(cells, job.finder_config(), _finder_runner(core, job, progress, nthread))
+    out = FinderOutput(source="REST bifurcation job: the settled fixed-point finder",
+                       config=asdict(job.finder_config()), cells=found)  # fmt: skip
+    return {"kind": "bifurcation", "finder": out.model_dump(mode="json"),
+            "records": _finder_rows(found)}  # fmt: skip
+
+
+def atlas_job(job: AtlasJob, progress: Progress, nthread: int) -> dict[str, Any]:
+    """The gait atlas on the job's grid: `atlas_search`, the function `insect-gait atlas`
+    uses; its typed output (`AtlasOutput`) plus flat rows with each cell's region."""
+    core = _core()
+    cfg = core.AtlasConfig(job.axis, betas=tuple(job.betas), values=tuple(job.values),
+                           finder=FinderConfig(starts=job.starts, duration_s=job.duration_s,
+                                               max_borders=0))  # fmt: skip
+    atlas: AtlasOutput = core.atlas_search(cfg, _finder_runner(core, job, progress, nthread))
+    rows = _finder_rows(atlas.cells)
+    regions = {(c.beta, c.body_mass_g, c.slope_deg): region_of(c) for c in atlas.cells}
+    for r in rows:
+        r["region"] = regions[(r["beta"], r["body_mass_g"], r["slope_deg"])]
+    return {"kind": "atlas", "atlas": atlas.model_dump(mode="json"), "records": rows}
 
 
 def hysteresis_job(job: HysteresisJob, progress: Progress, nthread: int) -> dict[str, Any]:
@@ -264,6 +332,7 @@ RUNNERS: dict[str, Callable[[Any, Progress, int], dict[str, Any]]] = {
     "sweep": sweep_job,
     "bifurcation": bifurcation_job,
     "hysteresis": hysteresis_job,
+    "atlas": atlas_job,
 }
 
 

@@ -26,10 +26,13 @@ from pydantic import (
 )
 
 from sim_core.contract import (
+    AXIS_PARAM,
     DEFAULT_DT_S,
     DEFAULT_INTEGRATOR,
     INTEGRATORS,
     MAX_STABLE_DT_S,
+    AtlasAxis,
+    FinderConfig,
     Integrator,
     RampParam,
     RunSpec,
@@ -344,34 +347,135 @@ class SweepJob(_Timed):
         return len(self.d31_init) * self.beta_range.steps
 
 
-class BifurcationJob(_Timed):
-    """Delta31 after a transient over a beta grid: the bifurcation diagram (paper Fig. 8)."""
+_FINDER = FinderConfig()
+
+
+class _Finder(_Physics):
+    """Kinds answered by the settled fixed-point finder (`sim_core.contract.find`): settled
+    runs from starts spread over the circle, judged by the core's one settled rule."""
+
+    starts: IntLike = bounded(
+        _FINDER.starts, "starts", "starts spread over the circle per beta", ge=2, le=16
+    )
+    duration_s: float = bounded(
+        _FINDER.duration_s, "duration_s",
+        "simulated time of each start's run, s (the settled rule needs a last quarter of "
+        "40 gait cycles, ~16-20 s; near a fold 40 s tells a ghost from a gait)",
+        ge=2.0, le=DURATION_BOUNDS["le"],
+    )  # fmt: skip
+
+    def run_count(self) -> int:
+        return self.cells() * (self.starts + self.extra_runs_per_cell())
+
+    def sim_seconds_per_run(self) -> float:
+        return self.duration_s
+
+    def total_sim_seconds(self) -> float:
+        return self.cells() * (self.starts * self.duration_s + self.extra_sim_seconds_per_cell())
+
+    def cells(self) -> int:
+        raise NotImplementedError
+
+    def extra_runs_per_cell(self) -> int:
+        return 0
+
+    def extra_sim_seconds_per_cell(self) -> float:
+        return 0.0
+
+    def numerics_fields(self) -> dict[str, Any]:
+        """RunSpec fields besides beta, mass, slope (those come from the finder's cells)."""
+        out = self.physics_fields()
+        del out["body_mass_g"], out["slope_deg"]
+        return out
+
+
+class BifurcationJob(_Finder):
+    """The paper's Fig. 8 over a beta grid, from settled walking (the fixed-point finder, the
+    same function as `insect-gait reproduce`): stable gaits with how many starts reach them
+    and their map slope, unstable ones as bisected basin borders, ghosts, and the runs that
+    did not settle in the time given."""
 
     kind: Literal["bifurcation"] = "bifurcation"
     beta_range: BetaRange
-    d31_init: list[D31] = d31_list([TWO_PI * i / 8.0 for i in range(8)])
-    transient_s: float = bounded(
-        2.0,
-        "transient_s",
-        "simulated time discarded before Delta31 is recorded, s",
-        ge=0.0,
-        lt=DURATION_BOUNDS["le"],
-        validate_default=True,
+    bisect_duration_s: float = bounded(
+        _FINDER.bisect_duration_s, "bisect_duration_s",
+        "simulated time of a bisection run, s (re-run at duration_s if it has not settled)",
+        ge=2.0, le=DURATION_BOUNDS["le"],
+    )  # fmt: skip
+    border_tol_rad: float = bounded(
+        _FINDER.border_tol_rad, "border_tol_rad", "width of a bisected border's bracket, rad",
+        ge=0.005, le=1.0,
+    )  # fmt: skip
+    max_borders: IntLike = bounded(
+        _FINDER.max_borders, "max_borders", "basin borders bisected per beta", ge=0, le=4
     )
 
-    @field_validator("transient_s")
+    def cells(self) -> int:
+        return self.beta_range.steps
+
+    def bisect_steps(self) -> int:
+        """Bisection runs one border may take: from the starts' spacing to border_tol_rad."""
+        return max(1, math.ceil(math.log2(2 * math.pi / self.starts / self.border_tol_rad)))
+
+    def extra_runs_per_cell(self) -> int:
+        return self.max_borders * self.bisect_steps()
+
+    def extra_sim_seconds_per_cell(self) -> float:
+        return self.extra_runs_per_cell() * self.bisect_duration_s
+
+    def finder_config(self) -> FinderConfig:
+        return FinderConfig(
+            starts=self.starts, duration_s=self.duration_s,
+            bisect_duration_s=self.bisect_duration_s, border_tol_rad=self.border_tol_rad,
+            max_borders=self.max_borders,
+        )  # fmt: skip
+
+
+class AtlasJob(_Finder):
+    """The gait atlas on a small grid: which gaits are stable over beta x body mass or beta x
+    slope (the same function as `insect-gait atlas`), each cell seeded with its neighbours'
+    attractors; no bisection."""
+
+    kind: Literal["atlas"] = "atlas"
+    axis: AtlasAxis = Field(
+        "mass", description="the second axis: mass (body_mass_g) or slope (slope_deg)",
+        json_schema_extra={"allowed": "mass, slope"},
+    )  # fmt: skip
+    betas: list[Annotated[float, Field(gt=0.5, lt=1.0, allow_inf_nan=False)]] = Field(
+        [0.62, 0.70], min_length=1, max_length=8,
+        description="duty factors of the grid (1-8 values)",
+    )  # fmt: skip
+    values: list[Annotated[float, Field(allow_inf_nan=False)]] = Field(
+        [2.0, 5.0], min_length=1, max_length=8,
+        description="values of the axis (g for mass, deg for slope; 1-8 values)",
+    )  # fmt: skip
+    starts: IntLike = bounded(4, "starts", "starts spread over the circle per cell", ge=2, le=16)
+    duration_s: float = bounded(
+        30.0, "duration_s", "simulated time of each run, s", ge=2.0, le=DURATION_BOUNDS["le"]
+    )
+
+    @field_validator("values")
     @classmethod
-    def _transient_shorter_than_run(cls, v: float, info: ValidationInfo) -> float:
-        duration = info.data.get("duration_s")
-        if duration is not None and v >= duration:
-            raise ValueError(
-                f"transient_s ({v:g} s) must be < duration_s ({duration:g} s); transient_s is "
-                "2 s when not given"
-            )
+    def _in_the_axis_range(cls, v: list[float], info: ValidationInfo) -> list[float]:
+        axis = info.data.get("axis")
+        if axis is None:
+            return v
+        param = AXIS_PARAM[axis]
+        bounds = SWEEP_RANGES[param]
+        for x in v:
+            if not _in_range(x, bounds):
+                raise ValueError(f"{x:g} is outside the range of {param}: "
+                                 f"{range_text(param, **bounds)}")  # fmt: skip
         return v
 
-    def run_count(self) -> int:
-        return len(self.d31_init) * self.beta_range.steps
+    def cells(self) -> int:
+        return len(self.betas) * len(self.values)
+
+    def extra_runs_per_cell(self) -> int:
+        return 3  # seeds: at most the attractors of three neighbours, one per place (~1-3)
+
+    def extra_sim_seconds_per_cell(self) -> float:
+        return self.extra_runs_per_cell() * self.duration_s
 
 
 SweptParameter = RampParam
@@ -478,7 +582,7 @@ class HysteresisJob(_Physics):
         return out
 
 
-AnyJob = RunJob | ReturnMapJob | SweepJob | BifurcationJob | HysteresisJob
+AnyJob = RunJob | ReturnMapJob | SweepJob | BifurcationJob | HysteresisJob | AtlasJob
 JobSpec = Annotated[AnyJob, Field(discriminator="kind")]
 JOB_SPEC_ADAPTER: TypeAdapter[AnyJob] = TypeAdapter(JobSpec)
 KIND_MODELS: dict[str, type[_Physics]] = {
@@ -487,6 +591,7 @@ KIND_MODELS: dict[str, type[_Physics]] = {
     "sweep": SweepJob,
     "bifurcation": BifurcationJob,
     "hysteresis": HysteresisJob,
+    "atlas": AtlasJob,
 }
 
 

@@ -44,12 +44,15 @@ _HOME: dict[str, str] = {
     "simulate": "sim_core.model.runner",
     "simulate_batch": "sim_core.model.runner",
     "SweepResult": "sim_core.paper.sweep",
+    "AtlasConfig": "sim_core.paper.atlas",
+    "atlas_search": "sim_core.paper.atlas",
     "sweep": "sim_core.paper.sweep",
 }
 
 __all__ = [
     "INTEGRATORS",
     "MAX_STABLE_DT_S",
+    "AtlasConfig",
     "ModelParams",
     "RunFailure",
     "RunResult",
@@ -57,6 +60,7 @@ __all__ = [
     "Simulation",
     "SimulationDiverged",
     "SweepResult",
+    "atlas_search",
     "build_model",
     "circular_mean",
     "classify_gait",
@@ -105,4 +109,5 @@ if TYPE_CHECKING:  # what type checkers and IDEs see: the same names, eagerly
         SimulationDiverged,
         spec_grid,
     )
+    from sim_core.paper.atlas import AtlasConfig, atlas_search
     from sim_core.paper.sweep import SweepResult, sweep

@@ -40,6 +40,19 @@ from sim_core.model.spec import (
     numerics_problem,
     resolve_numerics,
 )
+from sim_core.paper.fixedpoints import (
+    AXIS_PARAM,
+    REGIONS,
+    AtlasAxis,
+    AtlasOutput,
+    Cell,
+    CellResult,
+    FinderConfig,
+    FinderOutput,
+    Probe,
+    find,
+    region_of,
+)
 from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
 
 _DEFAULTS = ModelParams()
@@ -48,6 +61,7 @@ DEFAULT_DT_S: float = _DEFAULTS.dt
 DEFAULT_CONTROL_DT_S: float = _DEFAULTS.control_dt
 
 __all__ = [
+    "AXIS_PARAM",
     "DEFAULT_CONTROL_DT_S",
     "DEFAULT_DT_S",
     "DEFAULT_INTEGRATOR",
@@ -56,11 +70,19 @@ __all__ = [
     "LEG_NAMES",
     "MAX_STABLE_DT_S",
     "RAMP_PARAMS",
+    "REGIONS",
     "RETURN_MAP_SKIP",
     "TAIL_DRIFT_SETTLED",
+    "AtlasAxis",
+    "AtlasOutput",
+    "Cell",
+    "CellResult",
     "FailureKind",
+    "FinderConfig",
+    "FinderOutput",
     "Integrator",
     "ModelParams",
+    "Probe",
     "Ramp",
     "RampParam",
     "ReturnMap",
@@ -69,9 +91,11 @@ __all__ = [
     "circular_mean",
     "classify_gait",
     "final_d31",
+    "find",
     "mean_after",
     "numerics_problem",
     "parameter_table",
+    "region_of",
     "resolve_numerics",
     "return_map_from_series",
     "settled_gait",

@@ -17,7 +17,7 @@ __all__ = ["make_server"]  # the fixture, re-exported for pytest
 EXAMPLES = Path(__file__).resolve().parents[1] / "examples"
 TINY = {
     "01_walk_once.py": ["--duration-s", "0.6"],
-    "02_return_map.py": ["--starts", "3", "--duration-s", "0.8", "--out", "{tmp}/map.png"],
+    "02_return_map.py": ["--starts", "3", "--duration-s", "1.0", "--out", "{tmp}/map.png"],
     "03_live_beta_ramp.py": ["--settle-s", "0.2", "--ramp-s", "0.4"],
     "04_batch_sweep.py": ["--betas", "0.62", "0.70", "--starts", "2", "--duration-s", "0.6"],
 }

@@ -161,7 +161,48 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     return 0
 
 
+def _add_finder_check(sub: Any) -> None:
+    p = sub.add_parser(
+        "finder-check",
+        help="check the fixed-point finder against independent 40 s runs (issue 28)",
+    )
+    p.add_argument("--beta", type=float, nargs="+", default=[0.62, 0.655, 0.70],
+                   help="betas to check (default %(default)s)")  # fmt: skip
+    p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
+    p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_finder_check)
+
+
+def _cmd_finder_check(args: argparse.Namespace) -> int:
+    import time
+
+    from sim_core.paper.fixedpoints import FinderConfig
+    from sim_core.paper.validation import report, validate
+    from sim_core.runs.backends import RunStats, get_backend
+    from sim_core.runs.cache import ResultCache
+
+    for b in args.beta:
+        if not 0.5 < b < 1.0:
+            print(f"insect-gait finder-check: error: --beta {b:g} is outside (0.5, 1)",
+                  file=sys.stderr)  # fmt: skip
+            return EXIT_USAGE
+    backend = get_backend("local", args.workers)
+    stats = RunStats()
+    t0 = time.perf_counter()
+    try:
+        checks = validate(args.beta, FinderConfig(), ResultCache(args.cache), backend,
+                          progress=not args.no_progress, stats=stats)  # fmt: skip
+    finally:
+        backend.close()
+    print("\n".join(report(checks)))
+    print(f"\nwall time {time.perf_counter() - t0:.1f} s; {stats.computed} simulations "
+          f"computed, {stats.cached} cached")  # fmt: skip
+    return 0 if all(c.ok for c in checks) else 1
+
+
 def register(sub: Any) -> None:
     _add_reproduce(sub)
     _add_atlas(sub)
+    _add_finder_check(sub)
     _add_study(sub)

@@ -1,10 +1,9 @@
 """Reading the paper's quantities out of simulated data: pure functions, tested on synthetic data.
 
-Fixed points of a drift curve on the circle and transition detection, and what Figs. 6-9 need
-on top: ghosts of a saddle-node, stable
-ranges and folds of a bifurcation diagram, and the two legs of a triangle sweep with their
-transitions and the hysteresis loop between them. Angles in rad; the swept value in the units
-of the parameter being swept.
+Transition detection, and what Figs. 6-9 need on top: stable ranges and folds of a
+bifurcation diagram (from the fixed-point finder's attractors, `paper.fixedpoints`), and the
+two legs of a triangle sweep with their transitions and the hysteresis loop between them.
+Angles in rad; the swept value in the units of the parameter being swept.
 """
 
 from __future__ import annotations
@@ -16,56 +15,23 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.gait import TWO_PI, angle_diff, classify_gait, settled_gait
-from sim_core.paper.returnmap import ReturnMap
+from sim_core.model.gait import angle_diff, classify_gait, settled_gait
 
 # The band of Delta31 the paper's return maps and bifurcation diagram are about (branches 1.9
 # and 2.9 rad, with margin). A continuous map of the circle crosses its diagonal an even number
 # of times; the paper's odd counts (1, 3, 1) are the crossings inside this band.
 PAPER_WINDOW = (1.4, 3.4)
-# A ghost is a bottleneck: |drift| dips to a local minimum without reaching zero, at most this
-# large (rad per cycle) and at most GHOST_DEPTH of the largest |drift| on either side of it.
-GHOST_DRIFT = 0.02
-GHOST_DEPTH = 1.0 / 3.0
 # Consecutive leg-1 touchdowns (strides) a new gait must hold to count as a transition.
 PERSIST = 4
-# The smoothed drift curve: evaluation points on the circle, and the least total kernel weight
-# (about one pair at the centre) for a point to count as sampled.
-SMOOTH_POINTS = 360
-MIN_WEIGHT = 1.0
 
 
 @dataclass(frozen=True)
 class FixedPoint:
+    """A fixed point of the n -> n + 4 map (the finder's attractors and saddles)."""
+
     d31: float  # rad
     slope: float  # of the lag-cycle map Delta31(n) -> Delta31(n + lag) at the point
     stable: bool
-
-
-def fixed_points(centers: np.ndarray, drift: np.ndarray, lag: int = 4) -> list[FixedPoint]:
-    """Zero crossings of a periodic drift-per-cycle curve d(x) sampled at `centers`.
-
-    The lag-cycle map is F(x) = x + lag d(x); a crossing is stable when |F'| < 1 there
-    (paper Sec. III C). Only crossings between two neighbouring sampled (finite) bins count;
-    the curve wraps around 2 pi.
-    """
-    x = np.asarray(centers, dtype=float)
-    d = np.asarray(drift, dtype=float)
-    out: list[FixedPoint] = []
-    n = x.size
-    for i in range(n):
-        j = (i + 1) % n
-        d0, d1 = d[i], d[j]
-        if not (np.isfinite(d0) and np.isfinite(d1)):
-            continue  # only neighbouring sampled bins: no crossing invented across a gap
-        x0, x1 = x[i], x[j] + (TWO_PI if j == 0 else 0.0)
-        if d0 == 0.0 or (d0 > 0) != (d1 > 0):
-            if d0 == d1:
-                continue
-            root = x0 + (x1 - x0) * d0 / (d0 - d1)
-            slope = 1.0 + lag * (d1 - d0) / (x1 - x0)
-            out.append(FixedPoint(float(root % TWO_PI), float(slope), abs(slope) < 1.0))
-    return sorted(out, key=lambda f: f.d31)
 
 
 @dataclass(frozen=True)
@@ -100,125 +66,6 @@ def detect_transitions(values: np.ndarray, d31: np.ndarray, persist: int = 4) ->
         else:
             k += 1
     return out
-
-
-def smoothed_drift(
-    rm: ReturnMap, bandwidth: float, points: int = SMOOTH_POINTS
-) -> tuple[np.ndarray, np.ndarray]:
-    """Drift per cycle (y - x) / lag, a Gaussian-kernel local-linear fit around the circle.
-
-    Why not bins: near a fold the stable and unstable fixed points are closer than a bin
-    (0.26 rad for 24 bins), so binned means miss the pair and the fold appears a grid step
-    early. Why local-linear rather than a kernel mean: the pairs crowd around the attractors,
-    and a kernel mean is pulled flat toward the crowd (slopes near 1 at every stable point);
-    a local line through the weighted pairs is not. `bandwidth` (rad) sets the smoothing.
-    Points with too little data, or data on too narrow a spread to fit a line, are NaN, and
-    `fixed_points` never invents a crossing across them.
-    """
-    centers = (np.arange(points) + 0.5) * (2 * math.pi / points)
-    if rm.x.size == 0:
-        return centers, np.full(points, np.nan)
-    d = angle_diff(rm.y, rm.x) / rm.lag
-    u = angle_diff(rm.x[None, :], centers[:, None])  # (points, pairs), rad
-    w = np.exp(-0.5 * (u / bandwidth) ** 2)
-    s0, s1, s2 = w.sum(axis=1), (w * u).sum(axis=1), (w * u * u).sum(axis=1)
-    t0, t1 = w @ d, (w * u) @ d
-    det = s0 * s2 - s1 * s1
-    # det / s0 is the weighted sum of squared spreads: as informative as MIN_WEIGHT pairs a
-    # quarter bandwidth off centre (a crowd at one point and a few neighbours is enough)
-    ok = (s0 >= MIN_WEIGHT) & (det > s0 * MIN_WEIGHT * (0.25 * bandwidth) ** 2)
-    drift = np.full(points, np.nan)
-    drift[ok] = (s2[ok] * t0[ok] - s1[ok] * t1[ok]) / det[ok]
-    return centers, drift
-
-
-def in_window(
-    fps: Sequence[FixedPoint], window: tuple[float, float] = PAPER_WINDOW
-) -> list[FixedPoint]:
-    return [f for f in fps if window[0] <= f.d31 <= window[1]]
-
-
-def pattern(fps: Sequence[FixedPoint]) -> str:
-    """'S U S'-style summary, in order of Delta31 (S stable, U unstable)."""
-    return " ".join("S" if f.stable else "U" for f in fps)
-
-
-def ghosts(
-    centers: np.ndarray,
-    drift: np.ndarray,
-    window: tuple[float, float] = PAPER_WINDOW,
-    tol: float = GHOST_DRIFT,
-    depth: float = GHOST_DEPTH,
-) -> list[float]:
-    """Bottlenecks of the drift inside `window`: the ghost of a saddle-node (Strogatz; Fig. 7).
-
-    Within each stretch where the drift keeps one sign, the deepest local minimum of |drift|
-    counts if it is below `tol` and below `depth` times the largest |drift| on each side of it
-    in that stretch: Delta31 slows down there for many cycles without stopping.
-    """
-    x = np.asarray(centers, dtype=float)
-    a = np.abs(np.asarray(drift, dtype=float))
-    sign = np.sign(np.asarray(drift, dtype=float))
-    inside = (x >= window[0]) & (x <= window[1]) & np.isfinite(a)
-    out: list[float] = []
-    k = 0
-    n = x.size
-    while k < n:
-        if not inside[k]:
-            k += 1
-            continue
-        j = k
-        while j + 1 < n and inside[j + 1] and sign[j + 1] == sign[k]:
-            j += 1
-        seg = a[k : j + 1]
-        best: int | None = None
-        for i in range(1, seg.size - 1):
-            if seg[i] <= seg[i - 1] and seg[i] <= seg[i + 1] and seg[i] < tol:
-                left, right = seg[:i].max(), seg[i + 1 :].max()
-                if seg[i] <= depth * left and seg[i] <= depth * right:
-                    if best is None or seg[i] < seg[best]:
-                        best = i
-        if best is not None:
-            out.append(float(x[k + best]))
-        k = j + 1
-    return out
-
-
-def fixed_point_dict(f: FixedPoint) -> dict[str, Any]:
-    """Plain JSON types (the slope test may hand back numpy scalars)."""
-    return {"d31": float(f.d31), "slope": float(f.slope), "stable": bool(f.stable)}
-
-
-@dataclass(frozen=True)
-class MapSummary:
-    """One return map's fixed points (all, and inside the paper's band), ghosts, and counts."""
-
-    beta: float
-    fixed: list[FixedPoint]
-    window: list[FixedPoint]
-    ghosts: list[float]
-    pairs: int
-    centers: np.ndarray
-    drift: np.ndarray
-
-    def to_dict(self) -> dict[str, Any]:
-        return {
-            "beta": self.beta,
-            "fixed_points": [fixed_point_dict(f) for f in self.fixed],
-            "window_fixed_points": [fixed_point_dict(f) for f in self.window],
-            "window_pattern": pattern(self.window),
-            "ghosts": self.ghosts,
-            "pairs": self.pairs,
-        }
-
-
-def summarise_map(rm: ReturnMap, bandwidth: float) -> MapSummary:
-    """Fixed points (crossings of the smoothed drift, stability from its slope) and ghosts."""
-    centers, drift = smoothed_drift(rm, bandwidth)
-    fps = fixed_points(centers, drift, rm.lag)
-    return MapSummary(
-        rm.beta, fps, in_window(fps), ghosts(centers, drift), int(rm.x.size), centers, drift
-    )
 
 
 def stable_ranges(

@@ -21,7 +21,7 @@ from typing import Any
 
 from sim_core.model.gait import angle_diff
 from sim_core.model.params import ModelParams
-from sim_core.paper.figures import Config, branch_ranges
+from sim_core.paper.figures import Config
 from sim_core.paper.fixedpoints import (
     AXIS_LABEL,
     AXIS_PARAM,
@@ -32,9 +32,12 @@ from sim_core.paper.fixedpoints import (
     Cell,
     CellResult,
     FinderConfig,
+    RunFn,
+    branch_ranges,
+    find,
     region_of,
 )
-from sim_core.paper.search import find_cached
+from sim_core.paper.search import task_runner
 from sim_core.runs.backends import Backend, RunStats
 from sim_core.runs.cache import ResultCache
 
@@ -50,6 +53,9 @@ PAPER_DIRECTION = {
 }
 # 4 spread starts + the neighbours' attractors, 30 s each, no bisection (see AtlasConfig)
 ATLAS_FINDER = FinderConfig(starts=4, duration_s=30.0, max_borders=0)
+# the paper's Fig. 9 sweeps (ours: `Config`), drawn on the atlas
+SWEEP_BETA = Config().sweep_beta
+SWEEP_RANGE = {"mass": Config().mass_range_g, "slope": Config().slope_range_deg}
 # Seeds closer than this to one already taken are dropped (rad): the same attractor.
 SEED_MERGE = 0.1
 
@@ -104,6 +110,30 @@ def atlas_folds(cfg: AtlasConfig, rows: list[list[CellResult]]) -> list[AtlasFol
     return out
 
 
+def atlas_search(cfg: AtlasConfig, run: RunFn, *, log: Any = None) -> AtlasOutput:
+    """The atlas of `cfg.axis` with the finder's runs done by `run` (cached tasks for the
+    command, `simulate_batch` in an API worker): row by row of the axis, all betas of a row
+    in one search, each cell seeded with its neighbours' attractors from the row before."""
+    rows: list[list[CellResult]] = []
+    for i, value in enumerate(cfg.values):
+        seeds = [_seeds(rows[-1], j) if rows else () for j in range(len(cfg.betas))]
+        cells = [_cell(cfg.axis, b, value, s) for b, s in zip(cfg.betas, seeds, strict=True)]
+        if log is not None:
+            log(f"atlas {cfg.axis}: row {i + 1}/{len(cfg.values)} ({AXIS_PARAM[cfg.axis]} = "
+                f"{value:g}), {len(cells)} cells")  # fmt: skip
+        rows.append(find(cells, cfg.finder, run))
+    rng = SWEEP_RANGE[cfg.axis]
+    return AtlasOutput(
+        source=f"insect-gait atlas --axis {cfg.axis}: the settled fixed-point finder",
+        axis=cfg.axis, param=AXIS_PARAM[cfg.axis], betas=list(cfg.betas),
+        values=list(cfg.values), cells=[c for row in rows for c in row],
+        regions=[[region_of(c) for c in row] for row in rows], folds=atlas_folds(cfg, rows),
+        sweep_beta=SWEEP_BETA, sweep_range=rng, paper_direction=PAPER_DIRECTION[cfg.axis],
+        config={"betas": list(cfg.betas), "values": list(cfg.values),
+                "finder": asdict(cfg.finder)},
+    )  # fmt: skip
+
+
 def run_atlas(
     cfg: AtlasConfig,
     cache: ResultCache,
@@ -112,29 +142,10 @@ def run_atlas(
     *,
     progress: bool = True,
     stats: RunStats | None = None,
-    log: Any = print,
 ) -> AtlasOutput:
-    """The atlas of `cfg.axis`: row by row of the axis, all betas of a row in one search."""
-    rows: list[list[CellResult]] = []
-    for i, value in enumerate(cfg.values):
-        seeds = [_seeds(rows[-1], j) if rows else () for j in range(len(cfg.betas))]
-        cells = [_cell(cfg.axis, b, value, s) for b, s in zip(cfg.betas, seeds, strict=True)]
-        if progress:
-            log(f"atlas {cfg.axis}: row {i + 1}/{len(cfg.values)} ({AXIS_PARAM[cfg.axis]} = "
-                f"{value:g}), {len(cells)} cells")  # fmt: skip
-        rows.append(find_cached(cells, cfg.finder, cache, backend, params, progress=progress,
-                                stats=stats))  # fmt: skip
-    sweep = Config()
-    rng = sweep.mass_range_g if cfg.axis == "mass" else sweep.slope_range_deg
-    return AtlasOutput(
-        source=f"insect-gait atlas --axis {cfg.axis}: the settled fixed-point finder",
-        axis=cfg.axis, param=AXIS_PARAM[cfg.axis], betas=list(cfg.betas),
-        values=list(cfg.values), cells=[c for row in rows for c in row],
-        regions=[[region_of(c) for c in row] for row in rows], folds=atlas_folds(cfg, rows),
-        sweep_beta=sweep.sweep_beta, sweep_range=rng, paper_direction=PAPER_DIRECTION[cfg.axis],
-        config={"betas": list(cfg.betas), "values": list(cfg.values),
-                "finder": asdict(cfg.finder)},
-    )  # fmt: skip
+    """`atlas_search` with every run cached and on `backend` (an interrupted atlas resumes)."""
+    run = task_runner(cache, backend, params, progress=progress, stats=stats)
+    return atlas_search(cfg, run, log=print if progress else None)
 
 
 REGION_COLOURS = {

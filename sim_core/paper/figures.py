@@ -23,17 +23,13 @@ from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec, spec_grid
 from sim_core.paper.analysis import (
     PAPER_WINDOW,
-    FixedPoint,
     branch_census,
-    folds,
     max_drift,
-    range_ends,
     settled_gait,
-    stable_ranges,
     stance_intervals,
     sweep_summary,
 )
-from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe
+from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe, branch_ranges
 from sim_core.paper.protocols import initial_values
 from sim_core.paper.returnmap import ReturnMap, return_map_from_series
 from sim_core.paper.search import probe_task
@@ -342,16 +338,6 @@ def _fig7(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[Figure
     summary = {str(m["beta"]): {k: m[k] for k in keys} for m in maps}
     data = {"maps": maps, "lag": 4, "window_rad": PAPER_WINDOW}
     return [FigureData("fig7", data, {"fig7": (["beta", "d31_n", "d31_n4"], rows)}, summary)]
-
-
-def branch_ranges(cells: list[CellResult], gait: str) -> dict[str, Any]:
-    """Where `gait` has an attractor on the grid: ranges, their ends and the folds between
-    (beta of the last point on each branch, +- half the grid step)."""
-    betas = [c.beta for c in cells]
-    fixed = [[FixedPoint(a.d31, a.slope or 0.0, True) for a in c.attractors] for c in cells]
-    rng = stable_ranges(betas, fixed, gait)
-    return {"ranges": rng, "ends": range_ends(betas, rng),
-            "folds": [asdict(f) for f in folds(betas, rng, gait)]}  # fmt: skip
 
 
 def _fig8(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[FigureData]:

@@ -28,7 +28,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Generator, Sequence
-from dataclasses import dataclass, field
+from dataclasses import asdict, dataclass, field
 from typing import Any, Literal
 
 import numpy as np
@@ -43,6 +43,7 @@ from sim_core.model.gait import (
     settling,
     wrap,
 )
+from sim_core.paper.analysis import FixedPoint, folds, range_ends, stable_ranges
 from sim_core.paper.returnmap import RETURN_MAP_SKIP, initial_values
 
 # Settled finals closer than this (rad) are one attractor: 10x the spread of a settled tail
@@ -53,9 +54,9 @@ CLUSTER_TOL = 0.05
 # old smoothed-map rule, GHOST_DRIFT in `analysis`) and the run later leaves it by > 0.1 rad.
 GHOST_DRIFT = 0.02
 GHOST_LEAVE = 0.1
-# ... and it spent at least this many cycles within CLUSTER_TOL of it (a bottleneck, not a
-# point a run merely crosses: a 0.5 rad slide at 20 mrad per cycle crosses 0.1 rad in 5).
-GHOST_MIN_CYCLES = 20
+# ... and it spent at least this many cycles within CLUSTER_TOL of it: twice what a passage at
+# GHOST_DRIFT needs to cross that 0.1 rad (5), so its mean drift there is below 10 mrad per cycle
+GHOST_MIN_CYCLES = 10
 # The local drift along a run: Delta31 change over this many cycles, per cycle (the paper's
 # lag of 4, twice, so that a period-2 wobble of the skewed tripod averages out).
 DRIFT_WINDOW = 8
@@ -529,6 +530,16 @@ def find(cells: Sequence[Cell], cfg: FinderConfig, run: RunFn) -> list[CellResul
                 results[k] = stop.value
         pending = nxt
     return [results[k] for k in range(len(cells))]
+
+
+def branch_ranges(cells: Sequence[CellResult], gait: str) -> dict[str, Any]:
+    """Where `gait` has an attractor along a beta grid: ranges, their ends and the folds
+    between (beta of the last point on each branch, +- half the grid step)."""
+    betas = [c.beta for c in cells]
+    fixed = [[FixedPoint(a.d31, a.slope or 0.0, True) for a in c.attractors] for c in cells]
+    rng = stable_ranges(betas, fixed, gait)
+    return {"ranges": rng, "ends": range_ends(betas, rng),
+            "folds": [asdict(f) for f in folds(betas, rng, gait)]}  # fmt: skip
 
 
 # --- the gait atlas's schema (`sim_core.paper.atlas` writes it; the REST kind and the viewer

@@ -282,6 +282,10 @@ def _fig7_rows(s: dict[str, Any] | None) -> list[Row]:
         fps = m["window_fixed_points"]
         where = ", ".join(f"{f['d31']:.2f}{'' if f['stable'] else ' (U)'}" for f in fps)
         ours = f"{len(fps)} ({m['window_pattern'] or 'none'}){': ' + where if where else ''}"
+        unsettled = m.get("unsettled") or []
+        if unsettled:
+            ends = ", ".join(f"{u['final']:.2f}" for u in unsettled if u["final"] is not None)
+            ours += f"; {len(unsettled)} run(s) not settled (at {ends})"
         ok = m["window_pattern"] == pat
         if ok and gait is not None:
             ok = all(classify_gait(f["d31"]) == gait for f in fps if f["stable"])
@@ -310,6 +314,8 @@ def _fig8_rows(s: dict[str, Any] | None) -> list[Row]:
         segs = "; ".join(f"{_b(lo)}-{_b(hi)}" for lo, hi in br["ranges"]) or "nowhere on the grid"
         folds = ", ".join(f"{f['beta']:.4f}±{f['half_width']:.4f}" for f in br["folds"])
         ours = segs + (f" (folds at {folds})" if folds else "")
+        if s.get("unsettled"):
+            ours += f"; {s['unsettled']} of {s['runs']} runs not settled"
         ends = br["ends"]
         ok = ends is not None and abs(ends[0] - a) <= BETA_TOL and abs(ends[1] - b) <= BETA_TOL
         rows.append((label, f"{_b(a)}-{_b(b)}", ours, _verdict(ok)))

@@ -17,6 +17,8 @@ from typing import Any
 
 import numpy as np
 
+from sim_core.paper.fixedpoints import Cell, Probe
+from sim_core.paper.search import probe_task
 from sim_core.runs.tasks import Task
 
 A = 0.4
@@ -83,3 +85,8 @@ def fake_run(task: Task) -> dict[str, Any]:
 
 def fake_execute(tasks: Sequence[Task]) -> list[dict[str, Any]]:
     return [fake_run(t) for t in tasks]
+
+
+def fake_runner(batch: Sequence[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
+    """The finder's `run` on the toy (`fixedpoints.find`)."""
+    return [fake_run(probe_task(c, p, None)) for c, p in batch]

@@ -8,42 +8,9 @@ import pytest
 
 from sim_core import RunSpec, sweep
 from sim_core.model.ramp import Ramp
-from sim_core.paper.analysis import detect_transitions, fixed_points, sweep_summary
+from sim_core.paper.analysis import detect_transitions, sweep_summary
 
 X = np.linspace(0, 2 * math.pi, 64, endpoint=False)
-
-
-def test_single_stable_fixed_point() -> None:
-    drift = -0.05 * np.sin(X - 2.9)  # pulls toward 2.9, pushes away from 2.9 + pi
-    fps = fixed_points(X, drift)
-    stable = [f for f in fps if f.stable]
-    unstable = [f for f in fps if not f.stable]
-    assert len(stable) == 1 and stable[0].d31 == pytest.approx(2.9, abs=0.01)
-    assert stable[0].slope == pytest.approx(1 - 4 * 0.05, abs=0.01)
-    assert len(unstable) == 1
-    assert unstable[0].d31 == pytest.approx((2.9 + math.pi) % (2 * math.pi), abs=0.01)
-    assert unstable[0].slope == pytest.approx(1 + 4 * 0.05, abs=0.01)
-
-
-def test_bistable_map_has_two_stable_and_a_saddle_between() -> None:
-    # zeros at 1.9 (stable), 2.4 (unstable), 2.9 (stable) inside [1.5, 3.3]
-    drift = -0.2 * (X - 1.9) * (X - 2.4) * (X - 2.9)
-    drift[(X < 1.5) | (X > 3.3)] = np.nan
-    fps = fixed_points(X, drift)
-    inside = [f for f in fps if 1.6 < f.d31 < 3.2]
-    assert [round(f.d31, 1) for f in inside] == [1.9, 2.4, 2.9]
-    assert [f.stable for f in inside] == [True, False, True]
-
-
-def test_a_fold_adds_or_removes_a_pair_of_fixed_points() -> None:
-    base = -0.05 * np.sin(X - 2.9)
-    bump = np.exp(-((X - 1.9) ** 2) / 0.05)  # near 1.9 base drift is about +0.042
-    ghost = fixed_points(X, base - 0.03 * bump)  # dips toward zero without crossing: a ghost
-    folded = fixed_points(X, base - 0.08 * bump)  # crosses twice: a stable/unstable pair
-    assert len(ghost) == 2
-    assert len(folded) == 4
-    new = [f for f in folded if 1.4 < f.d31 < 2.4]
-    assert sorted(f.stable for f in new) == [False, True]
 
 
 def test_transitions_and_hysteresis_on_a_synthetic_loop() -> None:

@@ -2,7 +2,6 @@
 the cache and resume, and the whole pipeline on a paper-like toy system (synthetic_gait)."""
 
 import json
-import math
 from pathlib import Path
 
 import numpy as np
@@ -10,82 +9,37 @@ import pytest
 
 from sim_core import RunSpec
 from sim_core.model.ramp import Ramp
-from sim_core.paper.analysis import (
-    fixed_points,
-    folds,
-    ghosts,
-    range_ends,
-    stable_ranges,
-    stance_intervals,
-    summarise_map,
-    sweep_summary,
-)
+from sim_core.paper.analysis import range_ends, stance_intervals, sweep_summary
 from sim_core.paper.figures import Config
-from sim_core.paper.protocols import return_map_from_series
+from sim_core.paper.fixedpoints import Cell, FinderConfig, FinderOutput, branch_ranges, find
 from sim_core.paper.reproduce import DOC_BEGIN, DOC_END, reproduce, table_rows, update_doc
 from sim_core.runs.backends import InlineBackend, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import make_chunks, ramp_task, run_task
-from tests.core.synthetic_gait import drift, fake_execute
+from tests.core.synthetic_gait import fake_execute, fake_runner
 
-X = np.linspace(0, 2 * math.pi, 720, endpoint=False)
 GRID = [round(0.62 + 0.005 * k, 3) for k in range(17)]
 REPO = Path(__file__).resolve().parents[2]
 
 
-def _drift(beta: float) -> np.ndarray:
-    return np.array([drift(float(x), beta) for x in X])
-
-
-def _trajectories(beta: float, n: int = 24, strides: int = 30) -> list[list[float]]:
-    out = []
-    for x0 in np.linspace(0, 2 * math.pi, n, endpoint=False) + math.pi / n:
-        x, s = float(x0), []
-        for _ in range(strides):
-            x = (x + drift(x, beta)) % (2 * math.pi)
-            s.append(x)
-        out.append(s)
-    return out
-
-
-# --- fixed points, folds, ghosts --------------------------------------------------------------
-def test_return_map_from_trajectories_finds_two_stable_gaits_and_the_saddle_between() -> None:
-    rm = return_map_from_series(0.655, _trajectories(0.655))
-    s = summarise_map(rm, bandwidth=0.13)
-    assert [f.stable for f in s.window] == [True, False, True]
-    d = [f.d31 for f in s.window]
-    assert d[0] == pytest.approx(1.93, abs=0.1) and d[2] == pytest.approx(2.91, abs=0.1)
-    assert all(abs(f.slope) < 1 for f in s.window if f.stable)
-    assert not s.ghosts
-
-
+# --- the finder on the paper-like toy: folds ---------------------------------------------------
 def test_folds_of_a_family_with_known_saddle_nodes() -> None:
-    # by construction the metachronal pair is born at beta 0.645 and the tripod pair dies at 0.67
-    fixed = [fixed_points(X, _drift(b)) for b in GRID]
-    tripod = stable_ranges(GRID, fixed, "tripod")
-    meta = stable_ranges(GRID, fixed, "metachronal")
-    assert tripod == [(0.62, 0.67)] or tripod == [(0.62, 0.665)]
-    assert meta == [(0.645, 0.70)] or meta == [(0.65, 0.70)]
-    (ft,) = folds(GRID, tripod, "tripod")
-    (fm,) = folds(GRID, meta, "metachronal")
-    assert ft.side == "upper" and abs(ft.beta - 0.67) <= ft.half_width + 1e-9
-    assert fm.side == "lower" and abs(fm.beta - 0.645) <= fm.half_width + 1e-9
-    lo, hi = range_ends(GRID, tripod) or (0, 0)
+    """By construction the metachronal pair is born at beta 0.645 and the tripod pair dies at
+    0.67; the finder's attractors along the grid give those folds (paper Fig. 8)."""
+    cells = find([Cell(b) for b in GRID], FinderConfig(), fake_runner)
+    tripod = branch_ranges(cells, "tripod")
+    meta = branch_ranges(cells, "metachronal")
+    assert tripod["ranges"] in ([(0.62, 0.67)], [(0.62, 0.665)])
+    assert meta["ranges"] in ([(0.645, 0.70)], [(0.65, 0.70)])
+    (ft,) = tripod["folds"]
+    (fm,) = meta["folds"]
+    assert ft["side"] == "upper" and abs(ft["beta"] - 0.67) <= ft["half_width"] + 1e-9
+    assert fm["side"] == "lower" and abs(fm["beta"] - 0.645) <= fm["half_width"] + 1e-9
+    lo, hi = range_ends(GRID, tripod["ranges"]) or (0, 0)
     assert lo == 0.62 and hi == pytest.approx(0.67, abs=0.005)
-    # three fixed points in the band exactly where both gaits are stable
-    for b, fps in zip(GRID, fixed, strict=True):
-        band = [f for f in fps if 1.4 <= f.d31 <= 3.4]
-        if b not in (0.645, 0.67):  # at a fold itself the pair is a tangency, either count
-            assert len(band) == (3 if 0.645 < b < 0.67 else 1), b
-
-
-def test_ghost_just_past_a_fold_and_none_where_the_map_crosses() -> None:
-    (g,) = ghosts(X, _drift(0.64))  # the metachronal pair has just vanished near 2.1 rad
-    assert g == pytest.approx(2.11, abs=0.1)
-    (g,) = ghosts(X, _drift(0.675))  # the tripod pair has just vanished near 2.69 rad
-    assert g == pytest.approx(2.69, abs=0.1)
-    assert ghosts(X, _drift(0.655)) == []
-    assert ghosts(X, np.full(X.size, 0.05)) == []  # uniform drift: no bottleneck
+    for b, c in zip(GRID, cells, strict=True):  # S U S where both gaits live, else one S
+        if b not in (0.645, 0.67):  # at a fold itself the pair is a tangency
+            assert c.pattern() == ("S U S" if 0.645 < b < 0.67 else "S"), (b, c.pattern())
 
 
 # --- sweeps ------------------------------------------------------------------------------------
@@ -242,12 +196,12 @@ def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path)
     names = {p.name for p in (tmp_path / "fig").iterdir()}
     for stem in ("fig5", "fig6a", "fig6b", "fig7", "fig8", "fig9a", "fig9b", "ablation"):
         assert {f"{stem}.png", f"{stem}.json", f"{stem}.csv"} <= names
-    bif = json.loads((tmp_path / "fig" / "bifurcation.json").read_text())["points"]
-    assert {p["branch"] for p in bif} == {"stable", "unstable"}
-    assert {round(p["beta"], 4) for p in bif} == {round(b, 4) for b in Config().bif_betas}
+    bif = FinderOutput.model_validate_json((tmp_path / "fig" / "bifurcation.json").read_text())
+    assert [c.beta for c in bif.cells] == list(Config().bif_betas)
+    assert any(c.borders for c in bif.cells) and all(c.attractors for c in bif.cells)
     text = doc.read_text()
     assert "kept text" in text and "stale" not in text and "| paper states |" in text
-    assert count.tasks == report.stats.tasks > 400  # 17 betas x 24 starts and more
+    assert count.tasks == report.stats.tasks > 17 * 8  # 17 betas x 8 starts and bisections
     # a re-run of one figure simulates nothing and keeps the other figures' rows
     again = reproduce(["7"], Config(), tmp_path / "fig", tmp_path / "cache", InlineBackend(),
                       progress=False, executor=count)  # fmt: skip

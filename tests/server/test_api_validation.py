@@ -22,7 +22,9 @@ SWEEP: dict[str, Any] = {
     "beta_range": {"start": 0.6, "stop": 0.7, "steps": 3},
     "duration_s": 0.3,
 }
-BIFURCATION: dict[str, Any] = {**SWEEP, "kind": "bifurcation", "transient_s": 0.1}
+BIFURCATION: dict[str, Any] = {**SWEEP, "kind": "bifurcation", "starts": 2, "max_borders": 0}
+KINDS = "atlas, bifurcation, hysteresis, return_map, run, sweep"
+ATLAS: dict[str, Any] = {"kind": "atlas", "axis": "mass", "duration_s": 2.0, "starts": 2}
 HYSTERESIS: dict[str, Any] = {
     "kind": "hysteresis",
     "parameter": "beta",
@@ -103,8 +105,8 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
     (with_(BASE, d31_init=[0.5] * 1001), "d31_init", "1..1000 values"),
     (with_(BASE, include_series=1), "include_series", "boolean"),
     (with_(BASE, colour="red"), "colour", "allowed fields: beta"),
-    (with_(BASE, kind="walk"), "kind", "bifurcation, hysteresis, return_map, run, sweep"),
-    ({"beta": 0.66, "d31_init": [2.0]}, "kind", "bifurcation, hysteresis, return_map, run, sweep"),
+    (with_(BASE, kind="walk"), "kind", KINDS),
+    ({"beta": 0.66, "d31_init": [2.0]}, "kind", KINDS),
     ({"kind": "return_map", "lag": 0, "duration_s": 0.3}, "lag", "1 <= lag <= 50"),
     ({"kind": "return_map", "lag": 1.5, "duration_s": 0.3}, "lag", "1 <= lag <= 50"),
     ({"kind": "sweep", "duration_s": 0.3}, "beta_range", "Field required"),
@@ -120,10 +122,14 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
         "beta_range.step",
         "allowed fields: start, steps, stop",
     ),
-    (with_(BIFURCATION, transient_s=-1), "transient_s", "0 <= transient_s < 600"),
-    (with_(BIFURCATION, transient_s=0.3), "transient_s", "must be < duration_s"),
-    # the default transient (2 s) against a shorter run: refused at the door, not in a worker
-    (with_(SWEEP, kind="bifurcation", duration_s=1.0), "transient_s", "2 s when not given"),
+    (with_(BIFURCATION, starts=1), "starts", "2 <= starts <= 16"),
+    (with_(BIFURCATION, border_tol_rad=0), "border_tol_rad", "0.005 <= border_tol_rad <= 1"),
+    (with_(BIFURCATION, duration_s=1.0), "duration_s", "2 <= duration_s <= 600"),
+    (with_(BIFURCATION, transient_s=0.3), "transient_s", "allowed fields"),
+    (with_(ATLAS, axis="speed"), "axis", "mass, slope"),
+    (with_(ATLAS, values=[0.1]), "values", "0.5 <= body_mass_g <= 30"),
+    (with_(ATLAS, axis="slope", values=[95.0]), "values", "slope_deg"),
+    (with_(ATLAS, betas=[0.6] * 9), "betas", "at most 8"),
     ({**HYSTERESIS, "turn": 0.7}, "turn", "must differ from start"),
     ({**HYSTERESIS, "turn": 1.0}, "turn", "0.5 < beta < 1"),
     (

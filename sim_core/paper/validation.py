@@ -1,0 +1,110 @@
+"""Is the finder right? Its answers checked against independent long runs (issue 28).
+
+Two checks at each beta:
+
+- **reached**: every stable point the finder reports is reached by an independent run
+  started near it (`NUDGE` rad above), which settles within `MATCH` of it;
+- **complete**: every attractor that `starts` independent runs reach (starts offset by half a
+  spacing from the finder's own, so no run is shared) appears in the finder's output within
+  `MATCH`. Runs that do not settle are listed, not counted either way.
+
+Everything goes through the result cache, so the finder's own searches are read back when they
+were run before (`reproduce` at the same betas).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+from sim_core.model.gait import angle_diff, settling
+from sim_core.model.params import ModelParams
+from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe, find
+from sim_core.paper.returnmap import initial_values
+from sim_core.paper.search import probe_task, task_runner
+from sim_core.runs.backends import Backend, RunStats, run_tasks
+from sim_core.runs.cache import ResultCache
+
+MATCH = 0.05  # rad, the issue's tolerance
+NUDGE = 0.03  # rad: how far from a reported point its check run starts
+CHECK_DURATION_S = 40.0  # the issue's independent runs
+
+
+@dataclass
+class BetaCheck:
+    beta: float
+    finder: CellResult
+    reached: list[tuple[float, float | None, bool]] = field(default_factory=list)
+    # (reported point, where its check run ended or None if unsettled, within MATCH)
+    independent: list[tuple[float, float | None, bool]] = field(default_factory=list)
+    # (start, settled final or None, found by the finder within MATCH)
+
+    @property
+    def ok(self) -> bool:
+        return all(ok for _, _, ok in self.reached) and all(
+            ok for _, end, ok in self.independent if end is not None
+        )
+
+
+def _near(x: float, points: Sequence[float]) -> bool:
+    return any(abs(float(angle_diff(x, p))) <= MATCH for p in points)
+
+
+def validate(
+    betas: Sequence[float],
+    cfg: FinderConfig,
+    cache: ResultCache,
+    backend: Backend,
+    params: ModelParams | None = None,
+    *,
+    starts: int = 8,
+    progress: bool = True,
+    stats: RunStats | None = None,
+) -> list[BetaCheck]:
+    """The finder at `betas` and both checks; see the module doc."""
+    cells = [Cell(b) for b in betas]
+    found = find(cells, cfg, task_runner(cache, backend, params, progress=progress, stats=stats))
+    offset = math.pi / starts  # half a spacing: initial_values(starts) + offset
+    probes: list[tuple[Cell, Probe, str, float]] = []
+    for c, res in zip(cells, found, strict=True):
+        for a in res.attractors:
+            probes.append((c, Probe((a.d31 + NUDGE) % (2 * math.pi), CHECK_DURATION_S), "r", a.d31))
+        for x in initial_values(starts):
+            x0 = float((x + offset) % (2 * math.pi))
+            probes.append((c, Probe(x0, CHECK_DURATION_S), "i", x0))
+    tasks = [probe_task(c, p, params) for c, p, _, _ in probes]
+    results, st = run_tasks(tasks, cache, backend, 8, progress)
+    if stats is not None:
+        stats.computed += st.computed
+        stats.cached += st.cached
+    checks = {c.beta: BetaCheck(c.beta, res) for c, res in zip(cells, found, strict=True)}
+    for (c, _, what, x), t in zip(probes, tasks, strict=True):
+        r = results[t.key]
+        s = settling(r["d31"]) if r["error"] is None else None
+        end = s.final if s is not None and s.settled else None
+        chk = checks[c.beta]
+        if what == "r":
+            chk.reached.append((x, end, end is not None and _near(end, [x])))
+        else:
+            pts = [a.d31 for a in chk.finder.attractors]
+            chk.independent.append((x, end, end is not None and _near(end, pts)))
+    return [checks[b] for b in betas]
+
+
+def report(checks: Sequence[BetaCheck]) -> list[str]:
+    """Markdown table rows: one line per beta."""
+    out = ["| β | finder's stable points | reached by a run started 0.03 above | 8 independent "
+           "40 s runs (settled finals) | every one found? |", "|---|---|---|---|---|"]  # fmt: skip
+    for c in checks:
+        pts = ", ".join(f"{a.d31:.3f}" for a in c.finder.attractors) or "none"
+        reached = ", ".join(
+            f"{x:.3f}→{'not settled' if e is None else f'{e:.3f}'}{'' if ok else ' **no**'}"
+            for x, e, ok in c.reached
+        )  # fmt: skip
+        ends = ", ".join("not settled" if e is None else f"{e:.3f}{'' if ok else ' (missing)'}"
+                         for _, e, ok in c.independent)  # fmt: skip
+        found_all = all(ok for _, e, ok in c.independent if e is not None)
+        out.append(f"| {c.beta:g} | {pts} | {reached} | {ends} | "
+                   f"{'yes' if found_all else '**no**'} |")  # fmt: skip
+    return out
