@@ -18,14 +18,13 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff, circular_mean, classify_gait
+from sim_core.model.gait import angle_diff, circular_mean, classify_gait, settling
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec, spec_grid
 from sim_core.paper.analysis import (
     PAPER_WINDOW,
     branch_census,
     max_drift,
-    settled_gait,
     stance_intervals,
     sweep_summary,
 )
@@ -174,7 +173,12 @@ def _fig5(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
         finals: list[float | None] = []
         speeds = []
         for t, r in items:
-            final, gait = settled_gait(r["d31"]) if r["error"] is None else (None, "diverged")
+            if r["error"] is None:  # THE settled rule (drift over a resolved last quarter)
+                st = settling(r["d31"])
+                final = st.final if st.settled else None
+                gait = classify_gait(final) if st.settled else "not settled"
+            else:
+                final, gait = None, "diverged"
             finals.append(final)
             if r["speed_cm_s"] is not None:
                 speeds.append(r["speed_cm_s"])

@@ -65,6 +65,10 @@ DRIFT_WINDOW = 8
 SLOPE_RADIUS = 0.3
 SLOPE_MIN = 0.005
 SLOPE_MIN_PAIRS = 5
+# A bisection run unsettled at full length counts as heading to an attractor when its drift per
+# cycle exceeds this (and 3 standard errors): a quarter of the settled rule, so a run that
+# lingers at the saddle itself is not forced to a side.
+HEADING_DRIFT = 5e-5
 LAG = 4  # the paper's return map: Delta31(n) -> Delta31(n + 4)
 
 
@@ -308,7 +312,8 @@ class _Run:
     d31: list[float]
     settle: Settling
     failure: str | None
-    label: int | None = None
+    label: int | None = None  # the attractor it settled on
+    side: int | None = None  # in a bisection bracket: the attractor whose side it is on
 
 
 @dataclass
@@ -393,8 +398,10 @@ def _search(
         return -sum(lo_w <= clusters[r.label].value <= hi_w for r in pair if r.label is not None)
 
     cand = sorted(cand, key=inside)[: cfg.max_borders]
-    # each border: [lo run, hi run, steps, note]
-    brackets: list[list[Any]] = [[a, b, 0, ""] for a, b in cand]
+    # each border: [lo run, hi run, steps, note, runs placed by their heading]
+    for a, b in cand:
+        a.side, b.side = a.label, b.label
+    brackets: list[list[Any]] = [[a, b, 0, "", 0] for a, b in cand]
     active = [k for k, br in enumerate(brackets) if _width(br) > cfg.border_tol_rad]
     while active:
         probes = [Probe(_mid(brackets[k]), cfg.bisect_duration_s) for k in active]
@@ -414,12 +421,13 @@ def _search(
                 r = _run_of(p, "bisect", res)
                 runs.append(r)
                 brackets[k][2] += 1
-                if not r.settle.settled:
+                if r.settle.settled:
+                    _narrow(brackets[k], r, clusters)
+                elif not _by_heading(brackets[k], r, clusters):
                     brackets[k][3] = (
-                        f"a run from {p.d31_init:.3f} did not settle in {p.duration_s:g} s"
+                        f"a run from {p.d31_init:.3f} did not settle in {p.duration_s:g} s "
+                        "and heads to neither side"
                     )
-                    continue
-                _narrow(brackets[k], r, clusters)
         active = [
             k for k in active if not brackets[k][3] and _width(brackets[k]) > cfg.border_tol_rad
         ]
@@ -436,12 +444,16 @@ def _search(
             slope_pairs=pairs, max_drift=max(abs(r.settle.drift or 0.0) for r in mine),
         ))  # fmt: skip
     borders = []
-    for a, b, steps, note in brackets:
+    for a, b, steps, note, headed in brackets:
         dwell, growth = parting(a.d31, b.d31)
+        if headed:
+            note = (note + "; " if note else "") + (
+                f"{headed} run(s) near the border placed by where they head (not settled)"
+            )
         lo = a.probe.d31_init
         hi = b.probe.d31_init + (TWO_PI if b.probe.d31_init < lo else 0.0)
         borders.append(Border(
-            below=a.label, above=b.label, start_lo=lo, start_hi=hi,
+            below=a.side, above=b.side, start_lo=lo, start_hi=hi,
             resolved=hi - lo <= cfg.border_tol_rad + 1e-12, d31=dwell, slope=growth,
             steps=steps, note=note,
         ))  # fmt: skip
@@ -473,13 +485,37 @@ def _mid(br: list[Any]) -> float:
     return float(wrap(br[0].probe.d31_init + 0.5 * _width(br)))
 
 
+def _by_heading(br: list[Any], r: _Run, clusters: list[_Cluster]) -> bool:
+    """A bisection run still unsettled at full length lingers near the saddle: put it on the
+    side of the attractor it is heading to (the nearer of the two in the direction of its
+    resolved drift), if it clearly heads somewhere. True if it was placed."""
+    s = r.settle
+    if s.final is None or s.drift is None or s.drift_se is None:
+        return False
+    if abs(s.drift) < max(HEADING_DRIFT, 3.0 * s.drift_se):
+        return False
+    options = []
+    for side in (0, 1):
+        d = float(angle_diff(clusters[br[side].side].value, s.final))
+        if d * s.drift > 0:
+            options.append((abs(d), side))
+    if not options:
+        return False
+    side = min(options)[1]
+    r.side = br[side].side
+    br[side] = r
+    br[4] += 1
+    return True
+
+
 def _narrow(br: list[Any], r: _Run, clusters: list[_Cluster]) -> None:
     """Put a settled bisection run on the side of the bracket whose attractor it reached."""
     assert r.settle.final is not None
     r.label = _label(r.settle.final, clusters)
-    if r.label == br[0].label:
+    r.side = r.label
+    if r.label == br[0].side:
         br[0] = r
-    elif r.label == br[1].label:
+    elif r.label == br[1].side:
         br[1] = r
     else:  # a third state between the two: say so and stop this border
         clusters.append(_Cluster([r.settle.final]))
