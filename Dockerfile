@@ -1,6 +1,25 @@
 # insect-gait: the REST API (default command) and, with another command, the viewer.
-# Same install steps as the Makefile (`python -m venv .venv && .venv/bin/pip install -e ...`),
-# without the dev extras.
+# Same install steps as the Makefile (`python -m venv .venv && .venv/bin/pip install -e ...`,
+# then `python -m sim_core.model.ground_build`, the penalty ground's MuJoCo plugin), without the
+# dev extras. They run in a build stage with a C compiler; the image gets /app without it.
+FROM python:3.11-slim AS build
+
+ENV PIP_NO_CACHE_DIR=1 \
+    PIP_DISABLE_PIP_VERSION_CHECK=1
+
+# hadolint ignore=DL3008
+RUN apt-get update \
+    && apt-get install -y --no-install-recommends gcc libc6-dev \
+    && rm -rf /var/lib/apt/lists/*
+
+WORKDIR /app
+COPY pyproject.toml README.md ./
+COPY sim_core ./sim_core
+COPY server ./server
+COPY web ./web
+RUN python -m venv .venv && .venv/bin/pip install --quiet -e . \
+    && .venv/bin/python -m sim_core.model.ground_build
+
 FROM python:3.11-slim
 
 ENV PYTHONUNBUFFERED=1 \
@@ -21,11 +40,8 @@ RUN groupadd --system --gid 10001 app \
 WORKDIR /app
 USER 10001:10001
 
-COPY --chown=10001:10001 pyproject.toml README.md ./
-COPY --chown=10001:10001 sim_core ./sim_core
-COPY --chown=10001:10001 server ./server
-COPY --chown=10001:10001 web ./web
-RUN python -m venv .venv && .venv/bin/pip install --quiet -e .
+# the same base image as the build stage, so the venv's interpreter paths and libc match
+COPY --from=build --chown=10001:10001 /app /app
 
 VOLUME ["/data"]
 EXPOSE 8000 8080

@@ -3,13 +3,16 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+# the penalty ground's MuJoCo engine plugin (sim_core/model/ground.py), compiled against the
+# installed mujoco wheel's headers and library
+PLUGIN := sim_core/model/libpenalty_ground.so
 API_PORT ?= 8000
 VIEWER_PORT ?= 8080
 
 # bash for `wait -n` in `run`
 SHELL := /bin/bash
 
-.PHONY: install run test lint typecheck bench screenshot clean
+.PHONY: install plugin run test lint typecheck bench screenshot clean
 
 $(STAMP): pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -17,13 +20,18 @@ $(STAMP): pyproject.toml
 	$(BIN)/pip install --quiet -e '.[dev,cluster]'
 	touch $(STAMP)
 
-install: $(STAMP)
+$(PLUGIN): sim_core/model/penalty_ground.c sim_core/model/ground_build.py $(STAMP)
+	$(BIN)/python -m sim_core.model.ground_build $(PLUGIN)
+
+install: $(STAMP) $(PLUGIN)
+
+plugin: $(PLUGIN)
 
 # Both servers in the background; Ctrl-C (or TERM) stops both and the recipe exits 0, quietly.
 # (The old `trap 'kill 0' ...` sent TERM to its own shell from inside the TERM trap, which
 # recursed until the shell crashed: "make: *** [run] Segmentation fault".) If one server exits
 # by itself, the other is stopped and its status is the recipe's.
-run: $(STAMP)
+run: $(STAMP) $(PLUGIN)
 	@echo "API:    http://127.0.0.1:$(API_PORT)/docs"
 	@echo "Viewer: http://127.0.0.1:$(VIEWER_PORT)"
 	@$(BIN)/insect-gait api --host 127.0.0.1 --port $(API_PORT) & api=$$!; \
@@ -32,7 +40,7 @@ run: $(STAMP)
 	trap 'stop; exit 0' INT TERM; \
 	wait -n; status=$$?; stop; exit $$status
 
-test: $(STAMP)
+test: $(STAMP) $(PLUGIN)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
@@ -44,13 +52,13 @@ lint: $(STAMP)
 typecheck: $(STAMP)
 	$(BIN)/mypy
 
-bench: $(STAMP)
+bench: $(STAMP) $(PLUGIN)
 	$(BIN)/insect-gait bench
 
 # Refresh the README's screenshot (make test writes it to out/ only, leaving the tree clean).
-screenshot: $(STAMP)
+screenshot: $(STAMP) $(PLUGIN)
 	CI=true $(BIN)/pytest -q tests/web/test_viewer_browser.py -k renders
 	cp out/viewer.png docs/figures/viewer.png
 
 clean:
-	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) .pytest_cache .mypy_cache .ruff_cache $(PLUGIN)

@@ -9,7 +9,9 @@ Slope. The floor stays flat and gravity is tilted instead: a slope of theta (uph
 along +x is the same physics as gravity (-g sin theta, 0, -g cos theta). It can then change
 during a run (Fig. 9b) without rebuilding the model, and per simulation in a batch.
 
-Only feet touch the floor (contype/conaffinity), as the paper models leg-tip contact only.
+Only feet touch the floor, as the paper models leg-tip contact only; how they touch it (MuJoCo's
+contact constraint or the paper's viscoelastic elements) is the ground's (ground.py), which adds
+itself to the spec.
 """
 
 from __future__ import annotations
@@ -79,8 +81,6 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
     # The hexapod is one constraint island whenever a foot touches, so MuJoCo's island
     # discovery only costs: off, one simulation runs 4-5% faster with bit-identical results.
     opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_ISLAND)
-    if p.ground == "penalty":  # nothing collides: skip collision detection altogether
-        opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_CONTACT)
 
     world = spec.worldbody
     floor = world.add_geom(
@@ -161,24 +161,18 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
                 limited=mujoco.mjtLimited.mjLIMITED_TRUE,
             )
             tip_pos = [0.0, 0.0, 0.0]
-        foot = tip_body.add_geom(
-            name=f"{name}_foot",
+        tip_body.add_geom(  # how it touches the floor is the ground's (add_to below)
+            name=ground.foot_geom(name),
             type=mujoco.mjtGeom.mjGEOM_SPHERE,
             size=[p.foot_radius, 0, 0],
             pos=tip_pos,
-            contype=0 if p.ground == "penalty" else 1,  # the penalty ground is ground.py's
+            contype=0,
             conaffinity=0,
-            condim=3,
             mass=0.0,
             rgba=[0.1, 0.1, 0.1, 1.0],
         )
-        foot.friction = [p.friction, p.torsional_friction, p.rolling_friction]
-        foot.solref = [p.contact_timeconst, p.contact_dampratio]
-        foot.solimp = [p.contact_dmin, p.contact_dmax, p.foot_radius * p.contact_width_share,
-                       p.contact_midpoint, p.contact_power]  # fmt: skip
-        foot.priority = 1  # the foot's contact parameters win over the floor's defaults
         tip_body.add_site(  # the foot's centre: its height is the touch sense (controller.py)
-            name=f"{name}_foot_site",
+            name=ground.foot_site(name),
             type=mujoco.mjtGeom.mjGEOM_SPHERE,
             size=[p.foot_radius * 1.01, 0, 0],
             pos=tip_pos,
@@ -202,9 +196,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
             act.biasprm[0] = 0.0
             act.biasprm[1] = -kp
             act.biasprm[2] = -kd
-    if p.ground == "penalty":  # its parameters ride in the model; ids filled in by build_model
-        spec.add_numeric(name=ground.NUMERIC_NAME, data=[0.0] * ground.N_PARAMS)
-        spec.nuserdata = ground.N_USERDATA  # anchors: part of each simulation's state
+    ground.ground_for(p).add_to(spec)  # the feet's contact: constraint or penalty
     return spec
 
 
@@ -292,14 +284,4 @@ def build_model(
     simulation runs visual=False; drawing uses visual=True with the same bodies and joints, so
     a state (qpos) of one is a state of the other."""
     p = params or ModelParams()
-    model = build_spec(p, slope_deg, visual).compile()
-    if p.ground == "penalty":
-        sites = [model.site(f"{n}_foot_site").id for n in LEG_NAMES]
-        model.numeric(ground.NUMERIC_NAME).data[:] = ground.ground_numeric(
-            stiffness=p.ground_stiffness, damping=p.ground_damping,
-            tangential_stiffness=p.ground_tangential_stiffness,
-            tangential_damping=p.ground_tangential_damping, friction=p.friction,
-            foot_radius=p.foot_radius, site_ids=sites,
-            body_ids=[int(model.site_bodyid[s]) for s in sites],
-        )  # fmt: skip
-    return model
+    return build_spec(p, slope_deg, visual).compile()

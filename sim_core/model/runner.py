@@ -21,7 +21,6 @@ import mujoco.batch
 import numba
 import numpy as np
 
-from sim_core.model import ground
 from sim_core.model.controller import (
     Drive,
     EventLog,
@@ -92,8 +91,6 @@ class BatchRunner:
         self.params = base.model_copy(update={"integrator": self.integrator, "dt": self.dt})
         self.specs = list(specs)
         n = self.n = len(specs)
-        if self.params.ground == "penalty":
-            ground.install()  # the compiled passive-force callback (once per process)
         self.model = build_model(self.params, visual=False)  # drawing: Simulation.model
         self._leg_qpos = leg_qpos_addresses(self.model)  # fixed by the model; used per reset
         self.batch = mujoco.batch.Batch(self.model, nsim=n, nthread=nthread if n > 1 else 1)

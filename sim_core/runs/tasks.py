@@ -40,9 +40,12 @@ RAMP_UPDATE_S = 0.01
 def fingerprint_sources(package_root: Path) -> str:
     """sha256 (16 hex) over every source that can change a simulated number: the whole
     `model` package under `package_root` (it imports nothing else from sim_core, a tested
-    rule) and `runs/tasks.py`, which drives the runs. A new, removed or edited file there gives
-    every task a new key, so no hand-kept list of files can go stale."""
-    sources = [*sorted((package_root / "model").rglob("*.py")), package_root / "runs" / "tasks.py"]
+    rule; its Python and the C of its compiled penalty ground) and `runs/tasks.py`, which
+    drives the runs. A new, removed or edited file there gives every task a new key, so no
+    hand-kept list of files can go stale."""
+    model = package_root / "model"
+    sources = [*sorted([*model.rglob("*.py"), *model.rglob("*.c")]),
+               package_root / "runs" / "tasks.py"]  # fmt: skip
     h = hashlib.sha256()
     for path in sources:
         h.update(path.relative_to(package_root).as_posix().encode())

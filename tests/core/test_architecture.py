@@ -130,8 +130,10 @@ def package_copy(tmp_path: Path) -> Path:
 def test_the_cache_fingerprint_sees_every_model_file(package_copy: Path) -> None:
     base = fingerprint_sources(package_copy)
     assert base == code_fingerprint()  # the copy is the installed code
-    files = sorted((package_copy / "model").rglob("*.py"))
-    assert {f.name for f in files} >= {"params.py", "guard.py", "controller.py", "runner.py"}
+    model = package_copy / "model"
+    files = sorted([*model.rglob("*.py"), *model.rglob("*.c")])
+    assert {f.name for f in files} >= {"params.py", "guard.py", "controller.py", "runner.py",
+                                       "penalty_ground.c"}  # fmt: skip
     for f in files:
         original = f.read_bytes()
         f.write_bytes(original + b"\n# edited\n")

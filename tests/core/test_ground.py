@@ -1,34 +1,85 @@
-"""The penalty ground (`ModelParams.ground = "penalty"`, sim_core/model/ground.py): a compiled
-mjcb_passive callback whose state rides in each simulation's userdata."""
+"""The grounds (`ModelParams.ground`, sim_core/model/ground.py): MuJoCo's contact constraint and
+the paper's viscoelastic feet, a compiled MuJoCo engine plugin whose state rides in each
+simulation's plugin_state."""
 
 from __future__ import annotations
 
+import subprocess
+import sys
+from pathlib import Path
+
+import mujoco
 import numpy as np
 import pytest
 
-from sim_core import ModelParams, RunSpec, simulate, simulate_batch
+from sim_core import ModelParams, RunSpec, build_model, simulate, simulate_batch
 from sim_core.model import ground
 
 PENALTY = ModelParams(ground="penalty")
+REPO = Path(__file__).resolve().parents[2]
 
 
-def test_struct_offsets_are_found_and_point_at_the_fields() -> None:
-    nnumeric, numeric, userdata, passive, site_xpos = ground.struct_offsets()
-    assert len({numeric, userdata, passive, site_xpos}) == 4 and nnumeric < numeric
+def test_one_factory_picks_the_ground_with_its_parameters() -> None:
+    constraint = ground.ground_for(ModelParams())
+    assert isinstance(constraint, ground.ConstraintGround)
+    penalty = ground.ground_for(PENALTY)
+    assert isinstance(penalty, ground.PenaltyGround)
+    assert penalty.stiffness == PENALTY.ground_stiffness
+    # the plugin reads its numbers back with strtod: the strings name the same doubles
+    config = penalty.config()
+    assert float(config["stiffness"]) == PENALTY.ground_stiffness
+    assert float(config["radius"]) == PENALTY.foot_radius
+    assert len(config["sites"].split()) == ground.N_FEET
 
 
-def test_the_installed_callback_leaves_the_constraint_ground_alone() -> None:
-    spec = RunSpec(beta=0.62, d31_init=3.0, duration_s=0.4)
-    before = simulate(spec)
-    ground.install()  # global: every later step of every model calls it
-    after = simulate(spec)
-    assert np.array_equal(before.d31, after.d31)
-    assert np.array_equal(before.body_pos_m, after.body_pos_m)
+def test_each_model_carries_its_own_ground() -> None:
+    m = build_model(PENALTY, visual=False)
+    assert m.nplugin == 1 and m.npluginstate == 3 * ground.N_FEET  # anchors x, y, touching
+    assert m.nuserdata == 0 and m.nnumeric == 0
+    assert m.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CONTACT
+    assert not m.geom_contype.any()  # the feet collide with nothing
+    c = build_model(ModelParams(), visual=False)
+    assert c.nplugin == 0 and c.npluginstate == 0
+    assert not c.opt.disableflags & mujoco.mjtDisableBit.mjDSBL_CONTACT
+    feet = [c.geom(ground.foot_geom(leg)).id for leg in ("L1", "R3")]
+    assert (c.geom_contype[feet] == 1).all() and (c.geom_priority[feet] == 1).all()
+
+
+def test_a_library_from_another_source_is_refused(monkeypatch: pytest.MonkeyPatch) -> None:
+    ground.load_plugin()
+    monkeypatch.setattr(ground.ground_build, "plugin_name", lambda: "insect_gait.stale")
+    with pytest.raises(RuntimeError, match="another version"):
+        ground.load_plugin.__wrapped__()
+
+
+_CONSTRAINT_RUN = """
+import sys
+import numpy as np
+from sim_core import RunSpec, simulate
+r = simulate(RunSpec(beta=0.62, d31_init=3.0, duration_s=0.4))
+np.savez(sys.argv[1], d31=r.d31, body_pos_m=r.body_pos_m, body_vel_m_s=r.body_vel_m_s)
+"""
+
+
+def test_the_constraint_ground_after_a_penalty_one_is_as_in_a_fresh_process(
+    tmp_path: Path,
+) -> None:
+    """Nothing process-wide: a constraint-ground run after penalty-ground runs (plugin loaded,
+    models with instances made and stepped) equals the same run in a fresh interpreter."""
+    simulate(RunSpec(beta=0.62, d31_init=3.0, duration_s=0.2), PENALTY)
+    here = simulate(RunSpec(beta=0.62, d31_init=3.0, duration_s=0.4))
+    out = tmp_path / "fresh.npz"
+    subprocess.run([sys.executable, "-c", _CONSTRAINT_RUN, str(out)], cwd=REPO, check=True,
+                   timeout=300)  # fmt: skip
+    fresh = np.load(out)
+    assert fresh["d31"].size > 0
+    for key in ("d31", "body_pos_m", "body_vel_m_s"):
+        assert np.array_equal(getattr(here, key), fresh[key]), key
 
 
 def test_a_batch_keeps_each_simulation_s_anchors() -> None:
-    """Anchors live in userdata, which mujoco.batch saves with each simulation's row: a batch on
-    2 threads equals each run alone, bit for bit."""
+    """Anchors live in plugin_state, which mujoco.batch saves with each simulation's row: a
+    batch on 2 threads equals each run alone, bit for bit."""
     specs = [RunSpec(beta=b, d31_init=x, duration_s=0.6) for b, x in ((0.62, 1.9), (0.7, 3.0))]
     together = simulate_batch(specs, PENALTY, nthread=2)
     for s, r in zip(specs, together, strict=True):
