@@ -293,6 +293,37 @@ def test_json_without_json_content_type_names_the_header(client: httpx.Client, c
     assert "Content-Type: application/json" in issue["msg"]
 
 
+def test_json_without_any_content_type_says_to_set_it(server: Server, client: httpx.Client) -> None:
+    """Issue 30: a valid JSON body without the header was told to 'send a JSON object'."""
+    before = stored(server)
+    request = client.build_request("POST", "/v1/jobs", content=json.dumps(SHORT).encode())
+    assert "content-type" not in request.headers  # httpx sets none for raw bytes
+    r = client.send(request)
+    assert r.status_code == 422, r.text
+    (issue,) = r.json()["detail"]
+    assert "without a Content-Type header" in issue["msg"]
+    assert "set 'Content-Type: application/json'" in issue["msg"]
+    assert "send a JSON object" not in issue["msg"]
+    assert stored(server) == before
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        {"kind": "x" * 1_000_000},
+        {**SHORT, "y" * 1_000_000: 1},
+        {**SWEEP, "beta_range": {"start": 0.6, "stop": 0.7, "z" * 1_000_000: 1}},
+    ],
+    ids=["kind", "unknown-field", "nested-unknown-field"],
+)
+def test_a_huge_input_is_not_echoed_back(client: httpx.Client, body: dict[str, Any]) -> None:
+    """Issue 30: a 422 repeated a 1 MB input in full; now at most 200 characters, with a note."""
+    r = client.post("/v1/jobs", json=body)
+    assert r.status_code == 422
+    assert len(r.content) < 3000, len(r.content)
+    assert "(1000000 characters, cut to 200)" in r.text
+
+
 def test_integrators_listed_as_the_core_has_them(client: httpx.Client) -> None:
     import sim_core
 
