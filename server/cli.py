@@ -73,14 +73,19 @@ def run_api(args: argparse.Namespace) -> int:
         print(f"insect-gait api: {exc}", file=sys.stderr)
         return 1
     app = create_app(settings)
-    print(
-        f"insect-gait api: http://{settings.host}:{settings.port}/docs "
-        f"(db {settings.db_path}, {settings.workers} workers)",
-        flush=True,
-    )
+    print(banner(settings), flush=True)
     # One process on purpose: the worker pool and the instance lock belong to this process.
     uvicorn.run(app, host=settings.host, port=settings.port, log_level=settings.log_level)
     return 0
+
+
+def banner(settings: Any) -> str:
+    """The line the server prints when it starts: where its docs are, its database, workers."""
+    n = settings.workers
+    return (
+        f"insect-gait api: http://{settings.host}:{settings.port}/docs "
+        f"(db {settings.db_path}, {n} worker{'' if n == 1 else 's'})"
+    )
 
 
 def settings_problem(exc: Any) -> str:

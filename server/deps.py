@@ -33,7 +33,7 @@ R400 = resp(
     "the body could not be parsed (not UTF-8, a number over 4300 digits, JSON nested too "
     "deeply); the message says which",
 )
-R401 = resp(401, Problem, "API token missing or wrong")
+R401 = resp(401, Problem, "API token missing, malformed or wrong; the message says which")
 R404 = resp(404, Problem, "no such job")
 R409 = resp(409, Problem, "the job is not in a state that allows this")
 R422 = resp(422, ValidationProblem, "invalid input; the message names field and range")
@@ -60,24 +60,32 @@ PoolDep = Annotated[WorkerPool, Depends(get_pool)]
 
 
 def require_token(
+    request: Request,
     settings: SettingsDep,
     creds: Annotated[HTTPAuthorizationCredentials | None, Depends(bearer)],
 ) -> None:
-    """401 unless the request carries the configured token (no token configured: open)."""
+    """401 unless the request carries the configured token (no token configured: open). The
+    message says which of three things went wrong: no Authorization header, one that is not
+    'Bearer <token>', or a token that is not this server's."""
     token = settings.api_token
     if token is None:
         return
-    given = creds.credentials if creds is not None else ""
-    if (
-        creds is None
-        or creds.scheme.lower() != "bearer"
-        or not secrets.compare_digest(given.encode(), token.get_secret_value().encode())
-    ):
-        raise HTTPException(
-            status_code=401,
-            detail="this server needs 'Authorization: Bearer <token>' for this request",
-            headers={"WWW-Authenticate": "Bearer"},
+    header = request.headers.get("authorization")
+    if header is None:
+        why = (
+            "this server needs a token for this request: send the header "
+            "'Authorization: Bearer <token>' (none was sent)"
         )
+    elif creds is None or creds.scheme.lower() != "bearer":
+        why = (
+            "the Authorization header is not of the form 'Bearer <token>'; send "
+            "'Authorization: Bearer <token>'"
+        )
+    elif not secrets.compare_digest(creds.credentials.encode(), token.get_secret_value().encode()):
+        why = "the token sent in 'Authorization: Bearer ...' is not this server's token"
+    else:
+        return
+    raise HTTPException(status_code=401, detail=why, headers={"WWW-Authenticate": "Bearer"})
 
 
 TokenDep = Annotated[None, Depends(require_token)]

@@ -48,11 +48,39 @@ def _field_name(path: Sequence[str | int]) -> str:
     return out or "body"
 
 
+ECHO_LIMIT = 200  # characters of a client's own input that a message repeats
+
+
+def clip(text: str, limit: int = ECHO_LIMIT) -> str:
+    """`text` if short, else its first `limit` characters and a note of how long it was: a
+    message that names a 1 MB field name or tag must not send the megabyte back."""
+    if len(text) <= limit:
+        return text
+    return f"{text[:limit]}... ({len(text)} characters, cut to {limit})"
+
+
+def _clipped(err: dict[str, Any]) -> dict[str, Any]:
+    """The error with every echo of the input (the location's keys, the input in the message,
+    a union tag) clipped to ECHO_LIMIT characters."""
+    loc = [clip(x) if isinstance(x, str) else x for x in err.get("loc", ())]
+    msg = str(err.get("msg", "invalid value"))
+    echoed = [err.get("input"), (err.get("ctx") or {}).get("tag")]
+    for value in echoed:
+        if isinstance(value, str) and len(value) > ECHO_LIMIT and value in msg:
+            msg = msg.replace(value, clip(value))
+    if len(msg) > 4 * ECHO_LIMIT:  # an echo not caught above: never more than a few lines
+        msg = clip(msg, 4 * ECHO_LIMIT)
+    return {**err, "loc": loc, "msg": msg}
+
+
 def humanize(errors: Sequence[dict[str, Any]], body: Any) -> list[dict[str, Any]]:
-    """Rewrite each error; `body` is the parsed request body, used to name the job kind."""
+    """Rewrite each error; `body` is the parsed request body, used to name the job kind. What
+    the client sent is repeated at most ECHO_LIMIT characters at a time (`clip`)."""
     kind = body.get("kind") if isinstance(body, dict) else None
+    if isinstance(kind, str):
+        kind = clip(kind)
     out: list[dict[str, Any]] = []
-    for err in errors:
+    for err in map(_clipped, errors):
         loc = list(err.get("loc", ()))
         etype = str(err.get("type", "value_error"))
         source = loc[0] if loc else "body"
@@ -143,16 +171,21 @@ def exception_message(exc: BaseException) -> str:
 
 
 def content_type_error(content_type: str | None) -> dict[str, Any] | None:
-    """The 422 item for a body sent without a JSON Content-Type, or None if it was JSON."""
-    if content_type is None:
-        return None
-    main = content_type.split(";", 1)[0].strip().lower()
+    """The 422 item for a body sent without a JSON Content-Type, or None if it was JSON.
+
+    A body without any Content-Type is refused too, not guessed to be JSON (FastAPI's strict
+    content type, kept on purpose): a web page can send such a body to a server on localhost
+    without the browser asking first, and a server without a token would run its job."""
+    main = "" if content_type is None else content_type.split(";", 1)[0].strip().lower()
     if main == "application/json" or main.endswith("+json"):
         return None
+    sent = (
+        "without a Content-Type header" if not main else f"with 'Content-Type: {clip(main, 100)}'"
+    )
     msg = (
-        f"body: the request was sent with 'Content-Type: {main}', so it was not read as "
-        "JSON; send the job spec with the header 'Content-Type: application/json' (curl: "
-        "-H 'Content-Type: application/json'; curl -d alone sends a form)"
+        f"body: the request was sent {sent}, so it was not read as JSON; set "
+        "'Content-Type: application/json' (curl: -H 'Content-Type: application/json'; "
+        "curl -d alone sends a form)"
     )
     return {
         "loc": ["header", "content-type"],

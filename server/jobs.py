@@ -225,26 +225,26 @@ class JobStore:
         return deleted
 
     def running_jobs(self) -> list[dict[str, Any]]:
-        """id, started_at, progress and sim_seconds of every running job (for estimates)."""
+        """id, started_at, progress, sim_seconds and spec of every running job (estimates)."""
         rows = self._conn().execute(
-            "SELECT id, started_at, progress, sim_seconds FROM jobs WHERE status = 'running'"
+            "SELECT id, started_at, progress, sim_seconds, spec FROM jobs WHERE status = 'running'"
         )
-        return [dict(r) for r in rows]
+        return [_row_to_job(r) for r in rows]
 
-    def wall_per_sim_second(self) -> float | None:
-        """Median wall seconds per simulated second of the last done jobs: how long a job
-        that has not reported progress yet will likely take."""
+    def recent_done(self, limit: int = 20) -> list[tuple[float, float, dict[str, Any]]]:
+        """(wall seconds, simulated seconds, spec) of the last `limit` done jobs: what a job
+        that has not reported progress yet is estimated from (`estimates.wall_per_sim_second`)."""
         rows = (
             self._conn()
             .execute(
-                "SELECT (julianday(finished_at) - julianday(started_at)) * 86400.0 / sim_seconds"
-                " FROM jobs WHERE status = 'done' AND started_at IS NOT NULL AND sim_seconds > 0"
-                " ORDER BY seq DESC LIMIT 20"
+                "SELECT (julianday(finished_at) - julianday(started_at)) * 86400.0, sim_seconds,"
+                " spec FROM jobs WHERE status = 'done' AND started_at IS NOT NULL"
+                " AND sim_seconds > 0 ORDER BY seq DESC LIMIT ?",
+                (limit,),
             )
             .fetchall()
         )
-        xs = sorted(float(r[0]) for r in rows if r[0] is not None)
-        return xs[len(xs) // 2] if xs else None
+        return [(float(w), float(s), json.loads(spec)) for w, s, spec in rows if w is not None]
 
     def result(self, job_id: str) -> dict[str, Any] | None:
         row = (

@@ -78,6 +78,16 @@ def _core() -> Any:
     return sim_core
 
 
+# what the insect did, per physical failure kind (sim_core.contract.FailureKind)
+PHYSICAL_WORDS: dict[str, str] = {
+    "flipped": "fell over",
+    "on_floor": "fell over",
+    "left_ground": "left the ground",
+    "no_footholds": "lost every foothold",
+    "sliding_back": "slid backwards",
+}
+
+
 def advice(job: _Physics, failures: list[RunFailure]) -> str:
     """What the client can do about failed runs, chosen from the failures' kinds: a smaller
     step only where the step is the likely cause (a numerical blow-up, or a step coarser than
@@ -91,8 +101,9 @@ def advice(job: _Physics, failures: list[RunFailure]) -> str:
             f"dt_s (the converged default is {DEFAULT_INTEGRATOR} at {DEFAULT_DT_S:g} s; "
             f"{integrator} is stable up to {MAX_STABLE_DT_S[integrator]:g} s)"
         )
+    what = " or ".join(dict.fromkeys(PHYSICAL_WORDS.get(f.kind, "fell over") for f in failures))
     return (
-        f"the insect fell over under these conditions (slope_deg {job.slope_deg:g}, "
+        f"the insect {what} under these conditions (slope_deg {job.slope_deg:g}, "
         f"body_mass_g {job.body_mass_g:g}); this is the model's physics at a converged "
         "timestep, not a numerical problem, so a smaller dt_s will not help: change the "
         "conditions"

@@ -30,12 +30,15 @@ from sim_core.contract import (
     DEFAULT_DT_S,
     DEFAULT_INTEGRATOR,
     INTEGRATORS,
+    MASS_REASON,
     MAX_STABLE_DT_S,
+    MIN_DT_S,
     AtlasAxis,
     FinderConfig,
     Integrator,
     RampParam,
     RunSpec,
+    cost_problem,
     numerics_problem,
     resolve_numerics,
 )
@@ -68,27 +71,26 @@ MAX_DT_S = max(MAX_STABLE_DT_S.values())
 DT_REASON = (
     "larger steps cannot be stable for this model: measured limits per integrator "
     + ", ".join(f"{k} {v:g} s" for k, v in MAX_STABLE_DT_S.items())
-    + f"; null = the default ({DEFAULT_INTEGRATOR} {DEFAULT_DT_S:g} s, converged; see "
-    "docs/NUMERICS.md)"
+    + f"; steps below {MIN_DT_S:g} s are refused as too costly (a tenth of the finest step "
+    f"the model needed); null = the default ({DEFAULT_INTEGRATOR} {DEFAULT_DT_S:g} s, "
+    "converged; see docs/NUMERICS.md)"
 )
 
-# Body mass: the legs are position-servoed and carry any load, so the model "walks" at ~3.0
-# cm/s from 1 ug to 30 g (measured 2026-11-25, 1 s runs at beta 0.66): the mass does not stop
-# an unphysical insect, the bounds must. Below 0.5 g the body would weigh less than its own
-# six legs (6 x 0.11 g = 0.66 g, Table I); the top is RunSpec's (ten times the paper's 3 g).
-# The paper's Fig. 9 ramps 1-6 g. The one bound tighter than the core's.
-MASS_MIN_G = 0.5
-MASS_MAX_G = core_bounds("body_mass_g")["le"]
-MASS_REASON = (
-    "the model's servoed legs carry any load, so lighter or heavier insects would still "
-    f"'walk'; below {MASS_MIN_G:g} g the body weighs less than its six legs (0.66 g), above "
-    f"{MASS_MAX_G:g} g is ten times the paper's 3 g"
-)
+# Body mass: the core's bounds and reason (`sim_core.contract.MASS_MIN_G`, `MASS_REASON`)
+MASS_BOUNDS = core_bounds("body_mass_g")
 BETA_BOUNDS = core_bounds("beta")
 BETA_DEFAULT: float = core_default("beta")
 SLOPE_BOUNDS = core_bounds("slope_deg")
 DURATION_BOUNDS = core_bounds("duration_s")
 D31_BOUNDS = core_bounds("d31_init")
+
+
+def step_weight(spec: dict[str, Any]) -> float:
+    """Physics steps per simulated second of a job spec (its integrator, dt_s, control_dt_s,
+    possibly null or absent) against the default step's: 1 at the default, 10 at 5e-6 s. The
+    job-size limit and the time estimates (`server.estimates`) scale with it."""
+    dt = resolve_numerics(spec.get("integrator"), spec.get("dt_s"), spec.get("control_dt_s"))[1]
+    return DEFAULT_DT_S / dt
 
 
 def _num(x: float) -> str:
@@ -182,9 +184,8 @@ class _Physics(_Strict):
     """
 
     body_mass_g: float = bounded(
-        core_default("body_mass_g"), "body_mass_g", "body mass, g", ge=MASS_MIN_G,
-        le=MASS_MAX_G, why=MASS_REASON,
-    )  # fmt: skip
+        core_default("body_mass_g"), "body_mass_g", "body mass, g", **MASS_BOUNDS, why=MASS_REASON
+    )
     slope_deg: float = bounded(
         core_default("slope_deg"), "slope_deg", "ground slope, deg, uphill +", **SLOPE_BOUNDS
     )
@@ -243,6 +244,20 @@ class _Physics(_Strict):
     def effective_control_dt_s(self) -> float:
         return resolve_numerics(self.integrator, self.dt_s, self.control_dt_s)[2]
 
+    def effective_dt_s(self) -> float:
+        return resolve_numerics(self.integrator, self.dt_s, self.control_dt_s)[1]
+
+    def keeps_series(self) -> bool:
+        return False
+
+    def cost_problem(self) -> str | None:
+        """The core's cost rule for the whole job (`sim_core.contract.cost_problem`): steps per
+        run and the memory of all its runs at once; None if it fits."""
+        return cost_problem(
+            self.sim_seconds_per_run(), self.integrator, self.dt_s, self.control_dt_s,
+            runs=self.run_count(), series=self.keeps_series(),
+        )  # fmt: skip
+
     def run_count(self) -> int:
         raise NotImplementedError
 
@@ -250,8 +265,21 @@ class _Physics(_Strict):
         raise NotImplementedError
 
     def total_sim_seconds(self) -> float:
-        """What the size limit is about: CPU time grows with simulated time, summed over runs."""
+        """Simulated seconds, summed over runs."""
         return self.run_count() * self.sim_seconds_per_run()
+
+    def step_weight(self) -> float:
+        """Physics steps per simulated second against the default step's (dt_s 5e-6 s: 10):
+        CPU time grows with the steps, not with simulated time alone."""
+        return step_weight(self.spec_numerics())
+
+    def spec_numerics(self) -> dict[str, Any]:
+        return {"integrator": self.integrator, "dt_s": self.dt_s, "control_dt_s": self.control_dt_s}
+
+    def size_sim_seconds(self) -> float:
+        """What the job-size limit (max_job_sim_seconds) counts: simulated seconds summed over
+        runs, a finer step than the default counted as that many more (a coarser one as 1)."""
+        return self.total_sim_seconds() * max(1.0, self.step_weight())
 
     def physics_fields(self) -> dict[str, Any]:
         return {
@@ -286,6 +314,9 @@ class _Timed(_Physics):
                     f"duration_s ({v:g}) is shorter than one control period ({period:g} s): "
                     "nothing would be simulated"
                 )
+            problem = _run_cost_problem(v, info)
+            if problem:
+                raise ValueError(problem)
         return v
 
     def sim_seconds_per_run(self) -> float:
@@ -296,12 +327,32 @@ class _Timed(_Physics):
         return {**self.physics_fields(), "duration_s": self.duration_s}
 
 
+def _run_cost_problem(duration_s: float, info: ValidationInfo) -> str | None:
+    """The core's per-run cost rule (the CLI's too) once the numerics fields are valid."""
+    if not {"integrator", "dt_s", "control_dt_s"} <= set(info.data):
+        return None  # a numerics field was refused; that error says enough
+    d = info.data
+    return cost_problem(duration_s, d["integrator"], d["dt_s"], d["control_dt_s"])
+
+
 class BetaRange(_Strict):
     """An evenly spaced duty-factor grid; start > stop sweeps downwards (hysteresis runs)."""
 
     start: float = bounded(..., "start", "first beta", **BETA_BOUNDS)
     stop: float = bounded(..., "stop", "last beta", **BETA_BOUNDS)
     steps: IntLike = bounded(11, "steps", "grid points, start and stop included", ge=2, le=201)
+
+    @field_validator("stop")
+    @classmethod
+    def _a_range_not_a_point(cls, v: float, info: ValidationInfo) -> float:
+        # refused, not run once: `steps` points of one beta would be identical simulations,
+        # and a client who sent start == stop most likely mistyped one of them
+        if info.data.get("start") == v:
+            raise ValueError(
+                f"stop ({v:g}) equals start: every grid point would be the same beta and the "
+                "runs identical; for one beta send a 'run' job, else make stop differ from start"
+            )
+        return v
 
     def values(self) -> list[float]:
         n = self.steps
@@ -322,6 +373,9 @@ class RunJob(_Timed):
 
     def run_count(self) -> int:
         return len(self.d31_init)
+
+    def keeps_series(self) -> bool:
+        return self.include_series
 
 
 class ReturnMapJob(_Timed):
@@ -482,7 +536,7 @@ SweptParameter = RampParam
 # the range each swept parameter may take: the same bounds as the field of that name
 SWEEP_RANGES: dict[str, dict[str, float]] = {
     "beta": BETA_BOUNDS,
-    "body_mass_g": {"ge": MASS_MIN_G, "le": MASS_MAX_G},
+    "body_mass_g": MASS_BOUNDS,
     "slope_deg": SLOPE_BOUNDS,
 }
 MAX_SWEEP_S = DURATION_BOUNDS["le"]
@@ -566,6 +620,10 @@ class HysteresisJob(_Physics):
                 f"the sweep lasts 2 x hold_s + 2 x ramp_s = {2 * hold + 2 * v:g} s; at most "
                 f"{MAX_SWEEP_S:g} s (one run's limit)"
             )
+        if hold is not None:
+            problem = _run_cost_problem(2 * hold + 2 * v, info)
+            if problem:
+                raise ValueError(problem)
         return v
 
     def run_count(self) -> int:

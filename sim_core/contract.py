@@ -14,6 +14,14 @@ exactly those and a test can hold them to "no MuJoCo".
 from __future__ import annotations
 
 from sim_core.model.anatomy import LEG_NAMES
+from sim_core.model.cost import (
+    MAX_JOB_BYTES,
+    MAX_STEPS_PER_RUN,
+    MIN_DT_S,
+    RECORD_DT_S,
+    RunCost,
+    run_cost,
+)
 from sim_core.model.gait import (
     TAIL_DRIFT_SETTLED,
     circular_mean,
@@ -34,9 +42,16 @@ from sim_core.model.params import (
 from sim_core.model.ramp import RAMP_PARAMS, Ramp, RampParam
 from sim_core.model.spec import (
     FAILURE_KINDS,
+    MASS_MAX_G,
+    MASS_MIN_G,
+    MASS_REASON,
+    NO_FOOTHOLD_S,
+    SLIDE_BACK_SPEED_M_S,
+    SLIDE_WINDOW_S,
     FailureKind,
     RunFailure,
     RunSpec,
+    cost_problem,
     numerics_problem,
     resolve_numerics,
 )
@@ -68,10 +83,20 @@ __all__ = [
     "FAILURE_KINDS",
     "INTEGRATORS",
     "LEG_NAMES",
+    "MASS_MAX_G",
+    "MASS_MIN_G",
+    "MASS_REASON",
+    "MAX_JOB_BYTES",
     "MAX_STABLE_DT_S",
+    "MAX_STEPS_PER_RUN",
+    "MIN_DT_S",
+    "NO_FOOTHOLD_S",
     "RAMP_PARAMS",
+    "RECORD_DT_S",
     "REGIONS",
     "RETURN_MAP_SKIP",
+    "SLIDE_BACK_SPEED_M_S",
+    "SLIDE_WINDOW_S",
     "TAIL_DRIFT_SETTLED",
     "AtlasAxis",
     "AtlasOutput",
@@ -86,10 +111,12 @@ __all__ = [
     "Ramp",
     "RampParam",
     "ReturnMap",
+    "RunCost",
     "RunFailure",
     "RunSpec",
     "circular_mean",
     "classify_gait",
+    "cost_problem",
     "final_d31",
     "find",
     "mean_after",
@@ -98,6 +125,7 @@ __all__ = [
     "region_of",
     "resolve_numerics",
     "return_map_from_series",
+    "run_cost",
     "settled_gait",
     "step_problem",
     "tail_drift",

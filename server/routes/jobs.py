@@ -28,11 +28,12 @@ from server.deps import (
     get_job_or_404,
 )
 from server.errors import limit_error, sanitize
-from server.estimates import eta_of, retry_after_s
+from server.estimates import eta_of, retry_after_s, wall_per_sim_second
 from server.jobs import JobStore, QueueFull
 from server.kinds import RECORD_COLUMNS, SERIES_COLUMNS
 from server.schemas import FINISHED, Job, JobPage, JobSpec, JobStatus, Problem
 from server.settings import Settings
+from sim_core.contract import DEFAULT_DT_S
 
 router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 write_router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
@@ -44,7 +45,7 @@ def job_out(job: dict[str, Any], store: JobStore | None = None) -> dict[str, Any
     base = f"/v1/jobs/{job['id']}"
     eta = None
     if job["status"] == "running" and store is not None:
-        eta = eta_of(job, datetime.now(UTC), store.wall_per_sim_second())
+        eta = eta_of(job, datetime.now(UTC), wall_per_sim_second(store.recent_done()))
     return {
         **job,
         "error": sanitize(job["error"]) if job.get("error") else job.get("error"),
@@ -65,7 +66,7 @@ def require_done(job: dict[str, Any]) -> None:
 def retry_after(store: JobStore, settings: Settings) -> int:
     """Seconds until a queue slot likely frees: the soonest running job's estimated end."""
     now = datetime.now(UTC)
-    rate = store.wall_per_sim_second()
+    rate = wall_per_sim_second(store.recent_done())
     left = [eta_of(j, now, rate) for j in store.running_jobs()]
     return retry_after_s(
         workers=settings.workers, running_remaining_s=[x for x in left if x is not None]
@@ -98,14 +99,32 @@ def submit_job(
             )
         )
     total = spec.total_sim_seconds()
-    if total > settings.max_job_sim_seconds:
+    size = spec.size_sim_seconds()
+    if size > settings.max_job_sim_seconds:
+        finer = (
+            f" at dt_s {spec.effective_dt_s():g} s, as many physics steps as {size:g} s at the "
+            f"default {DEFAULT_DT_S:g} s"
+            if size > total
+            else ""
+        )
         problems.append(
             limit_error(
                 "duration_s",
                 f"the job asks for {total:g} simulated seconds in all "
-                f"({runs} runs x {spec.sim_seconds_per_run():g} s)",
-                f"at most {settings.max_job_sim_seconds:g} simulated seconds per job "
-                "(max_job_sim_seconds); split it into several jobs",
+                f"({runs} runs x {spec.sim_seconds_per_run():g} s){finer}",
+                f"at most {settings.max_job_sim_seconds:g} simulated seconds per job at the "
+                "default step, a finer step counting as that many more (max_job_sim_seconds); "
+                "split it into several jobs",
+            )
+        )
+    cost = spec.cost_problem()  # the core's rule: steps per run, memory of all runs at once
+    if cost is not None:
+        problems.append(
+            limit_error(
+                "d31_init",
+                cost,
+                "the core's cost bounds (sim_core.contract: MIN_DT_S, MAX_STEPS_PER_RUN, "
+                "MAX_JOB_BYTES)",
             )
         )
     if problems:

@@ -13,19 +13,30 @@ from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE
 from sim_core.model.params import INTEGRATORS
-from sim_core.model.spec import RunSpec, numerics_problem
+from sim_core.model.spec import RunSpec, cost_problem, numerics_problem
 
 
 def _add_run(sub: Any) -> None:
-    p = sub.add_parser("run", help="simulate one walk and report Delta31 and the gait")
-    p.add_argument("--beta", type=float, required=True, help="duty factor in (0.5, 1)")
-    p.add_argument("--d31-init", type=float, default=2.0 * math.pi / 3.0, help="rad")
-    p.add_argument("--duration-s", type=float, default=5.0)
-    p.add_argument("--body-mass-g", type=float, default=3.0)
-    p.add_argument("--slope-deg", type=float, default=0.0, help="uphill positive")
-    p.add_argument("--integrator", choices=INTEGRATORS, default=None)
-    p.add_argument("--dt-s", type=float, default=None, help="physics timestep")
-    p.add_argument("--control-dt-s", type=float, default=None, help="controller period")
+    p = sub.add_parser(
+        "run",
+        help="simulate one walk and report Delta31 and the gait",
+        description="Simulate one walk. Values are checked against sim_core.contract, the same "
+        "rules and words as the REST API's.",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+    )
+    p.add_argument("--beta", type=float, required=True, default=argparse.SUPPRESS,
+                   help="duty factor, 0.5 < beta < 1")  # fmt: skip
+    p.add_argument("--d31-init", type=float, default=2.0 * math.pi / 3.0,
+                   help="initial Delta31 (phi3 - phi1), rad, 0..2 pi")  # fmt: skip
+    p.add_argument("--duration-s", type=float, default=5.0, help="simulated time, s, (0, 600]")
+    p.add_argument("--body-mass-g", type=float, default=3.0, help="body mass, g, 0.5..30")
+    p.add_argument("--slope-deg", type=float, default=0.0, help="ground slope, deg, uphill +")
+    p.add_argument("--integrator", choices=INTEGRATORS, default=None,
+                   help="MuJoCo integrator; None = implicitfast")  # fmt: skip
+    p.add_argument("--dt-s", type=float, default=None,
+                   help="physics timestep, s; None = the default 5e-5")  # fmt: skip
+    p.add_argument("--control-dt-s", type=float, default=None,
+                   help="controller period, s (>= dt); None = 5e-4")  # fmt: skip
     p.add_argument("--no-phase-reset", action="store_true", help="disable eq. 4")
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_cmd_run)
@@ -34,7 +45,7 @@ def _add_run(sub: Any) -> None:
 def _spec_from_args(args: argparse.Namespace) -> RunSpec:
     return RunSpec(
         beta=args.beta,
-        d31_init=args.d31_init % (2 * math.pi) if math.isfinite(args.d31_init) else args.d31_init,
+        d31_init=args.d31_init,
         duration_s=args.duration_s,
         body_mass_g=args.body_mass_g,
         slope_deg=args.slope_deg,
@@ -46,10 +57,14 @@ def _spec_from_args(args: argparse.Namespace) -> RunSpec:
 
 
 def _validation_message(exc: ValidationError) -> str:
+    """Each refused option with pydantic's words and the field's range and reason, as RunSpec
+    describes it (the REST API refuses the same values with the same bounds)."""
     parts = []
     for err in exc.errors():
         field = ".".join(str(x) for x in err["loc"]) or "arguments"
-        parts.append(f"--{field.replace('_', '-')}: {err['msg']}")
+        info = RunSpec.model_fields.get(field)
+        what = f" ({info.description})" if info is not None and info.description else ""
+        parts.append(f"--{field.replace('_', '-')}: {err['msg']}{what}")
     return "; ".join(parts)
 
 
@@ -65,6 +80,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
     problem = numerics_problem(spec.integrator, spec.dt_s, spec.control_dt_s)
     if problem:
         print(f"insect-gait run: error: --dt-s: {problem}", file=sys.stderr)
+        return EXIT_USAGE
+    # the REST API's cost rule and words (server/schemas.py, server/routes/jobs.py)
+    problem = cost_problem(spec.duration_s, spec.integrator, spec.dt_s, spec.control_dt_s)
+    if problem:
+        print(f"insect-gait run: error: --duration-s: {problem}", file=sys.stderr)
         return EXIT_USAGE
     result = simulate(spec)
     summary = result.summary()
@@ -130,12 +150,41 @@ def _cmd_params(args: argparse.Namespace) -> int:
 
 
 def _add_return_map(sub: Any) -> None:
-    p = sub.add_parser("return-map", help="Delta31(n) -> Delta31(n+4) drift from many starts")
-    p.add_argument("--beta", type=float, required=True)
-    p.add_argument("--n-init", type=int, default=16)
-    p.add_argument("--duration-s", type=float, default=3.0)
-    p.add_argument("--json", action="store_true")
+    p = sub.add_parser(
+        "return-map",
+        help="Delta31(n) -> Delta31(n+4) drift from many starts",
+        description="The paper's Fig. 7 return map: --n-init runs at one beta from initial "
+        "Delta31 spread evenly over [0, 2 pi), and the mean drift of Delta31 per gait cycle "
+        "in bins of Delta31.",
+        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+    )
+    p.add_argument("--beta", type=float, required=True, default=argparse.SUPPRESS,
+                   help="duty factor, 0.5 < beta < 1")  # fmt: skip
+    p.add_argument("--n-init", type=int, default=16,
+                   help="runs, one per initial Delta31, spread over [0, 2 pi); >= 1")  # fmt: skip
+    p.add_argument("--duration-s", type=float, default=3.0,
+                   help="simulated time of each run, s, (0, 600]")  # fmt: skip
+    p.add_argument("--json", action="store_true",
+                   help="print one JSON object (pairs, bin centres, drift per cycle)")  # fmt: skip
     p.set_defaults(func=_cmd_return_map)
+
+
+def _return_map_problems(args: argparse.Namespace) -> list[str]:
+    """Only the rules this command line breaks, each once (RunSpec's words for beta and
+    duration, the contract's cost rule for the runs together)."""
+    problems = []
+    if args.n_init < 1:
+        problems.append(f"--n-init: must be >= 1 (one run per initial Delta31), got {args.n_init}")
+    try:
+        RunSpec(beta=args.beta, duration_s=args.duration_s)
+    except ValidationError as exc:
+        problems.append(_validation_message(exc))
+        return problems
+    if not problems:
+        cost = cost_problem(args.duration_s, None, None, None, runs=args.n_init)
+        if cost:
+            problems.append(f"--duration-s: {cost}")
+    return problems
 
 
 def _cmd_return_map(args: argparse.Namespace) -> int:
@@ -143,9 +192,9 @@ def _cmd_return_map(args: argparse.Namespace) -> int:
 
     from sim_core.paper.protocols import initial_values, return_map
 
-    if not 0.5 < args.beta < 1 or args.n_init < 1 or args.duration_s <= 0:
-        print("insect-gait return-map: error: beta in (0.5, 1), --n-init >= 1, --duration-s > 0",
-              file=sys.stderr)  # fmt: skip
+    problems = _return_map_problems(args)
+    if problems:
+        print(f"insect-gait return-map: error: {'; '.join(problems)}", file=sys.stderr)
         return EXIT_USAGE
     inits = initial_values(args.n_init).tolist()
     rm = return_map(None, beta=args.beta, inits=inits, duration_s=args.duration_s)

@@ -37,3 +37,10 @@ def stance_line(p: ModelParams) -> tuple[np.ndarray, np.ndarray]:
     aep = np.stack([cx + p.stroke / 2, y, z], axis=1)
     pep = np.stack([cx - p.stroke / 2, y, z], axis=1)
     return aep, pep
+
+
+def leg_reach(p: ModelParams) -> float:
+    """m: the farthest a foot's surface can be from its coxa attachment (coxa + femur + tibia,
+    the sprung tarsus' extension, the foot sphere): a body whose lowest attachment is higher
+    above the floor than this has no foot that can touch it."""
+    return p.coxa_length + p.femur_length + p.tibia_length + p.tarsus_extension + p.foot_radius

@@ -21,6 +21,7 @@ import mujoco.batch
 import numba
 import numpy as np
 
+from sim_core.model.anatomy import attachment_points, leg_reach
 from sim_core.model.controller import (
     Drive,
     EventLog,
@@ -30,18 +31,40 @@ from sim_core.model.controller import (
     initial_targets,
     plan_block,
 )
+from sim_core.model.cost import RECORD_DT_S
 from sim_core.model.cpg import initial_phases
-from sim_core.model.guard import FLIPPED, NON_FINITE, WARNED, guard_codes, up_axis_z
+from sim_core.model.guard import (
+    FLIPPED,
+    LEFT_GROUND,
+    NO_FOOTHOLDS,
+    NON_FINITE,
+    ON_FLOOR,
+    SLIDING_BACK,
+    WARNED,
+    Limits,
+    guard_codes,
+    new_footing,
+    up_axis_z,
+)
 from sim_core.model.legs import pack_geometry
 from sim_core.model.mjspec import build_model, gravity_vector, leg_qpos_addresses, servo_leads
 from sim_core.model.params import ModelParams, nominal_speed, omega, phi_aep
 from sim_core.model.records import NOT_RECORDED, EventJournal, Recorder, assemble_result
-from sim_core.model.spec import FailureKind, RunFailure, RunResult, RunSpec, resolve_numerics
+from sim_core.model.spec import (
+    NO_FOOTHOLD_S,
+    SLIDE_BACK_SPEED_M_S,
+    SLIDE_WINDOW_S,
+    FailureKind,
+    RunFailure,
+    RunResult,
+    RunSpec,
+    cost_problem,
+    resolve_numerics,
+)
 
 TORSO = 1  # body id of the torso (world is 0)
 # Guard: the body box touching the floor, or tilted past 60 degrees, is a fall, not walking.
 MIN_UP_COS = 0.5
-RECORD_DT = 2e-3  # record period of the time series, s (footfall resolution: 6% of T_sw)
 
 ProgressFn = Callable[[float], None]
 BlockHook = Callable[["BatchRunner"], None]
@@ -78,12 +101,16 @@ class BatchRunner:
         specs: Sequence[RunSpec],
         params: ModelParams | None = None,
         nthread: int = 0,
-        record_dt: float = RECORD_DT,
+        record_dt: float = RECORD_DT_S,
         record: bool = True,
     ) -> None:
         if not specs:
             raise ValueError("no simulations to run")
         base = params or ModelParams()
+        for s in specs:  # validate before allocating: a 1e-12 s step once asked for 67 GiB
+            problem = cost_problem(s.duration_s, s.integrator, s.dt_s, s.control_dt_s)
+            if problem:
+                raise ValueError(problem)
         numerics = {spec_numerics(s, base) for s in specs}
         if len(numerics) != 1:
             raise ValueError("one BatchRunner needs one (integrator, dt, control_dt); group specs")
@@ -122,6 +149,12 @@ class BatchRunner:
         self.prev_height = np.zeros((n, 6))
         self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
         self._guard_codes = np.zeros(n, dtype=np.int64)
+        self._guard_values = np.zeros(n)
+        self._attach = attachment_points(p)
+        self._limits = Limits(p.body_thickness / 2, MIN_UP_COS, leg_reach(p), NO_FOOTHOLD_S,
+                              SLIDE_WINDOW_S, SLIDE_BACK_SPEED_M_S)  # fmt: skip
+        self._footing = new_footing(n)
+        self._guard_kernel: Callable[..., int] | None = None
         self.qpos = self.batch.bind("qpos")
         self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
         self.ctrl = self.batch.bind("ctrl")  # desired joint velocities
@@ -228,6 +261,9 @@ class BatchRunner:
         self.failures[i] = None
         self._lifted[i] = False
         self.retouches[i] = 0
+        self._footing.x_ref[i] = qpos[0]
+        self._footing.t_ref[i] = self.time
+        self._footing.t_foothold[i] = self.time
 
     # --- stepping ---------------------------------------------------------------------------
     def step_block(self) -> None:
@@ -278,16 +314,12 @@ class BatchRunner:
 
     def _guard(self, ids: np.ndarray) -> None:
         codes = self._guard_codes[: ids.size]
-        failed = guard_codes(
-            ids,
-            self.qpos,
-            self.qvel,
-            self.batch.warning,
-            self._warn_seen,
-            self.params.body_thickness / 2,
-            MIN_UP_COS,
-            codes,
-        )
+        values = self._guard_values[: ids.size]
+        args = (ids, self.qpos, self.qvel, self.batch.warning, self._warn_seen, self.stance,
+                self.time, self._attach, self._limits, self._footing, codes, values)  # fmt: skip
+        if self._guard_kernel is None:
+            self._guard_kernel = bind_kernel(guard_codes, args)
+        failed = self._guard_kernel(*args)
         if self.time >= self._first_end:
             done = self.time >= self.duration[ids] - 1e-12
             self.active[ids[done]] = False
@@ -308,10 +340,31 @@ class BatchRunner:
             elif code == FLIPPED:
                 up_z = up_axis_z(self.qpos[s, 3:7])
                 why, kind = f"body flipped (up-axis z {up_z:.2f} < {MIN_UP_COS})", "flipped"
-            else:
+            elif code == ON_FLOOR:
                 why = f"body on the floor (height {self.qpos[s, 2] * 1e3:.2f} mm)"
                 kind = "on_floor"
+            else:
+                why, kind = self._physics_failure(int(code), float(values[r]))
             self._fail(s, kind, why)
+
+    def _physics_failure(self, code: int, value: float) -> tuple[str, FailureKind]:
+        """The words and kind of a failed physical-sanity check (`guard`, thresholds in spec)."""
+        lim = self._limits
+        if code == LEFT_GROUND:
+            return (
+                f"body left the ground (lowest coxa attachment {value * 1e3:.1f} mm above the "
+                f"floor, beyond the legs' {lim.reach * 1e3:.2f} mm reach)",
+                "left_ground",
+            )
+        if code == NO_FOOTHOLDS:
+            return f"no leg had a foothold for {value:.3g} s (every leg in swing)", "no_footholds"
+        assert code == SLIDING_BACK, code
+        return (
+            f"body slid backwards at {value * 100:.1f} cm/s over the last "
+            f"{lim.slide_window_s:g} s (walking runs stay above "
+            f"-{lim.slide_speed * 100:g} cm/s)",
+            "sliding_back",
+        )
 
     def _fail(self, s: int, kind: FailureKind, why: str) -> None:
         self.failures[s] = RunFailure(kind, self.time, self.integrator, self.dt, why)

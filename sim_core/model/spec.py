@@ -14,9 +14,23 @@ from typing import Any, Literal
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
+from sim_core.model.cost import MAX_JOB_BYTES, MAX_STEPS_PER_RUN, MIN_DT_S, gib, run_cost
 from sim_core.model.params import Integrator, ModelParams, step_problem
 
 TWO_PI = 2.0 * math.pi
+
+# Body mass: the legs are position-servoed and carry any load, so the model "walks" at ~3.0
+# cm/s from 1 ug to 30 g (measured 2026-11-25, 1 s runs at beta 0.66): the mass does not stop
+# an unphysical insect, the bounds must. Below 0.5 g the body would weigh less than its own
+# six legs (6 x 0.11 g = 0.66 g, Table I); the top is ten times the paper's 3 g. The paper's
+# Fig. 9 ramps 1-6 g. The CLI and the REST API refuse with this range and this reason.
+MASS_MIN_G = 0.5
+MASS_MAX_G = 30.0
+MASS_REASON = (
+    "the model's servoed legs carry any load, so lighter or heavier insects would still "
+    f"'walk'; below {MASS_MIN_G:g} g the body weighs less than its six legs (0.66 g), above "
+    f"{MASS_MAX_G:g} g is ten times the paper's 3 g"
+)
 
 
 class RunSpec(BaseModel):
@@ -29,7 +43,12 @@ class RunSpec(BaseModel):
         2.0 * math.pi / 3.0, ge=0.0, le=TWO_PI, description="initial Delta31, rad in [0, 2 pi]"
     )
     duration_s: float = Field(5.0, gt=0.0, le=600.0, description="simulated time, s (0, 600]")
-    body_mass_g: float = Field(3.0, gt=0.0, le=30.0, description="body mass, g (0, 30]")
+    body_mass_g: float = Field(
+        3.0,
+        ge=MASS_MIN_G,
+        le=MASS_MAX_G,
+        description=f"body mass, g [{MASS_MIN_G:g}, {MASS_MAX_G:g}]: {MASS_REASON}",
+    )
     slope_deg: float = Field(0.0, gt=-90.0, lt=90.0, description="ground slope, deg, uphill +")
     phase_reset: bool = Field(True, description="phase resetting at touchdown (eq. 4)")
     integrator: Integrator | None = Field(None, description="MuJoCo integrator; None = default")
@@ -78,11 +97,25 @@ def resolve_numerics(
     return name, dt, nsub * dt, nsub
 
 
+def step_too_fine(dt_s: float | None) -> str | None:
+    """Why a step below `MIN_DT_S` is refused (None for null or a step at or above it)."""
+    if dt_s is not None and not dt_s >= MIN_DT_S:
+        return (
+            f"dt_s ({dt_s:g} s) is too small: the smallest step a run may take is {MIN_DT_S:g} s, "
+            "a tenth of the finest step the model needed (RK4 at 1e-05 s is its converged "
+            "reference, docs/NUMERICS.md); a finer step buys no accuracy, only time and memory"
+        )
+    return None
+
+
 def numerics_problem(
     integrator: str | None, dt_s: float | None, control_dt_s: float | None = None
 ) -> str | None:
     """Why a run with these (possibly null) numerics cannot be stable, in the words the CLI and
-    the REST API both print (`step_problem`, or a step too small to finish); None if it can."""
+    the REST API both print (`step_problem`, or a step below `MIN_DT_S`); None if it can."""
+    too_fine = step_too_fine(dt_s)
+    if too_fine:
+        return too_fine
     try:
         name, dt, _, _ = resolve_numerics(integrator, dt_s, control_dt_s)
     except ValueError as exc:
@@ -90,17 +123,88 @@ def numerics_problem(
     return step_problem(name, dt, given=dt_s is not None)
 
 
-# Why a run stopped early. The first three are numerical (a smaller step is the remedy); a flip
-# or a fall at a sound step is the insect's physics under those conditions.
-FailureKind = Literal["mujoco_error", "mujoco_warning", "non_finite", "flipped", "on_floor"]
+def cost_problem(
+    duration_s: float,
+    integrator: str | None,
+    dt_s: float | None,
+    control_dt_s: float | None,
+    *,
+    runs: int = 1,
+    series: bool = False,
+) -> str | None:
+    """Why runs of `duration_s` at these (possibly null) numerics cost more than one run or one
+    job may (`MAX_STEPS_PER_RUN`, `MAX_JOB_BYTES`), in the words the CLI and the REST API both
+    print; None if they fit. `runs` runs held at once (a job), `series` kept as lists."""
+    too_fine = step_too_fine(dt_s)
+    if too_fine:
+        return too_fine
+    try:
+        _, dt, control_dt, _ = resolve_numerics(integrator, dt_s, control_dt_s)
+    except ValueError as exc:
+        return str(exc)
+    cost = run_cost(duration_s, dt, control_dt, series=series)
+    if cost.steps > MAX_STEPS_PER_RUN:
+        return (
+            f"duration_s {duration_s:g} s at dt_s {dt:g} s is {cost.steps:.2g} physics steps; a "
+            f"run may take at most {MAX_STEPS_PER_RUN:.0e} (600 s at 1e-05 s, about 25 min of "
+            "one core): shorten duration_s or take a larger dt_s"
+        )
+    total = runs * cost.bytes
+    if total > MAX_JOB_BYTES:
+        what = f"{runs} runs of {duration_s:g} s" if runs > 1 else f"a run of {duration_s:g} s"
+        kept = " with their time series (include_series)" if series else ""
+        return (
+            f"{what}{kept} would hold about {gib(total)} of memory; a job may hold at most "
+            f"{gib(MAX_JOB_BYTES)}: run fewer or shorter runs per job"
+            + (", or leave out include_series" if series else "")
+        )
+    return None
+
+
+# Why a run stopped early. The first three are numerical (a smaller step is the remedy); the
+# others are the insect's physics under those conditions: it flipped, fell on its belly, or
+# could no longer walk (left the ground, lost every foothold, slid backwards).
+FailureKind = Literal[
+    "mujoco_error",
+    "mujoco_warning",
+    "non_finite",
+    "flipped",
+    "on_floor",
+    "left_ground",
+    "no_footholds",
+    "sliding_back",
+]
 FAILURE_KINDS: tuple[FailureKind, ...] = (
     "mujoco_error",
     "mujoco_warning",
     "non_finite",
     "flipped",
     "on_floor",
+    "left_ground",
+    "no_footholds",
+    "sliding_back",
 )
 NUMERICAL_FAILURES: frozenset[str] = frozenset({"mujoco_error", "mujoco_warning", "non_finite"})
+SANITY_FAILURES: frozenset[str] = frozenset({"left_ground", "no_footholds", "sliding_back"})
+
+# Physical sanity, checked every control period (`guard.guard_codes`), each from what sound runs
+# do (3 s at slopes -30/0/+30 deg, beta 0.56-0.80, 1-12 g, Delta31 1.9 and 3.0; 2026-11-26):
+# - left_ground: the lowest coxa attachment higher above the floor than a leg reaches
+#   (`leg_reach`): no foot can touch, a geometric fact, no margin needed (sound runs keep the
+#   body centre at 6.6-6.9 mm; the reach is 12.95 mm).
+# - no_footholds: no leg in stance for NO_FOOTHOLD_S: sound runs always had a leg in stance
+#   (longest all-swing spell 0 ms; 28 ms in runs already sliding downhill), and 0.1 s is three
+#   swing durations (T_sw 34 ms).
+NO_FOOTHOLD_S = 0.1
+# - sliding_back: the body's mean velocity along the walking direction over a window of
+#   SLIDE_WINDOW_S below -SLIDE_BACK_SPEED_M_S. 0.25 s spans a whole gait cycle up to beta 0.86
+#   (T = 34 ms / (1 - beta)), so the in-cycle surges average out. Runs that walk never went
+#   slower than -1.7 cm/s over any such window (uphill 30 deg, 12 g, feet slipping 1.4
+#   strokes); runs that slide went -13.7 to -53 cm/s (and 89.9 deg: -120 cm/s). 5 cm/s sits
+#   about 3x beyond the first and below the second, and is faster than the model walks forward
+#   at any beta >= 0.56 (eq. 2: 4.6 cm/s).
+SLIDE_WINDOW_S = 0.25
+SLIDE_BACK_SPEED_M_S = 0.05
 
 
 @dataclass(frozen=True)
@@ -119,8 +223,11 @@ class RunFailure:
         return self.kind in NUMERICAL_FAILURES
 
     def __str__(self) -> str:
+        # a flip or a fall may be a blow-up at a coarse step (euler at 1e-3 s flips in 3 ms);
+        # the sanity kinds are checked only on a body that is upright and above the floor
+        what = "run stopped" if self.kind in SANITY_FAILURES else "simulation diverged"
         return (
-            f"simulation diverged at t = {self.time_s:.4f} s (integrator {self.integrator}, "
+            f"{what} at t = {self.time_s:.4f} s (integrator {self.integrator}, "
             f"dt {self.dt_s:.3g} s): {self.reason}"
         )
 

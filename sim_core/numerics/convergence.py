@@ -338,4 +338,7 @@ FAILURE_LABEL: dict[str, str] = {
     "non_finite": "non-finite",
     "flipped": "flip",
     "on_floor": "fall",
+    "left_ground": "left the ground",
+    "no_footholds": "no footholds",
+    "sliding_back": "slid back",
 }

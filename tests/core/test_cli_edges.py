@@ -9,6 +9,7 @@ import pytest
 from pydantic import ValidationError
 
 from server.schemas import RunJob
+from sim_core import RunSpec
 from sim_core.cli.main import main
 from sim_core.contract import MAX_STABLE_DT_S, step_problem
 from sim_core.model.gait import DUTY_TOLERANCE, run_warnings
@@ -94,3 +95,65 @@ def test_a_vanishing_step_is_refused_not_a_crash(capsys: pytest.CaptureFixture[s
     assert "too small" in words
     code, err = _cli_error(["--beta", "0.62", "--dt-s", "5e-324"], capsys)
     assert code == 2 and "too small" in err and err.count("\n") == 0
+
+
+# ---- issue 30: one contract for the CLI and the API (cost bounds, d31_init, body mass) ------
+
+
+@pytest.mark.parametrize(
+    ("args", "fields", "needle"),
+    [
+        # a vanishing step: was a MemoryError (67 GiB) in the worker and a 17-line traceback
+        (["--dt-s", "1e-12"], {"dt_s": 1e-12}, "the smallest step a run may take is 1e-06 s"),
+        # 6e8 physics steps: was accepted and held the only worker for hours
+        (["--duration-s", "600", "--dt-s", "1e-6", "--control-dt-s", "5e-4"],
+         {"duration_s": 600, "dt_s": 1e-6, "control_dt_s": 5e-4}, "at most 6e+07"),
+    ],
+)  # fmt: skip
+def test_cli_and_api_refuse_an_unbounded_cost_in_the_same_words(
+    args: list[str], fields: dict[str, object], needle: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code, err = _cli_error(["--beta", "0.62", *args], capsys)
+    assert code == 2 and err.count("\n") == 0 and "Traceback" not in err
+    api = _api_error(**{"beta": 0.62, **fields}).removeprefix("Value error, ")
+    assert needle in api
+    assert err.endswith(api), (err, api)
+
+
+@pytest.mark.parametrize(
+    ("flag", "value", "field", "needle"),
+    [
+        ("--d31-init", "9", "d31_init", "6.283185"),  # was wrapped silently to 2.717
+        ("--d31-init", "-0.5", "d31_init", "0"),
+        ("--body-mass-g", "0.1", "body_mass_g", "less than its six legs"),  # ran before
+    ],
+)
+def test_cli_and_api_share_the_ranges(
+    flag: str, value: str, field: str, needle: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    code, err = _cli_error(["--beta", "0.62", flag, value], capsys)
+    assert code == 2 and err.count("\n") == 0 and needle in err, err
+    number = float(value)
+    with pytest.raises(ValidationError):
+        RunJob.model_validate({field: [number] if field == "d31_init" else number})
+    with pytest.raises(ValidationError):
+        RunSpec(**{field: number})
+
+
+def test_return_map_help_names_each_option_and_its_default(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    with pytest.raises(SystemExit):
+        main(["return-map", "--help"])
+    out = capsys.readouterr().out
+    for text in ("duty factor", "(default: 16)", "(default: 3.0)", "JSON object"):
+        assert text in out, out
+
+
+def test_return_map_names_only_the_broken_rule(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["return-map", "--beta", "0.62", "--n-init", "0"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--n-init" in err and "--beta" not in err and "--duration-s" not in err, err
+    assert main(["return-map", "--beta", "1.2"]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "--beta" in err and "--n-init" not in err, err

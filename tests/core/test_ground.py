@@ -101,7 +101,8 @@ def test_a_ground_too_stiff_for_the_step_fails_as_a_typed_value() -> None:
     stiff = ModelParams(ground="penalty", ground_stiffness=1e6, ground_tangential_stiffness=1e6)
     r = simulate(RunSpec(beta=0.66, duration_s=0.3), stiff)
     assert r.failure is not None and r.failure.kind in ("flipped", "on_floor", "non_finite",
-                                                           "mujoco_warning")  # fmt: skip
+                                                           "mujoco_warning", "left_ground",
+                                                           "no_footholds")  # fmt: skip
 
 
 @pytest.mark.parametrize("k", [2e4])

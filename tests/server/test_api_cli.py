@@ -40,6 +40,15 @@ def test_flags_override_environment(monkeypatch: pytest.MonkeyPatch) -> None:
     assert s.api_token is not None and s.api_token.get_secret_value() == "t"
 
 
+def test_the_banner_counts_workers_in_english(tmp_path: Path) -> None:
+    from server.cli import banner
+
+    one = Settings(workers=1, db_path=tmp_path / "a.db")
+    assert banner(one).endswith(", 1 worker)"), banner(one)
+    assert banner(one.model_copy(update={"workers": 2})).endswith(", 2 workers)")
+    assert banner(one.model_copy(update={"workers": 0})).endswith(", 0 workers)")
+
+
 def test_settings_defaults(monkeypatch: pytest.MonkeyPatch) -> None:
     for var in ("INSECT_GAIT_WORKERS", "INSECT_GAIT_WORKER_NICE", "INSECT_GAIT_THREADS_PER_WORKER"):
         monkeypatch.delenv(var, raising=False)

@@ -33,10 +33,16 @@ def test_token_guards_mutations(make_server: Callable[..., Server]) -> None:
     srv = make_server(workers=0, api_token="s3cret-token")
     good = {"Authorization": "Bearer s3cret-token"}
     with srv.client() as c:
-        for headers in ({}, {"Authorization": "Bearer wrong"}, {"Authorization": "s3cret-token"}):
+        # issue 30: a missing, a malformed and a wrong token are told apart
+        for headers, says in (
+            ({}, "(none was sent)"),
+            ({"Authorization": "Bearer wrong"}, "is not this server's token"),
+            ({"Authorization": "s3cret-token"}, "is not of the form 'Bearer <token>'"),
+        ):
             r = c.post("/v1/jobs", json=SHORT, headers=headers)
             assert r.status_code == 401, r.text
             assert r.headers["www-authenticate"] == "Bearer"
+            assert says in r.json()["detail"], r.text
         assert _rows(srv) == []
         job = submit(c, SHORT, headers=good)
         before = _rows(srv)

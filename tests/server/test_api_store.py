@@ -155,6 +155,24 @@ def test_remaining_time_from_progress_or_history() -> None:
     assert estimates.remaining_s(elapsed_s=5, progress=1.0, sim_seconds=1, wall_per_sim_s=1) == 0
 
 
+def test_the_estimate_counts_the_step() -> None:
+    """Issue 30: eta_s ignored dt_s, so a job at 1e-6 s was estimated as one at the default
+    5e-5 s, 50 times too short. Both the job's size and the history rate are step-weighted."""
+    from datetime import UTC, datetime
+
+    now = datetime.now(UTC)
+    started = now.isoformat().replace("+00:00", "Z")
+    job = {"status": "running", "started_at": started, "progress": 0.0, "sim_seconds": 10.0,
+           "spec": {"kind": "run"}}  # fmt: skip
+    fine = {**job, "spec": {"kind": "run", "dt_s": 1e-6, "control_dt_s": 5e-4}}
+    default = estimates.eta_of(job, now, 0.5)
+    assert default == pytest.approx(5.0, abs=0.2)
+    assert estimates.eta_of(fine, now, 0.5) == pytest.approx(50 * default, rel=0.05)
+    # a done job at 1e-5 s (5x the steps) that took 50 s for 10 s: 1 wall s per default-step s
+    assert estimates.wall_per_sim_second([(50.0, 10.0, {"dt_s": 1e-5})]) == pytest.approx(1.0)
+    assert estimates.wall_per_sim_second([]) is None
+
+
 def test_retry_after_is_the_soonest_free_worker() -> None:
     assert estimates.retry_after_s(workers=2, running_remaining_s=[45.2, 30.1]) == 31
     assert estimates.retry_after_s(workers=2, running_remaining_s=[45.2]) == 1  # one idle

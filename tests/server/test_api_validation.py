@@ -148,6 +148,21 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
         "at most 20 simulations per job",
     ),
     (with_(BASE, d31_init=[1.0] * 2, duration_s=60), "duration_s", "at most 100 simulated"),
+    # issue 30: cost bounds (the core's; the CLI says the same), a finer step counts more
+    (with_(BASE, dt_s=1e-12), "dt_s", "the smallest step a run may take is 1e-06 s"),
+    (
+        with_(BASE, duration_s=600, dt_s=1e-6, control_dt_s=5e-4),
+        "duration_s",
+        "6e+08 physics steps; a run may take at most 6e+07",
+    ),
+    ({**HYSTERESIS, "dt_s": 1e-6, "hold_s": 60, "ramp_s": 200}, "ramp_s", "at most 6e+07"),
+    (with_(BASE, duration_s=30, dt_s=1e-5), "duration_s", "as many physics steps as 150 s"),
+    # a grid of one point: refused, not run `steps` times
+    (
+        with_(SWEEP, beta_range={"start": 0.66, "stop": 0.66, "steps": 3}),
+        "beta_range.stop",
+        "equals start",
+    ),
 ]
 
 
@@ -284,6 +299,37 @@ def test_json_without_json_content_type_names_the_header(client: httpx.Client, c
     assert "Content-Type: application/json" in issue["msg"]
 
 
+def test_json_without_any_content_type_says_to_set_it(server: Server, client: httpx.Client) -> None:
+    """Issue 30: a valid JSON body without the header was told to 'send a JSON object'."""
+    before = stored(server)
+    request = client.build_request("POST", "/v1/jobs", content=json.dumps(SHORT).encode())
+    assert "content-type" not in request.headers  # httpx sets none for raw bytes
+    r = client.send(request)
+    assert r.status_code == 422, r.text
+    (issue,) = r.json()["detail"]
+    assert "without a Content-Type header" in issue["msg"]
+    assert "set 'Content-Type: application/json'" in issue["msg"]
+    assert "send a JSON object" not in issue["msg"]
+    assert stored(server) == before
+
+
+@pytest.mark.parametrize(
+    "body",
+    [
+        {"kind": "x" * 1_000_000},
+        {**SHORT, "y" * 1_000_000: 1},
+        {**SWEEP, "beta_range": {"start": 0.6, "stop": 0.7, "z" * 1_000_000: 1}},
+    ],
+    ids=["kind", "unknown-field", "nested-unknown-field"],
+)
+def test_a_huge_input_is_not_echoed_back(client: httpx.Client, body: dict[str, Any]) -> None:
+    """Issue 30: a 422 repeated a 1 MB input in full; now at most 200 characters, with a note."""
+    r = client.post("/v1/jobs", json=body)
+    assert r.status_code == 422
+    assert len(r.content) < 3000, len(r.content)
+    assert "(1000000 characters, cut to 200)" in r.text
+
+
 def test_integrators_listed_as_the_core_has_them(client: httpx.Client) -> None:
     import sim_core
 
@@ -310,3 +356,19 @@ def test_model_parameters(client: httpx.Client) -> None:
     rows = r.json()
     assert [row["name"] for row in rows] == [row[0] for row in sim_core.parameter_table()]
     assert {row["origin"] for row in rows} <= {"paper", "invented"}
+
+
+def test_a_job_too_large_for_memory_is_refused_by_the_core_rule() -> None:
+    """Memory per job (issue 30): runs held at once x their records; the series as JSON-able
+    lists cost ~17x the bare arrays (measured), so include_series reaches the bound first."""
+    from server.schemas import RunJob
+    from sim_core.contract import MAX_JOB_BYTES, cost_problem, run_cost
+
+    small = RunJob(d31_init=[2.0] * 3, duration_s=600)
+    assert small.cost_problem() is None
+    big = RunJob(d31_init=[2.0] * 3, duration_s=600, include_series=True)
+    problem = big.cost_problem()
+    assert problem is not None and "GiB" in problem and "include_series" in problem
+    assert problem == cost_problem(600, None, None, None, runs=3, series=True)
+    one = run_cost(600, 5e-5, 5e-4, series=True)
+    assert one.records == 300_002 and 3 * one.bytes > MAX_JOB_BYTES > one.bytes
