@@ -40,6 +40,14 @@ from sim_core.model.spec import (
     numerics_problem,
     resolve_numerics,
 )
+from sim_core.paper.fixedpoints import (
+    AXIS_LABEL,
+    REGIONS,
+    AtlasOutput,
+    CellResult,
+    FinderOutput,
+    region_of,
+)
 from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
 
 _DEFAULTS = ModelParams()
@@ -48,6 +56,7 @@ DEFAULT_DT_S: float = _DEFAULTS.dt
 DEFAULT_CONTROL_DT_S: float = _DEFAULTS.control_dt
 
 __all__ = [
+    "AXIS_LABEL",
     "DEFAULT_CONTROL_DT_S",
     "DEFAULT_DT_S",
     "DEFAULT_INTEGRATOR",
@@ -56,9 +65,13 @@ __all__ = [
     "LEG_NAMES",
     "MAX_STABLE_DT_S",
     "RAMP_PARAMS",
+    "REGIONS",
     "RETURN_MAP_SKIP",
     "TAIL_DRIFT_SETTLED",
+    "AtlasOutput",
+    "CellResult",
     "FailureKind",
+    "FinderOutput",
     "Integrator",
     "ModelParams",
     "Ramp",
@@ -72,6 +85,7 @@ __all__ = [
     "mean_after",
     "numerics_problem",
     "parameter_table",
+    "region_of",
     "resolve_numerics",
     "return_map_from_series",
     "settled_gait",
