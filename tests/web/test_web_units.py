@@ -183,7 +183,12 @@ def test_speed_is_measured_along_the_heading_not_world_x() -> None:
 
 
 def test_the_follow_camera_can_turn_the_world_so_the_body_faces_x() -> None:
-    from web.scene import quat_rotate, world_pose
+    import viser.transforms as vtf
+
+    from web.scene import world_pose
+
+    def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return vtf.SO3(np.asarray(q, dtype=float)).apply(np.asarray(v, dtype=float))
 
     body = np.array([0.03, 0.04, 0.01])
     q, p = world_pose(0.0, controls.CAMERA_HEADING, body, math.pi / 2)
