@@ -130,8 +130,8 @@ RAMP_DEFAULTS: dict[str, tuple[float, float]] = {
     "body_mass_g": (3.0, 6.0),
     "slope_deg": (0.0, 20.0),
 }
-RAMP_HOLD_S = SliderRange("hold", 0.0, 600.0, 0.5, 5.0, "s")
-RAMP_RAMP_S = SliderRange("ramp", 0.5, 1200.0, 0.5, 30.0, "s")
+RAMP_HOLD_S = SliderRange("hold", 0.0, 600.0, 0.05, 5.0, "s")
+RAMP_RAMP_S = SliderRange("ramp", 0.1, 1200.0, 0.05, 30.0, "s")
 
 
 def make_ramp(param: str, start: float, turn: float, hold_s: float, ramp_s: float) -> Ramp:
