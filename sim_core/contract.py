@@ -56,6 +56,7 @@ from sim_core.model.spec import (
     resolve_numerics,
 )
 from sim_core.paper.fixedpoints import (
+    AXIS_LABEL,
     AXIS_PARAM,
     REGIONS,
     AtlasAxis,
@@ -76,6 +77,7 @@ DEFAULT_DT_S: float = _DEFAULTS.dt
 DEFAULT_CONTROL_DT_S: float = _DEFAULTS.control_dt
 
 __all__ = [
+    "AXIS_LABEL",
     "AXIS_PARAM",
     "DEFAULT_CONTROL_DT_S",
     "DEFAULT_DT_S",

@@ -18,6 +18,8 @@ it stopped.
 
 from __future__ import annotations
 
+import html
+import json
 import logging
 import math
 import threading
@@ -28,29 +30,38 @@ from pathlib import Path
 import viser
 
 from sim_core import RunSpec, Simulation
-from web import controls
-from web.bifurcation import load_bifurcation
-from web.footfall import D31Trace, FootfallBuffer
+from sim_core.contract import (
+    AXIS_LABEL,
+    RETURN_MAP_SKIP,
+    AtlasOutput,
+    FinderOutput,
+    Ramp,
+    return_map_from_series,
+)
+from web import controls, export
+from web.bifurcation import WatchedFile, finder_points
+from web.footfall import D31Trace, FootfallBuffer, StanceLog
 from web.heading import HeadingSpeed
 from web.pacing import RateMeter, SimClock
 from web.panels import Panels, Readouts
-from web.paths import DEFAULT_BIFURCATION
+from web.paths import ATLAS_AXES, DEFAULT_API_URL, DEFAULT_BIFURCATION, atlas_path
 from web.requests import (
+    PARAMS,
+    Export,
     Request,
     RequestQueue,
     Reset,
-    SetBeta,
-    SetBodyMass,
+    SetD31Window,
     SetFollow,
     SetFootfallWindow,
+    SetParam,
     SetPlaying,
-    SetSlope,
     SetSpeed,
     StartRamp,
     StopRamp,
 )
 from web.scene import HexapodScene
-from web.svg import bifurcation_svg, d31_svg, footfall_svg
+from web.svg import atlas_svg, bifurcation_svg, d31_svg, footfall_svg, return_map_svg
 
 log = logging.getLogger(__name__)
 
@@ -62,8 +73,8 @@ class LoopConfig:
     chunk_s: float = 0.002  # stance sampling step: a swing lasts 34 ms, a frame 33 ms
     step_budget: float = 0.8  # share of a frame the stepping may use before we draw anyway
     footfall_buffer_s: float = 3.0  # kept; the diagram shows the window the user chose in it
-    d31_window_s: float = 30.0
     trail_len: int = 600  # live (beta, Delta31) points kept on the bifurcation panel
+    return_map_len: int = 1200  # latest Delta31 pairs on the return map
 
 
 @dataclass(frozen=True)
@@ -90,34 +101,49 @@ class ViewerApp:
         spec: RunSpec | None = None,
         config: LoopConfig | None = None,
         bifurcation_path: Path = DEFAULT_BIFURCATION,
+        api_url: str = DEFAULT_API_URL,
     ) -> None:
         self.cfg = config or LoopConfig()
         self.requests = RequestQueue()
+        self.d31_init = controls.d31_init_value(controls.D31_INIT.initial)
         self.sim = Simulation(
             spec
             or RunSpec(
                 beta=controls.BETA.initial,
                 body_mass_g=controls.BODY_MASS_G.initial,
                 slope_deg=controls.SLOPE_DEG.initial,
-                d31_init=controls.d31_init_value(controls.D31_INIT.initial),
+                d31_init=self.d31_init,
             )
         )
+        if spec is not None:
+            self.d31_init = spec.d31_init
         self.server = viser.ViserServer(host=host, port=port, label="insect-gait", verbose=False)
         self.scene = HexapodScene(self.server, self.sim.model)
         self.panels = Panels(self.server, self.requests)
-        self.panels.sync_controls(self.sim.beta, True, False)
+        if api_url != DEFAULT_API_URL:
+            self.panels.api_url.value = api_url
+        sim = self.sim
+        start = {"beta": sim.beta, "body_mass_g": sim.body_mass_g, "slope_deg": sim.slope_deg}
+        self.panels.sync_controls(True, None, start)
         self.footfall = FootfallBuffer(self.cfg.footfall_buffer_s)
+        self.stance_log = StanceLog()
         self.footfall_window_s = controls.FOOTFALL_WINDOW_S.initial
         self.d31 = D31Trace()
+        self.d31_window_s: float | None = None  # None: the whole run
         self.heading = HeadingSpeed()
         self.bifurcation_path = bifurcation_path
-        self._bif_mtime: float | None = -1.0
-        self._bif: tuple[dict[str, list[tuple[float, float]]] | None, str] = (None, "")
+        self.bifurcation = WatchedFile(bifurcation_path, FinderOutput, "finder results")
+        self.atlases = {
+            axis: WatchedFile(atlas_path(bifurcation_path.parent, axis), AtlasOutput, "atlas")
+            for axis in ATLAS_AXES
+        }
         self.playing = True
         self.speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
-        self.ramp: controls.BetaRamp | None = None
+        self.ramp: Ramp | None = None
         self._ramp_t0 = 0.0
-        self._ramp_moved_beta = False  # the loop moved beta since the slider last showed it
+        self._ramp_phase = ""
+        self._last_ramp: Ramp | None = None  # the latest ramp, for its path's export
+        self._write: dict[str, float] = {}  # values the loop sets into sliders at next redraw
         self.error: str | None = None
         self.stats = LoopStats()
         self._clock = SimClock()
@@ -160,13 +186,12 @@ class ViewerApp:
     def apply(self, req: Request) -> None:
         sim = self.sim
         match req:
-            case SetBeta(value=v):
-                self.ramp = None  # a hand on the slider overrides the ramp
-                sim.set_beta(controls.beta_value(v))
-            case SetBodyMass(grams=g):
-                sim.set_body_mass_g(controls.body_mass_g_value(g))
-            case SetSlope(degrees=d):
-                sim.set_slope_deg(controls.slope_deg_value(d))
+            case SetParam(name=name, value=v):
+                if name not in PARAMS:
+                    raise ValueError(f"unknown parameter {name!r}; choose from {PARAMS}")
+                if self.ramp is not None and self.ramp.param == name:
+                    return  # the ramp drives it (its slider is disabled): a stale request
+                self._set_param(name, controls.RAMP_SLIDERS[name].clamp(v))
             case SetSpeed(multiplier=m):
                 self.speed = m
                 self._clock.reset()
@@ -178,21 +203,84 @@ class ViewerApp:
                 self.footfall_window_s = min(
                     self.cfg.footfall_buffer_s, controls.FOOTFALL_WINDOW_S.clamp(w)
                 )
+            case SetD31Window(seconds=w):
+                self.d31_window_s = w
             case Reset(d31_init=d):
-                self.ramp = None
-                sim.reset(d31_init=controls.d31_init_value(d))
+                self._stop_ramp()
+                self.d31_init = controls.d31_init_value(d)
+                sim.reset(d31_init=self.d31_init)
                 self.footfall.clear()
+                self.stance_log.clear()
                 self.d31.clear()
                 self.heading.clear()
                 self._clock.reset()
                 self.error = None
                 self.playing = True
-            case StartRamp(rate_per_s=r):
-                self.ramp = controls.BetaRamp(start=sim.beta, rate_per_s=max(1e-4, r))
+            case StartRamp(ramp=ramp):
+                self._stop_ramp()
+                self.ramp = ramp
                 self._ramp_t0 = sim.time_s
+                self._last_ramp = ramp
+                self._ramp_phase = controls.ramp_phase(ramp, 0.0)
+                self._set_param(ramp.param, ramp.start)
+                self._write[ramp.param] = ramp.start  # the slider shows the start, once
                 self.d31.ramp_path.clear()  # a new ramp draws a new path
             case StopRamp():
-                self.ramp = None
+                self._stop_ramp()
+            case Export(what=what, send=send):
+                name, data = self.export(what)
+                send(name, data)
+
+    def _set_param(self, name: str, value: float) -> None:
+        getattr(self.sim, f"set_{name}")(value)
+
+    def _stop_ramp(self) -> None:
+        """End the ramp where it is; its slider then shows the value the ramp left."""
+        if self.ramp is not None:
+            self._write[self.ramp.param] = getattr(self.sim, self.ramp.param)
+        self.ramp = None
+        self._ramp_phase = ""
+
+    def settings(self) -> export.Settings:
+        running = self.ramp is not None
+        ramp = self.ramp
+        if ramp is None:
+            try:
+                ramp = self.panels.ramp_settings()
+            except (TypeError, ValueError):
+                ramp = None
+        try:
+            duration = min(600.0, max(1.0, float(self.panels.job_duration.value)))
+        except (TypeError, ValueError):
+            duration = 30.0
+        return export.Settings(
+            beta=self.sim.beta,
+            body_mass_g=self.sim.body_mass_g,
+            slope_deg=self.sim.slope_deg,
+            d31_init=self.d31_init,
+            speed=self.speed,
+            time_s=self.sim.time_s,
+            ramp=ramp,
+            ramp_running=running,
+            ramp_started_at_s=self._ramp_t0 if running else None,
+            job_duration_s=duration,
+            api_url=str(self.panels.api_url.value).strip() or DEFAULT_API_URL,
+        )
+
+    def export(self, what: str) -> tuple[str, bytes]:
+        """(file name, content) of one export (web/export.py); loop thread only."""
+        stamp = f"t{self.sim.time_s:.0f}s"
+        if what == "d31":
+            return f"insect-gait_d31_{stamp}.csv", export.d31_csv(self.d31.events)
+        if what == "footfall":
+            return f"insect-gait_footfall_{stamp}.csv", export.footfall_csv(self.stance_log.rows())
+        if what == "ramp":
+            path, ramp = self.d31.ramp_path, self._last_ramp
+            data = export.ramp_csv(path, ramp, self._ramp_t0 if ramp is not None else None)
+            return f"insect-gait_ramp_{stamp}.csv", data
+        if what == "settings":
+            return f"insect-gait_settings_{stamp}.json", export.settings_json(self.settings())
+        raise ValueError(f"unknown export {what!r}; choose from {export.EXPORTS}")
 
     # --- the loop -----------------------------------------------------------------------------
     def _run(self) -> None:
@@ -267,15 +355,14 @@ class ViewerApp:
         sim, chunk = self.sim, self.cfg.chunk_s
         advanced = 0.0
         while due - advanced >= chunk * 0.5 and time.perf_counter() < deadline:
-            direction = ""
             if self.ramp is not None:
                 elapsed = sim.time_s - self._ramp_t0
-                sim.set_beta(self.ramp.beta_at(elapsed))
-                self._ramp_moved_beta = True
-                direction = self.ramp.direction_at(elapsed)
-                if direction == "done":
-                    self.ramp = None
-                    direction = ""
+                self._ramp_phase = controls.ramp_phase(self.ramp, elapsed)
+                if self._ramp_phase == "done":
+                    self._set_param(self.ramp.param, self.ramp.start)
+                    self._stop_ramp()
+                else:
+                    self._set_param(self.ramp.param, self.ramp.value(elapsed))
             t0 = sim.time_s
             try:
                 sim.advance(chunk)
@@ -286,24 +373,33 @@ class ViewerApp:
                 break
             advanced += sim.time_s - t0
             # every control period of the core's own history, not one sample per chunk
-            for t, stance in zip(*sim.footfall_since(self.footfall.t_now), strict=True):
-                self.footfall.append(float(t), stance)
-            # Delta31 events with the beta (and ramp direction) in force when they happened
-            self.d31.sync(sim.d31_events, sim.beta, direction)
+            times, stance = sim.footfall_since(self.footfall.t_now)
+            for t, s in zip(times, stance, strict=True):
+                self.footfall.append(float(t), s)
+            self.stance_log.extend(times, stance)
+            # Delta31 events with the parameters (and ramp phase) in force when they happened
+            self.d31.sync(
+                sim.d31_events, sim.beta, self._ramp_phase, sim.body_mass_g, sim.slope_deg
+            )
         return advanced
 
     def _draw_panels(
         self, rtf: float | None, stepping_rtf: float | None, frame_hz: float | None
     ) -> None:
-        sim, cfg = self.sim, self.cfg
+        sim = self.sim
         ramp = ""
         if self.ramp is not None:
-            direction = self.ramp.direction_at(sim.time_s - self._ramp_t0)
-            ramp = f"{direction}, β = {sim.beta:.3f}"
-        # the slider shows beta only when the loop moved it (the ramp), never a person's input
-        moved = self._ramp_moved_beta
-        self._ramp_moved_beta = False
-        self.panels.sync_controls(sim.beta if moved else None, self.playing, self.ramp is not None)
+            r = self.ramp
+            elapsed = sim.time_s - self._ramp_t0
+            value = getattr(sim, r.param)
+            ramp = (
+                f"{controls.RAMP_LABELS[r.param]} {self._ramp_phase}: {value:.3f} "
+                f"({min(elapsed, r.duration_s):.0f} of {r.duration_s:.0f} s)"
+            )
+        write, self._write = self._write, {}
+        self.panels.sync_controls(
+            self.playing, None if self.ramp is None else self.ramp.param, write
+        )
         gait = sim.gait
         heading = self.heading.heading_rad
         self.panels.show_readouts(
@@ -331,32 +427,75 @@ class ViewerApp:
             self.panels.footfall,
             footfall_svg(self.footfall.bars(), t_now, self.footfall_window_s),
         )
-        self.panels.show_html(
-            self.panels.d31,
-            d31_svg(self.d31.recent(t_now - cfg.d31_window_s), t_now, cfg.d31_window_s, gait),
+        w = self.d31_window_s
+        events = self.d31.events if w is None else self.d31.recent(t_now - w)
+        self.panels.show_html(self.panels.d31, d31_svg(events, t_now, w, gait))
+        self.panels.show_html(self.panels.return_map, return_map_svg(self._return_map()))
+        self.panels.show_html(self.panels.job, job_html(self.settings()))
+
+    def _return_map(self) -> list[tuple[float, float]]:
+        """The current run's (Delta31 n, n + 4) pairs, the latest `return_map_len`, built by
+        the core's return-map construction (first RETURN_MAP_SKIP of the run dropped)."""
+        n = self.cfg.return_map_len + 4
+        recent = self.d31.last_n(n)
+        whole = len(recent) == len(self.d31.events)
+        rm = return_map_from_series(
+            self.sim.beta, [[e.d31 for e in recent]], lag=4, skip=RETURN_MAP_SKIP if whole else 0
         )
+        return list(zip(rm.x.tolist(), rm.y.tolist(), strict=True))
 
     def _draw_bifurcation(self) -> None:
-        path = self.bifurcation_path
-        try:
-            mtime: float | None = path.stat().st_mtime
-        except OSError:
-            mtime = None
-        if mtime != self._bif_mtime:  # results appear (or change) while the viewer runs
-            self._bif_mtime = mtime
-            self._bif = load_bifurcation(path)
-        cached, note = self._bif
-        trail = list(self.d31.events)[-self.cfg.trail_len :]
+        finder, note = self.bifurcation.get()
+        trail = self.d31.last_n(self.cfg.trail_len)
         last = self.d31.last
         live = (self.sim.beta, last.d31 if last is not None else None)
         self.panels.show_html(
             self.panels.bifurcation,
             bifurcation_svg(
-                cached,
+                None if finder is None else finder_points(finder),
                 note,
                 trail,
                 live,
                 (controls.BETA.lo, controls.BETA.hi),
-                list(self.d31.ramp_path),
+                list(self.d31.ramp_path) if self._ramp_draws_on_beta() else [],
             ),
         )
+        axis = self.panels.atlas_axis if self.panels.atlas_axis in ATLAS_AXES else "mass"
+        atlas, anote = self.atlases[axis].get()
+        value = self.sim.body_mass_g if axis == "mass" else self.sim.slope_deg
+        self.panels.show_html(
+            self.panels.atlas,
+            atlas_svg(
+                atlas,
+                anote,
+                axis,
+                AXIS_LABEL.get(axis, axis),
+                (self.sim.beta, value),
+                (controls.BETA.lo, controls.BETA.hi),
+            ),
+        )
+
+    def _ramp_draws_on_beta(self) -> bool:
+        """A ramp's path goes on the (beta, Delta31) panel when it ramped beta."""
+        return self._last_ramp is not None and self._last_ramp.param == "beta"
+
+
+def job_html(s: export.Settings) -> str:
+    """The current settings as REST job bodies to copy, with the curl line and the URL."""
+    url = s.api_url.rstrip("/")
+    parts = [
+        f'<div data-job-url="{html.escape(url)}/v1/jobs" style="font-size:0.8em">',
+        f"<b>POST</b> <code>{html.escape(url)}/v1/jobs</code> "
+        f'(<a href="{html.escape(url)}/docs" target="_blank">API docs</a>)',
+    ]
+    for kind, body in export.jobs(s).items():
+        text = json.dumps(body, indent=1)
+        parts.append(
+            f"<div>a <b>{kind}</b> job{' (the ramp set up above)' if kind == 'hysteresis' else ''}:"
+            f'</div><pre data-job="{kind}" style="white-space:pre-wrap;user-select:all;'
+            f'margin:2px 0;padding:3px;background:#f4f4f4">{html.escape(text)}</pre>'
+            f'<pre style="white-space:pre-wrap;user-select:all;margin:2px 0;font-size:0.9em">'
+            f"{html.escape(export.curl(url, body))}</pre>"
+        )
+    parts.append("</div>")
+    return "".join(parts)

@@ -1,90 +1,94 @@
-"""Read the experiments' cached bifurcation results, whatever shape the writer chose.
+"""Read the finder's typed results for the bifurcation and atlas panels.
 
-The experiments are written by another part of the project and their JSON layout may change; the
-viewer only needs (beta, Delta31) points grouped into series (typically the sweep down and the
-sweep up). So the reader walks the JSON and accepts the shapes a writer is likely to use:
-
-- a point: `{"beta": 0.62, "d31_final": 2.9}` (also `d31`, `delta31`; a `direction`, `branch` or
-  `sweep` field names its series), e.g. a list of `RunResult.summary()` dicts;
-- columns: `{"beta": [...], "d31": [...]}` where each d31 entry may itself be a list;
-- either of these nested under keys, whose names become series names (`{"down": ..., "up": ...}`).
-
-Anything else is ignored; if nothing is found the panel says so instead of drawing nothing.
+`insect-gait reproduce` writes bifurcation.json as a `FinderOutput` and `insect-gait atlas`
+writes atlas_<axis>.json as an `AtlasOutput` (sim_core.paper.fixedpoints, re-exported by the
+MuJoCo-free `sim_core.contract`). The viewer validates them with those very models: no guessing
+at shapes. A file that is absent or does not validate gives a one-line note for the panel,
+naming the first validation error, instead of a drawing.
 """
 
 from __future__ import annotations
 
-import json
 import math
+from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any
+from typing import Generic, TypeVar
 
-TWO_PI = 2.0 * math.pi
-_D31_KEYS = ("d31_final", "d31", "delta31", "d31_rad")
-_SERIES_KEYS = ("direction", "branch", "sweep", "series")
-DEFAULT_PATH = Path("docs/figures/bifurcation.json")
+from pydantic import BaseModel, ValidationError
 
-Series = dict[str, list[tuple[float, float]]]
+from sim_core.contract import FinderOutput
 
-
-def _num(v: Any) -> float | None:
-    if isinstance(v, bool) or not isinstance(v, int | float):
-        return None
-    f = float(v)
-    return f if math.isfinite(f) else None
+M = TypeVar("M", bound=BaseModel)
 
 
-def _add(out: Series, name: str, beta: float | None, d31: Any) -> None:
-    if beta is None:
-        return
-    values = d31 if isinstance(d31, list) else [d31]
-    for v in values:
-        d = _num(v)
-        if d is not None:
-            out.setdefault(name, []).append((beta, d % TWO_PI))
+def first_error(exc: ValidationError) -> str:
+    """'cells.0.beta: Field required (3 errors)': where and what, in one line."""
+    errors = exc.errors()
+    if not errors:
+        return str(exc).splitlines()[0]
+    e = errors[0]
+    loc = ".".join(str(x) for x in e.get("loc", ())) or "(top level)"
+    more = f" ({len(errors)} errors)" if len(errors) > 1 else ""
+    return f"{loc}: {e.get('msg', '')}{more}"
 
 
-def _walk(obj: Any, name: str, out: Series, depth: int = 0) -> None:
-    if depth > 8:
-        return
-    if isinstance(obj, list):
-        for item in obj:
-            _walk(item, name, out, depth + 1)
-        return
-    if not isinstance(obj, dict):
-        return
-    series = next((str(obj[k]) for k in _SERIES_KEYS if isinstance(obj.get(k), str)), name)
-    d31_key = next((k for k in _D31_KEYS if k in obj), None)
-    beta = obj.get("beta")
-    if d31_key is not None and beta is not None:
-        d31 = obj[d31_key]
-        if isinstance(beta, list) and isinstance(d31, list) and len(beta) == len(d31):
-            for b, d in zip(beta, d31, strict=True):
-                _add(out, series, _num(b), d)
-        else:
-            _add(out, series, _num(beta), d31)
-        return
-    for key, value in obj.items():
-        if isinstance(value, dict | list):
-            _walk(value, str(key) if name == "results" else name, out, depth + 1)
-
-
-def extract_points(data: Any) -> Series:
-    """(beta, Delta31) points per series found anywhere in parsed JSON."""
-    out: Series = {}
-    _walk(data, "results", out)
-    return out
-
-
-def load_bifurcation(path: Path = DEFAULT_PATH) -> tuple[Series | None, str]:
-    """Cached points and a note for the panel (empty when all is well)."""
-    if not path.exists():
-        return None, f"no cached results: {path} absent"
+def load_validated(path: Path, model: type[M], what: str) -> tuple[M | None, str]:
+    """The file validated as `model`, and a note for the panel ("" when all is well)."""
     try:
-        data = json.loads(path.read_text())
-    except (OSError, ValueError) as exc:
+        text = path.read_text()
+    except FileNotFoundError:
+        return None, f"no {what}: {path} absent"
+    except OSError as exc:
         return None, f"cannot read {path.name}: {exc}"
-    points = extract_points(data)
-    if not points:
-        return None, f"{path.name}: no (β, Δ31) points found"
-    return points, ""
+    try:
+        return model.model_validate_json(text), ""
+    except ValidationError as exc:
+        return None, f"{path.name} is not a {model.__name__}: {first_error(exc)}"
+
+
+class WatchedFile(Generic[M]):
+    """A result file re-read whenever it appears, changes or goes away (by mtime)."""
+
+    def __init__(self, path: Path, model: type[M], what: str) -> None:
+        self.path = path
+        self.model = model
+        self.what = what
+        self._mtime: float | None = -1.0
+        self._value: tuple[M | None, str] = (None, "")
+
+    def get(self) -> tuple[M | None, str]:
+        try:
+            mtime: float | None = self.path.stat().st_mtime
+        except OSError:
+            mtime = None
+        if mtime != self._mtime:
+            self._mtime = mtime
+            self._value = load_validated(self.path, self.model, self.what)
+        return self._value
+
+
+@dataclass(frozen=True)
+class FinderPoints:
+    """What the bifurcation panel draws from a FinderOutput, as (beta, Delta31) points."""
+
+    stable: list[tuple[float, float, str]] = field(default_factory=list)  # + gait
+    unstable: list[tuple[float, float]] = field(default_factory=list)  # borders' saddles
+    ghosts: list[tuple[float, float]] = field(default_factory=list)
+    unsettled: list[tuple[float, float]] = field(default_factory=list)  # finals, not settled
+
+    def __len__(self) -> int:
+        return len(self.stable) + len(self.unstable) + len(self.ghosts) + len(self.unsettled)
+
+
+def finder_points(out: FinderOutput) -> FinderPoints:
+    pts = FinderPoints()
+    for c in out.cells:
+        pts.stable.extend((c.beta, a.d31 % (2 * math.pi), a.gait) for a in c.attractors)
+        pts.unstable.extend((c.beta, b.d31 % (2 * math.pi)) for b in c.borders if b.d31 is not None)
+        pts.ghosts.extend((c.beta, g.d31 % (2 * math.pi)) for g in c.ghosts)
+        pts.unsettled.extend(
+            (c.beta, r.final % (2 * math.pi))
+            for r in c.runs
+            if not r.settled and r.failure is None and r.final is not None
+        )
+    return pts

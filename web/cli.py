@@ -13,7 +13,7 @@ import sys
 from pathlib import Path
 
 from sim_core.cli import EXIT_USAGE, port_number, port_taken
-from web.paths import DEFAULT_BIFURCATION
+from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, RESULTS_ENV
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
@@ -32,7 +32,14 @@ def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[ty
         "--bifurcation",
         type=Path,
         default=DEFAULT_BIFURCATION,
-        help="cached bifurcation results to draw, if present (default %(default)s)",
+        help="the finder's results (a FinderOutput, `insect-gait reproduce`) to draw, if "
+        "present; atlas_mass.json and atlas_slope.json are read from the same folder "
+        f"(default %(default)s; {RESULTS_ENV} sets the folder)",
+    )
+    p.add_argument(
+        "--api-url",
+        default=DEFAULT_API_URL,
+        help="the REST API the 'Submit as a job' panel names (default %(default)s)",
     )
     p.set_defaults(func=run)
 
@@ -55,7 +62,7 @@ def run(args: argparse.Namespace) -> int:
     from web.app import ViewerApp
 
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
-    app = ViewerApp(args.host, args.port, bifurcation_path=args.bifurcation)
+    app = ViewerApp(args.host, args.port, bifurcation_path=args.bifurcation, api_url=args.api_url)
     if app.port != args.port:  # taken in the instant between the check and viser's bind
         app.server.stop()
         return _refuse_busy(args)

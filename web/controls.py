@@ -1,4 +1,4 @@
-"""Slider values -> simulation parameters, speed choices and the beta ramp, kept pure.
+"""Slider values -> simulation parameters, speed choices and ramps, kept pure.
 
 The GUI hands us whatever a browser sent (a float that may be a hair outside the slider's range,
 or NaN from a cleared number box); the core's `RunSpec` ranges are strict, so everything is
@@ -9,6 +9,8 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+
+from sim_core.contract import Ramp
 
 TWO_PI = 2.0 * math.pi
 TRIPOD = math.pi
@@ -109,56 +111,51 @@ def speed_value(label: str) -> float | None:
     return SPEEDS.get(label, 1.0)
 
 
-@dataclass(frozen=True)
-class BetaRamp:
-    """A triangle wave in beta: from `start` down to `lo`, up to `hi`, back down to `start`.
+# --- ramps: the core's `Ramp` (hold start, ramp to turn, ramp back, hold), one definition ------
+# The slider of each parameter a ramp may drive (sim_core.contract.RAMP_PARAMS).
+RAMP_SLIDERS: dict[str, SliderRange] = {
+    "beta": BETA,
+    "body_mass_g": BODY_MASS_G,
+    "slope_deg": SLOPE_DEG,
+}
+RAMP_LABELS: dict[str, str] = {
+    "beta": "β",
+    "body_mass_g": "body mass (g)",
+    "slope_deg": "slope (°)",
+}
+# What the ramp inputs show when a parameter is chosen: the paper's Fig. 6a sweep for beta
+# (0.70 -> 0.62 -> 0.70), and sweeps across the paper's Fig. 9 ranges for mass and slope.
+RAMP_DEFAULTS: dict[str, tuple[float, float]] = {
+    "beta": (0.70, 0.62),
+    "body_mass_g": (3.0, 6.0),
+    "slope_deg": (0.0, 20.0),
+}
+RAMP_HOLD_S = SliderRange("hold", 0.0, 600.0, 0.05, 5.0, "s")
+RAMP_RAMP_S = SliderRange("ramp", 0.1, 1200.0, 0.05, 30.0, "s")
 
-    Slow enough that the gait settles at every beta (a few Delta31 samples per 0.01 of beta),
-    so that the jump down (metachronal -> tripod) and the jump up happen at different betas
-    and the hysteresis loop draws itself on the bifurcation panel.
-    """
 
-    start: float
-    lo: float = BETA.lo
-    hi: float = BETA.hi
-    rate_per_s: float = 0.004  # beta per simulated second
+def make_ramp(param: str, start: float, turn: float, hold_s: float, ramp_s: float) -> Ramp:
+    """The core's Ramp from the GUI's inputs, each clamped to what its slider allows."""
+    if param not in RAMP_SLIDERS:
+        raise ValueError(f"cannot ramp {param!r}; choose from {list(RAMP_SLIDERS)}")
+    rng = RAMP_SLIDERS[param]
+    return Ramp(
+        param=param,  # type: ignore[arg-type]  # checked against RAMP_PARAMS' keys above
+        start=rng.clamp(start),
+        turn=rng.clamp(turn),
+        hold_s=RAMP_HOLD_S.clamp(hold_s),
+        ramp_s=RAMP_RAMP_S.clamp(ramp_s),
+    )
 
-    def __post_init__(self) -> None:
-        if not self.lo < self.hi:
-            raise ValueError(f"ramp needs lo < hi, got {self.lo} >= {self.hi}")
-        if self.rate_per_s <= 0:
-            raise ValueError(f"ramp rate must be positive, got {self.rate_per_s}")
 
-    @property
-    def duration_s(self) -> float:
-        """Simulated time for the whole sweep down, up and back to the start."""
-        s = min(self.hi, max(self.lo, self.start))
-        return ((s - self.lo) + (self.hi - self.lo) + (self.hi - s)) / self.rate_per_s
-
-    def beta_at(self, elapsed_s: float) -> float:
-        """Beta after `elapsed_s` simulated seconds of ramp; holds `start` once finished."""
-        s = min(self.hi, max(self.lo, self.start))
-        d = max(0.0, elapsed_s) * self.rate_per_s
-        down = s - self.lo
-        if d <= down:
-            return s - d
-        d -= down
-        span = self.hi - self.lo
-        if d <= span:
-            return self.lo + d
-        d -= span
-        return max(s, self.hi - d)
-
-    def direction_at(self, elapsed_s: float) -> str:
-        """'down', 'up' or 'done': which branch of the hysteresis loop is being drawn."""
-        s = min(self.hi, max(self.lo, self.start))
-        d = max(0.0, elapsed_s) * self.rate_per_s
-        down = s - self.lo
-        span = self.hi - self.lo
-        if d < down:
-            return "down"
-        if d < down + span:
-            return "up"
-        if d < down + span + (self.hi - s):
-            return "down"
+def ramp_phase(ramp: Ramp, elapsed_s: float) -> str:
+    """'hold', 'down', 'up' (the way the value moves) or 'done' after `elapsed_s` of ramp."""
+    t = elapsed_s
+    if t >= ramp.duration_s:
         return "done"
+    if t < ramp.hold_s or t >= ramp.turn_time_s + ramp.ramp_s:
+        return "hold"
+    towards = "up" if ramp.turn > ramp.start else "down"
+    if t < ramp.turn_time_s:
+        return towards
+    return "down" if towards == "up" else "up"

@@ -7,6 +7,7 @@ backwards means the simulation was reset: the record starts over rather than dra
 
 from __future__ import annotations
 
+import bisect
 import math
 from collections import deque
 from dataclasses import dataclass
@@ -87,38 +88,110 @@ class FootfallBuffer:
         return out
 
 
+# The whole run is kept, up to these caps (then the oldest go): 200 000 touchdowns are ~5.5 h
+# of walking at ~10 leg-1 touchdowns per second, 1.2 million stance intervals ~5.5 h of six legs.
+MAX_D31_EVENTS = 200_000
+MAX_STANCE_INTERVALS = 1_200_000
+
+
+class StanceLog:
+    """Every stance interval of the run, per leg (for export): the footfall diagram's data
+    beyond its few-second window. Fed the same samples (one per control period), in bulk."""
+
+    def __init__(self, max_intervals: int = MAX_STANCE_INTERVALS) -> None:
+        self.max_intervals = max_intervals
+        self.clear()
+
+    def clear(self) -> None:
+        self.intervals: list[tuple[int, float, float]] = []  # (leg index, start, end)
+        self._open: list[float | None] = [None] * N_LEGS
+        self._t_last: float | None = None
+        self.dropped = 0
+
+    def extend(self, times: np.ndarray, stance: np.ndarray) -> None:
+        """Samples (times (T,), stance (T, 6) bool), later than the last one taken."""
+        t = np.asarray(times, dtype=float)
+        s = np.asarray(stance, dtype=bool).reshape(-1, N_LEGS)
+        if t.size == 0:
+            return
+        if self._t_last is not None and t[0] < self._t_last:
+            self.clear()  # reset
+        for leg in range(N_LEGS):
+            on = s[:, leg]
+            was = self._open[leg] is not None
+            prev = np.concatenate([[was], on[:-1]])
+            starts = np.flatnonzero(on & ~prev)  # transitions alternate on the leg
+            ends = np.flatnonzero(~on & prev)
+            if was and ends.size:  # the interval open from before ends first
+                start = self._open[leg]
+                assert start is not None
+                self.intervals.append((leg, start, float(t[ends[0]])))
+                self._open[leg] = None
+                ends = ends[1:]
+            for a, b in zip(starts, ends, strict=False):
+                self.intervals.append((leg, float(t[a]), float(t[b])))
+            if starts.size > ends.size:
+                self._open[leg] = float(t[starts[-1]])
+        self._t_last = float(t[-1])
+        over = len(self.intervals) - self.max_intervals
+        if over > 0:
+            del self.intervals[:over]
+            self.dropped += over
+
+    def rows(self) -> list[tuple[str, float, float]]:
+        """(leg name index order R1 L1 R2 L2 R3 L3 as 0..5, start, end) sorted by start; an
+        interval still open ends at the last sample."""
+        out = [(leg, a, b) for leg, a, b in self.intervals]
+        if self._t_last is not None:
+            out += [(leg, a, self._t_last) for leg, a in enumerate(self._open) if a is not None]
+        return [(str(leg), a, b) for leg, a, b in sorted(out, key=lambda r: (r[1], r[0]))]
+
+
 @dataclass(frozen=True)
 class D31Event:
     time_s: float
     d31: float
     beta: float
-    ramp: str = ""  # "down"/"up" while the beta ramp ran, else ""
+    ramp: str = ""  # "down"/"up"/"hold" while a ramp ran, else ""
+    body_mass_g: float = math.nan
+    slope_deg: float = math.nan
 
 
 class D31Trace:
-    """Delta31 at each leg-1 touchdown, with the beta in force then (for the bifurcation panel).
+    """Delta31 at each leg-1 touchdown of the whole run (up to MAX_D31_EVENTS), with the beta,
+    mass and slope in force then (for the panels and the export).
 
     `sim.d31_events` is the core's full list since the last reset; `sync` takes only what is new,
     so the loop can call it after every chunk of stepping at no cost.
     """
 
-    def __init__(self, maxlen: int = 5_000) -> None:
-        self.events: deque[D31Event] = deque(maxlen=maxlen)
-        # the latest beta ramp's path (a ramp at the default rate takes ~2 minutes, ~1300 events)
-        self.ramp_path: deque[D31Event] = deque(maxlen=20_000)
+    def __init__(self, maxlen: int = MAX_D31_EVENTS) -> None:
+        self.maxlen = maxlen
+        self.events: list[D31Event] = []
+        self._times: list[float] = []  # the events' times, for bisection
+        # the latest ramp's path (all of it, up to the same cap)
+        self.ramp_path: deque[D31Event] = deque(maxlen=maxlen)
         self._seen = 0  # how many of the core's events have been taken
         self.version = 0
 
     def clear(self) -> None:
         self.events.clear()
+        self._times.clear()
         self.ramp_path.clear()
         self._seen = 0
         self.version += 1
 
-    def sync(self, core_events: list[tuple[float, float]], beta: float, ramp: str = "") -> int:
+    def sync(
+        self,
+        core_events: list[tuple[float, float]],
+        beta: float,
+        ramp: str = "",
+        body_mass_g: float = math.nan,
+        slope_deg: float = math.nan,
+    ) -> int:
         """Take new events from the core's list; returns how many were new.
 
-        `ramp` ("down"/"up"/"") is the beta ramp's direction now; events taken during a ramp
+        `ramp` ("down"/"up"/"hold"/"") is the ramp's phase now; events taken during a ramp
         are also kept in `ramp_path`, the path the ramp draws on the bifurcation panel.
         """
         n = len(core_events)
@@ -127,17 +200,25 @@ class D31Trace:
         new = core_events[self._seen :]
         for t, d in new:
             if math.isfinite(d):
-                event = D31Event(float(t), float(d), float(beta), ramp)
+                event = D31Event(float(t), float(d), float(beta), ramp, body_mass_g, slope_deg)
                 self.events.append(event)
+                self._times.append(event.time_s)
                 if ramp:
                     self.ramp_path.append(event)
+        over = len(self.events) - self.maxlen
+        if over > 0:
+            del self.events[:over]
+            del self._times[:over]
         self._seen = n
         if new:
             self.version += 1
         return len(new)
 
     def recent(self, since_s: float) -> list[D31Event]:
-        return [e for e in self.events if e.time_s >= since_s]
+        return self.events[bisect.bisect_left(self._times, since_s) :]
+
+    def last_n(self, n: int) -> list[D31Event]:
+        return self.events[-n:] if n > 0 else []
 
     @property
     def last(self) -> D31Event | None:

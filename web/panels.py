@@ -2,7 +2,7 @@
 
 Every callback here runs on viser's thread pool and does one thing: put a request on the queue
 (and note when a person last touched that control). When the loop thread sets a control itself
-(the ramp moving the beta slider, the play button's label), viser calls the same callbacks
+(a ramp's start value into its slider, the play button's label), viser calls the same callbacks
 synchronously with `event.client is None`; those echoes are ignored, so the loop never queues
 requests to itself.
 
@@ -10,8 +10,10 @@ Typed values. A number box sends every keystroke ("0.62" arrives as 0, 0, 0.6, 0
 - a value that cannot be one yet (outside the slider's range, or not a number) is not applied
   (`SliderRange.typed`); the box clamps it itself when the person leaves it;
 - the loop never writes a value back into a control because a person changed it: the simulation
-  takes exactly what the box holds. The loop writes a control only when it moved the value
-  itself (the beta ramp), and never within `EDIT_QUIET_S` of a person's last change there.
+  takes exactly what the box holds. The slider of a parameter a ramp drives is disabled while
+  the ramp runs and not written meanwhile; the loop writes it once when the ramp starts (its
+  start value) and once when it ends or is stopped (where it left the parameter), never within
+  `EDIT_QUIET_S` of a person's last change there.
 
 All browsers see the same panel (`server.gui` state is shared), which is why there is one
 simulation for everyone (docs/VIEWER.md).
@@ -19,6 +21,7 @@ simulation for everyone (docs/VIEWER.md).
 
 from __future__ import annotations
 
+import html
 import math
 import time
 from collections.abc import Callable
@@ -26,25 +29,37 @@ from dataclasses import dataclass
 
 import viser
 
+from sim_core.contract import Ramp
 from web import controls
 from web.caption import CAPTION
+from web.paths import DEFAULT_API_URL
 from web.requests import (
+    Export,
     Request,
     RequestQueue,
     Reset,
-    SetBeta,
-    SetBodyMass,
+    SetD31Window,
     SetFollow,
     SetFootfallWindow,
+    SetParam,
     SetPlaying,
-    SetSlope,
     SetSpeed,
     StartRamp,
     StopRamp,
 )
 
 PLAY, PAUSE = "Play", "Pause"
-RAMP_START, RAMP_STOP = "Ramp β down and up", "Stop ramp"
+RAMP_START, RAMP_STOP = "Start ramp", "Stop ramp"
+# export buttons: label -> what (web/export.py)
+EXPORT_BUTTONS = {
+    "Δ31 trace (CSV)": "d31",
+    "footfall (CSV)": "footfall",
+    "ramp path (CSV)": "ramp",
+    "settings (JSON)": "settings",
+}
+# the ramp's parameter buttons: label -> RunSpec field
+RAMP_BUTTONS = {"ramp β": "beta", "ramp mass": "body_mass_g", "ramp slope": "slope_deg"}
+D31_WINDOW_LABEL = "Δ31 window (s, 0 = whole run)"
 PRESET_TRIPOD, PRESET_METACHRONAL = "Start as tripod (Δ31 = π)", "Start as metachronal (2π/3)"
 # The loop leaves a control alone this long after a person last changed it (typing pauses
 # between keys are well under a second; the ramp is stopped by the first keystroke anyway).
@@ -135,6 +150,23 @@ def format_readouts(r: Readouts) -> dict[str, str]:
     }
 
 
+def status_html(status: str) -> str:
+    """The status line in a box that wraps (a ~230-character status used to be clipped in a
+    one-line text input)."""
+    return (
+        '<div data-readout="status" style="white-space:normal;overflow-wrap:anywhere;'
+        'font-size:0.8em;line-height:1.3;padding:2px 0">'
+        f"<b>status:</b> {html.escape(status)}</div>"
+    )
+
+
+def _set(name: str) -> Callable[[float], Request]:
+    def make(value: float) -> Request:
+        return SetParam(name, value)
+
+    return make
+
+
 class Panels:
     """Builds the GUI once; the loop thread calls the `show_*`/`sync_*` methods."""
 
@@ -151,10 +183,16 @@ class Panels:
         with gui.add_folder("Gait"):
             self.footfall = gui.add_html("<em>footfall: waiting for the first steps</em>")
             self.d31 = gui.add_html("<em>Δ31: waiting for leg-1 touchdowns</em>")
+            self.return_map = gui.add_html("<em>return map: waiting for touchdowns</em>")
         with gui.add_folder("Controls"):
-            self.beta = self._slider("beta", controls.BETA, SetBeta)
-            self.mass = self._slider("mass", controls.BODY_MASS_G, SetBodyMass)
-            self.slope = self._slider("slope", controls.SLOPE_DEG, SetSlope)
+            self.sliders = {
+                "beta": self._slider("beta", controls.BETA, _set("beta")),
+                "body_mass_g": self._slider(
+                    "body_mass_g", controls.BODY_MASS_G, _set("body_mass_g")
+                ),
+                "slope_deg": self._slider("slope_deg", controls.SLOPE_DEG, _set("slope_deg")),
+            }
+            self.beta = self.sliders["beta"]
             # Buttons, not a dropdown: a dropdown opens when Tab reaches it, and Tab out of the
             # slope box then spread the speed list over the plots. The status readout says
             # the speed in force.
@@ -169,13 +207,9 @@ class Panels:
             self.tripod.on_click(self._queue(lambda: Reset(controls.TRIPOD)))
             self.metachronal = gui.add_button(PRESET_METACHRONAL)
             self.metachronal.on_click(self._queue(lambda: Reset(controls.METACHRONAL)))
-            self.ramp_rate = gui.add_number(
-                "ramp rate (β/s)", 0.004, min=0.0005, max=0.05, step=0.0005
-            )
-            self.ramp = gui.add_button(RAMP_START)
-            self.ramp.on_click(self._on_ramp)
-            self._ramping = False
             self.window = self._slider("footfall", controls.FOOTFALL_WINDOW_S, SetFootfallWindow)
+            self.d31_window = gui.add_number(D31_WINDOW_LABEL, 0.0, min=0.0, max=3600.0, step=1.0)
+            self.d31_window.on_update(self._on_d31_window)
             self.camera = gui.add_button_group("camera", controls.CAMERA_MODES)  # as speed
             self.camera.on_click(self._queue(lambda: SetFollow(str(self.camera.value))))
             self.d31_init = self._slider("d31_init", controls.D31_INIT, None)
@@ -183,14 +217,46 @@ class Panels:
             self.reset.on_click(
                 self._queue(lambda: Reset(controls.d31_init_value(self.d31_init.value)))
             )
+        with gui.add_folder("Ramp (hold, ramp, back, hold)"):
+            # buttons, not a dropdown (as speed): which parameter the ramp drives
+            self.ramp_param = gui.add_button_group("ramp drives", tuple(RAMP_BUTTONS))
+            self.ramp_param_name = "beta"  # written by the callback, read by the loop
+            self.ramp_param.on_click(self._on_ramp_param)
+            self.ramp_which = gui.add_text("ramped", controls.RAMP_LABELS["beta"], disabled=True)
+            start, turn = controls.RAMP_DEFAULTS["beta"]
+            self.ramp_start = gui.add_number("ramp start", start, step=0.005)
+            self.ramp_turn = gui.add_number("ramp turn", turn, step=0.005)
+            h, r = controls.RAMP_HOLD_S, controls.RAMP_RAMP_S
+            self.ramp_hold = gui.add_number("hold (s)", h.initial, min=h.lo, max=h.hi, step=h.step)
+            self.ramp_ramp = gui.add_number("ramp (s)", r.initial, min=r.lo, max=r.hi, step=r.step)
+            self.ramp = gui.add_button(RAMP_START)
+            self.ramp.on_click(self._on_ramp)
+            self._ramping = False
+            self._disabled: str | None = None  # the slider a running ramp has disabled
         with gui.add_folder("Bifurcation"):
             self.bifurcation = gui.add_html("<em>bifurcation diagram</em>")
+        with gui.add_folder("Atlas"):
+            self.atlas_axis_buttons = gui.add_button_group("atlas over", ("mass", "slope"))
+            self.atlas_axis = "mass"  # read by the loop; a str store is atomic
+            self.atlas_axis_buttons.on_click(self._on_atlas_axis)
+            self.atlas = gui.add_html("<em>gait atlas</em>")
+        with gui.add_folder("Export"):
+            self.exports = {}
+            for label, what in EXPORT_BUTTONS.items():
+                button = gui.add_button(label)
+                button.on_click(self._export(what))
+                self.exports[what] = button
+        with gui.add_folder("Submit as a job"):
+            self.api_url = gui.add_text("API URL", DEFAULT_API_URL)
+            self.job_duration = gui.add_number("job duration (s)", 30.0, min=1.0, max=600.0)
+            self.job = gui.add_html("<em>the current settings as a REST job</em>")
         with gui.add_folder("Readouts"):
             blank = format_readouts(
                 Readouts(
                     controls.BETA.initial, 0.0, None, None, "–", 0.0, None, None, 1.0, None, ""
                 )
             )
+            self.status = gui.add_html(status_html(blank.pop("status")))
             self.readouts = {k: gui.add_text(k, v, disabled=True) for k, v in blank.items()}
         self._last: dict[str, str] = {}
 
@@ -215,8 +281,6 @@ class Panels:
             value = spec.typed(handle.value)
             if value is not None:
                 self.requests.put(make(value))
-            elif key == "beta" and self._ramping:
-                self.requests.put(StopRamp())  # a hand on the box overrides the ramp
 
         handle.on_update(callback)
         return handle
@@ -238,8 +302,66 @@ class Panels:
             return
         if self._ramping:
             self.requests.put(StopRamp())
-        else:
-            self.requests.put(StartRamp(float(self.ramp_rate.value)))
+            return
+        try:
+            ramp = self.ramp_settings()
+        except (TypeError, ValueError):
+            return  # a box holds no number yet
+        self.requests.put(StartRamp(ramp))
+
+    def ramp_settings(self) -> Ramp:
+        """The ramp the inputs describe (each value clamped to its control's range)."""
+        return controls.make_ramp(
+            self.ramp_param_name,
+            float(self.ramp_start.value),
+            float(self.ramp_turn.value),
+            float(self.ramp_hold.value),
+            float(self.ramp_ramp.value),
+        )
+
+    def _on_ramp_param(self, event: viser.GuiEvent) -> None:
+        """A new parameter: its range and the default sweep into the start and turn boxes."""
+        if event.client is None:
+            return
+        param = RAMP_BUTTONS.get(str(self.ramp_param.value))
+        if param is None or self._ramping:
+            return  # a running ramp keeps its parameter
+        self.ramp_param_name = param
+        self.ramp_which.value = controls.RAMP_LABELS[param]
+        rng = controls.RAMP_SLIDERS[param]
+        start, turn = controls.RAMP_DEFAULTS[param]
+        for box, value in ((self.ramp_start, start), (self.ramp_turn, turn)):
+            box.step = rng.step
+            box.min = rng.lo
+            box.max = rng.hi
+            box.value = value
+
+    def _on_d31_window(self, event: viser.GuiEvent) -> None:
+        if event.client is None:
+            return
+        try:
+            w = float(self.d31_window.value)
+        except (TypeError, ValueError):
+            return
+        if math.isfinite(w) and w >= 0:
+            self.requests.put(SetD31Window(None if w == 0 else w))
+
+    def _on_atlas_axis(self, event: viser.GuiEvent) -> None:
+        if event.client is not None:
+            self.atlas_axis = str(self.atlas_axis_buttons.value)
+
+    def _export(self, what: str) -> Callable[[viser.GuiEvent], None]:
+        def callback(event: viser.GuiEvent) -> None:
+            client = event.client
+            if client is None:
+                return
+
+            def send(name: str, data: bytes) -> None:
+                client.send_file_download(name, data, save_immediately=True)
+
+            self.requests.put(Export(what, send))
+
+        return callback
 
     # --- loop thread only ----------------------------------------------------------------------
     def editing(self, key: str, now: float | None = None) -> bool:
@@ -248,26 +370,46 @@ class Panels:
         now = time.monotonic() if now is None else now
         return t is not None and now - t < EDIT_QUIET_S
 
-    def sync_controls(self, beta: float | None, playing: bool, ramping: bool) -> None:
+    def sync_controls(
+        self,
+        playing: bool,
+        ramping: str | None,
+        write: dict[str, float] | None = None,
+    ) -> None:
         """Reflect state the loop changed itself, without queueing requests.
 
-        `beta` is given only when the loop moved it (the ramp); it is not written while a
-        person is editing the box, so a keystroke is never overwritten.
+        `ramping` is the parameter a running ramp drives (None: no ramp): its slider is
+        disabled while the ramp runs, and nothing is written into it meanwhile. `write` holds
+        values the loop sets into sliders once (a ramp's start, where a stopped ramp left its
+        parameter); never while a person is editing that box, so a keystroke is never
+        overwritten.
         """
-        if beta is not None and abs(self.beta.value - beta) > 1e-9 and not self.editing("beta"):
-            self.beta.value = beta
+        for key, value in (write or {}).items():
+            slider = self.sliders.get(key)
+            if slider is not None and abs(slider.value - value) > 1e-9 and not self.editing(key):
+                slider.value = value
+        if ramping != self._disabled:
+            if self._disabled is not None:
+                self.sliders[self._disabled].disabled = False
+            if ramping is not None:
+                self.sliders[ramping].disabled = True
+            self._disabled = ramping
         if playing != self._playing:
             self._playing = playing
             self.play.label = PAUSE if playing else PLAY
-        if ramping != self._ramping:
-            self._ramping = ramping
-            self.ramp.label = RAMP_STOP if ramping else RAMP_START
+        is_ramping = ramping is not None
+        if is_ramping != self._ramping:
+            self._ramping = is_ramping
+            self.ramp.label = RAMP_STOP if is_ramping else RAMP_START
 
     def show_readouts(self, r: Readouts) -> None:
         for label, text in format_readouts(r).items():
             if self._last.get(label) != text:
                 self._last[label] = text
-                self.readouts[label].value = text
+                if label == "status":
+                    self.status.content = status_html(text)
+                else:
+                    self.readouts[label].value = text
 
     def shown(self, label: str) -> str:
         """The text a readout shows now (for the benchmark; a str is replaced atomically)."""

@@ -10,22 +10,21 @@ stop is kept in its place so that "set beta, then reset" still means what it say
 from __future__ import annotations
 
 import queue
-from dataclasses import dataclass
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+from sim_core.contract import Ramp
 
 
 @dataclass(frozen=True)
-class SetBeta:
+class SetParam:
+    """Set a simulation parameter: one of PARAMS (the RunSpec field names)."""
+
+    name: str
     value: float
 
 
-@dataclass(frozen=True)
-class SetBodyMass:
-    grams: float
-
-
-@dataclass(frozen=True)
-class SetSlope:
-    degrees: float
+PARAMS = ("beta", "body_mass_g", "slope_deg")
 
 
 @dataclass(frozen=True)
@@ -55,7 +54,7 @@ class Reset:
 
 @dataclass(frozen=True)
 class StartRamp:
-    rate_per_s: float
+    ramp: Ramp  # the core's schedule; the loop sets the ramped parameter from it
 
 
 @dataclass(frozen=True)
@@ -63,42 +62,60 @@ class StopRamp:
     pass
 
 
+@dataclass(frozen=True)
+class SetD31Window:
+    seconds: float | None  # None: the whole run
+
+
+@dataclass(frozen=True)
+class Export:
+    """Build a file of `what` (web/export.py) on the loop thread and hand it to `send`
+    (the asking browser's download: name, bytes)."""
+
+    what: str
+    send: Callable[[str, bytes], None] = field(compare=False, repr=False)
+
+
 Request = (
-    SetBeta
-    | SetBodyMass
-    | SetSlope
+    SetParam
     | SetSpeed
     | SetPlaying
     | SetFollow
     | SetFootfallWindow
     | Reset
+    | SetD31Window
     | StartRamp
     | StopRamp
+    | Export
 )
 
 # Settings: a later one of the same type makes an earlier one pointless.
 _SETTINGS = (
-    SetBeta,
-    SetBodyMass,
-    SetSlope,
+    SetParam,
     SetSpeed,
     SetPlaying,
     SetFollow,
     SetFootfallWindow,
+    SetD31Window,
 )
+
+
+def _key(req: Request) -> tuple[type, str]:
+    """What a later setting replaces: the same type (and, for SetParam, the same parameter)."""
+    return (type(req), req.name if isinstance(req, SetParam) else "")
 
 
 def coalesce(requests: list[Request]) -> list[Request]:
     """Drop settings that a later request of the same type overrides, keeping the order.
 
-    A setting is only dropped when no order-sensitive request (reset, ramp start/stop) lies
-    between it and its replacement: `SetBeta(0.6), StartRamp, SetBeta(0.7)` must still stop the
-    ramp (a manual beta wins over the ramp), while the ramp must start from 0.6.
+    A setting is only dropped when no order-sensitive request (reset, ramp start/stop, export)
+    lies between it and its replacement: in `SetParam("beta", 0.6), StopRamp,
+    SetParam("beta", 0.7)` both betas are applied, in their places.
     """
     out: list[Request] = []
-    last_index: dict[type, int] = {}
+    last_index: dict[tuple[type, str], int] = {}
     for req in requests:
-        kind = type(req)
+        kind = _key(req)
         if isinstance(req, _SETTINGS):
             i = last_index.get(kind)
             if i is not None:

@@ -26,6 +26,7 @@ import mujoco
 import numpy as np
 import trimesh
 import viser
+import viser.transforms as vtf
 
 from web import controls
 from web.svg import LEG_ORDER, PAIR_COLOURS
@@ -44,42 +45,9 @@ CAMERA_NEAR, CAMERA_FAR = 5e-4, 20.0
 MIN_ORBIT, MAX_ORBIT = 2e-3, 5.0
 
 
-def slope_wxyz(slope_deg: float) -> np.ndarray:
-    """Rotation about +y that lifts +x by `slope_deg` (uphill positive), as wxyz."""
-    half = -math.radians(slope_deg) / 2.0
-    return np.array([math.cos(half), 0.0, math.sin(half), 0.0])
-
-
-def yaw_wxyz(yaw_rad: float) -> np.ndarray:
-    """Rotation about +z by `yaw_rad`, as wxyz."""
-    return np.array([math.cos(yaw_rad / 2.0), 0.0, 0.0, math.sin(yaw_rad / 2.0)])
-
-
-def quat_mul(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Hamilton product a*b of wxyz quaternions (apply b, then a)."""
-    aw, ax, ay, az = a
-    bw, bx, by, bz = b
-    return np.array(
-        [
-            aw * bw - ax * bx - ay * by - az * bz,
-            aw * bx + ax * bw + ay * bz - az * by,
-            aw * by - ax * bz + ay * bw + az * bx,
-            aw * bz + ax * by - ay * bx + az * bw,
-        ]
-    )
-
-
-def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Rotate vector v by the unit quaternion q (wxyz)."""
-    w, x, y, z = q
-    r = np.array(
-        [
-            [1 - 2 * (y * y + z * z), 2 * (x * y - w * z), 2 * (x * z + w * y)],
-            [2 * (x * y + w * z), 1 - 2 * (x * x + z * z), 2 * (y * z - w * x)],
-            [2 * (x * z - w * y), 2 * (y * z + w * x), 1 - 2 * (x * x + y * y)],
-        ]
-    )
-    return r @ np.asarray(v, dtype=float)
+def slope_rotation(slope_deg: float) -> vtf.SO3:
+    """Rotation about +y that lifts +x by `slope_deg` (uphill positive)."""
+    return vtf.SO3.from_y_radians(-math.radians(slope_deg))
 
 
 def world_pose(
@@ -90,13 +58,13 @@ def world_pose(
     display = R (x - p) with R = tilt(slope) * turn(-heading) and p the body's floor position;
     "fixed" leaves p = 0 and no turn, "follow" no turn.
     """
-    q = slope_wxyz(slope_deg)
+    r = slope_rotation(slope_deg)
     if mode == controls.CAMERA_FIXED:
-        return q, np.zeros(3)
+        return r.wxyz, np.zeros(3)
     if mode == controls.CAMERA_HEADING and heading_rad is not None:
-        q = quat_mul(q, yaw_wxyz(-heading_rad))
+        r = r @ vtf.SO3.from_z_radians(-heading_rad)
     p = np.array([float(body_xy[0]), float(body_xy[1]), 0.0])
-    return q, -quat_rotate(q, p)
+    return r.wxyz, -r.apply(p)
 
 
 def foot_geom_ids(model: mujoco.MjModel) -> np.ndarray:

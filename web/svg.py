@@ -8,11 +8,14 @@ The functions are pure (numbers in, markup out), so a test can check what a brow
 from __future__ import annotations
 
 import html
+import itertools
 import math
+import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from sim_core.contract import LEG_NAMES
+from sim_core.contract import LEG_NAMES, AtlasOutput
+from web.bifurcation import FinderPoints
 from web.footfall import D31Event
 
 LEG_ORDER = LEG_NAMES  # the paper's legs 1-6, rows top to bottom
@@ -33,29 +36,40 @@ FONT = 'font-family="sans-serif" font-size="9"'
 
 @dataclass(frozen=True)
 class Frame:
-    """Maps data coordinates into the plot area of the viewBox."""
+    """Maps data coordinates into the plot area of a `w` x `h` viewBox."""
 
     x0: float
     x1: float
     y0: float
     y1: float
+    w: float = W
+    h: float = H
+    legend_h: float = 0.0  # room under the ticks for a legend
 
     def x(self, v: float) -> float:
         span = self.x1 - self.x0 or 1.0
-        return LEFT + (v - self.x0) / span * (W - LEFT - RIGHT)
+        return LEFT + (v - self.x0) / span * (self.w - LEFT - RIGHT)
 
     def y(self, v: float) -> float:
         span = self.y1 - self.y0 or 1.0
-        return H - BOTTOM - (v - self.y0) / span * (H - TOP - BOTTOM)
+        return self.bottom - (v - self.y0) / span * (self.bottom - TOP)
+
+    @property
+    def bottom(self) -> float:
+        """The plot area's lower edge; below it the ticks (and a legend, for taller panels)."""
+        return self.h - BOTTOM - self.legend_h
 
 
-def _open(kind: str, title: str, **attrs: str) -> list[str]:
+def _open(
+    kind: str, title: str, *, w: float = W, h: float = H, legend_h: float = 0.0, **attrs: str
+) -> list[str]:
     extra = "".join(f' data-{k.replace("_", "-")}="{html.escape(v)}"' for k, v in attrs.items())
+    bottom = h - BOTTOM - legend_h
     return [
-        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {W} {H}" width="100%" '
+        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w} {h}" width="100%" '
         f'data-plot="{kind}"{extra} style="background:#fff">',
         f'<text x="{LEFT}" y="11" {FONT} font-weight="bold">{html.escape(title)}</text>',
-        f'<rect x="{LEFT}" y="{TOP}" width="{W - LEFT - RIGHT}" height="{H - TOP - BOTTOM}" '
+        f'<rect x="{LEFT}" y="{TOP}" width="{w - LEFT - RIGHT}" height="{bottom - TOP}" '
         'fill="none" stroke="#999" stroke-width="0.5"/>',
     ]
 
@@ -67,12 +81,16 @@ def time_window(t_now: float, window_s: float) -> tuple[float, float]:
     return t1 - window_s, t1
 
 
-def _time_axis_label() -> str:
-    """The unit of the time ticks, in the free corner left of the axis."""
+def _axis_label(f: Frame, text: str) -> str:
+    """What the x ticks count, in the free corner left of the axis."""
     return (
-        f'<text x="{LEFT - 3}" y="{H - BOTTOM + 11}" {FONT} text-anchor="end" '
-        'fill="#666">t (s)</text>'
+        f'<text x="{LEFT - 3}" y="{f.bottom + 11}" {FONT} text-anchor="end" '
+        f'fill="#666">{html.escape(text)}</text>'
     )
+
+
+def _time_axis_label(f: Frame) -> str:
+    return _axis_label(f, "t (s)")
 
 
 def _x_ticks(f: Frame, ticks: Sequence[float], fmt: str) -> list[str]:
@@ -80,11 +98,11 @@ def _x_ticks(f: Frame, ticks: Sequence[float], fmt: str) -> list[str]:
     for v in ticks:
         x = f.x(v)
         out.append(
-            f'<line x1="{x:.1f}" y1="{H - BOTTOM}" x2="{x:.1f}" y2="{H - BOTTOM + 3}" '
+            f'<line x1="{x:.1f}" y1="{f.bottom}" x2="{x:.1f}" y2="{f.bottom + 3}" '
             'stroke="#999" stroke-width="0.5"/>'
         )
         out.append(
-            f'<text x="{x:.1f}" y="{H - BOTTOM + 11}" {FONT} text-anchor="middle">'
+            f'<text x="{x:.1f}" y="{f.bottom + 11}" {FONT} text-anchor="middle">'
             f"{fmt.format(v)}</text>"
         )
     return out
@@ -105,11 +123,11 @@ def _reference_lines(f: Frame) -> list[str]:
     for v, colour, name in ((math.pi, "#d62728", "tripod"), (TWO_PI / 3, "#1f77b4", "metachr.")):
         y = f.y(v)
         out.append(
-            f'<line x1="{LEFT}" y1="{y:.1f}" x2="{W - RIGHT}" y2="{y:.1f}" stroke="{colour}" '
+            f'<line x1="{LEFT}" y1="{y:.1f}" x2="{f.w - RIGHT}" y2="{y:.1f}" stroke="{colour}" '
             'stroke-width="0.7" stroke-dasharray="4 3"/>'
         )
         out.append(
-            f'<text x="{W - RIGHT - 2}" y="{y - 2:.1f}" {FONT} fill="{colour}" '
+            f'<text x="{f.w - RIGHT - 2}" y="{y - 2:.1f}" {FONT} fill="{colour}" '
             f'text-anchor="end">{name}</text>'
         )
     return out
@@ -117,7 +135,8 @@ def _reference_lines(f: Frame) -> list[str]:
 
 def _time_ticks(t0: float, t1: float) -> list[float]:
     span = t1 - t0
-    step = next((s for s in (0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 5.0) if span / s <= 6), 10.0)
+    steps = (0.05, 0.1, 0.25, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0, 50.0, 100.0, 200.0, 500.0)
+    step = next((s for s in steps if span / s <= 6), 1000.0)
     first = math.ceil(t0 / step) * step
     n = int((t1 - first) / step + 1e-9) + 1
     return [first + i * step for i in range(max(0, n))]
@@ -161,18 +180,37 @@ def footfall_svg(
             )
     fmt = "{:.2f}" if window_s < 1.5 else "{:.1f}"
     out += _x_ticks(f, _time_ticks(t0, t1), fmt)
-    out.append(_time_axis_label())
+    out.append(_time_axis_label(f))
     out.append(f"<!-- {n_bars} bars --></svg>")
     return "\n".join(out)
 
 
-def d31_svg(events: Sequence[D31Event], t_now: float, window_s: float, gait: str) -> str:
-    """Delta31 at each leg-1 touchdown over the last `window_s`, with the two gaits' lines."""
-    t0, t1 = time_window(t_now, window_s)
+# Drawn at most this many Delta31 points: a whole run is kept (web/footfall.py), but a 10-minute
+# run has ~6000 touchdowns and the panel is redrawn 5 times a second for every browser.
+MAX_DRAWN = 1200
+
+
+def d31_svg(events: Sequence[D31Event], t_now: float, window_s: float | None, gait: str) -> str:
+    """Delta31 at each leg-1 touchdown over the last `window_s` (None: the whole run), with
+    the two gaits' lines; beyond MAX_DRAWN points every k-th is drawn (the title says so)."""
+    whole = window_s is None
+    span = max(t_now, 1.0) if window_s is None else window_s
+    t0, t1 = time_window(t_now, span)
     f = Frame(t0, t1, 0.0, TWO_PI)
-    out = _open("d31", f"Δ31 over time — gait: {gait}", gait=gait, n_events=str(len(events)))
-    out += _y_angle_axis(f) + _reference_lines(f)
     shown = [e for e in events if t0 <= e.time_s <= t1]
+    k = max(1, math.ceil(len(shown) / MAX_DRAWN))
+    if k > 1:
+        shown = shown[::k]
+    what = "whole run" if whole else f"last {span:g} s"
+    thin = f", 1 in {k} drawn" if k > 1 else ""
+    out = _open(
+        "d31",
+        f"Δ31 over time ({what}{thin}) — gait: {gait}",
+        gait=gait,
+        n_events=str(len(events)),
+        t0=f"{t0:.3f}",
+    )
+    out += _y_angle_axis(f) + _reference_lines(f)
     pts = [(f.x(e.time_s), f.y(e.d31)) for e in shown]
     # Delta31 is an angle: a step across 0 = 2 pi is not a swing through pi, so the line breaks
     segments: list[list[tuple[float, float]]] = []
@@ -184,56 +222,105 @@ def d31_svg(events: Sequence[D31Event], t_now: float, window_s: float, gait: str
         if len(seg) >= 2:
             path = " ".join(f"{x:.1f},{y:.1f}" for x, y in seg)
             out.append(f'<polyline points="{path}" fill="none" stroke="#444" stroke-width="0.6"/>')
+    r = 1.6 if len(pts) < 300 else 1.0
     for x, y in pts:
-        out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="1.6" fill="#222"/>')
-    fmt = "{:.0f}" if window_s >= 4 else "{:.1f}"
+        out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="{r}" fill="#222"/>')
+    fmt = "{:.0f}" if span >= 4 else "{:.1f}"
     out += _x_ticks(f, _time_ticks(t0, t1), fmt)
-    out.append(_time_axis_label())
+    out.append(_time_axis_label(f))
     out.append("</svg>")
     return "\n".join(out)
 
 
-# series names in cached results -> colours: the two sweep directions of a hysteresis loop
-_SERIES_COLOURS = {"down": "#ff7f0e", "up": "#9467bd"}
-# this session's ramp: its path, drawn as it goes, in darker shades of the same two colours
-_RAMP_COLOURS = {"down": "#c45a00", "up": "#5b2d8c"}
-_FALLBACK_COLOURS = ("#7f7f7f", "#17becf", "#bcbd22", "#8c564b")
+# The finder's states, coloured by gait (issue 28): tripod orange, metachronal green, other grey
+GAIT_COLOURS = {"tripod": "#ff7f0e", "metachronal": "#2ca02c", "other": "#7f7f7f"}
+# this session's ramp: its path, drawn as it goes, one colour per direction (holds grey)
+RAMP_COLOURS = {"down": "#8c564b", "up": "#9467bd", "hold": "#999999"}
+LEGEND_H = 37.0  # up to three legend rows under the ticks
+BIF_H = H + LEGEND_H
+
+
+def _legend(f: Frame, rows: Sequence[Sequence[tuple[str, str]]]) -> list[str]:
+    """Legend rows under the x ticks: (markup of a symbol + words, colour) each, left to right.
+    Below the plot so it never covers data or the gait lines' labels."""
+    out = []
+    for r, row in enumerate(rows):
+        y = f.bottom + 22 + 11 * r
+        x = float(LEFT)
+        for text, colour in row:
+            out.append(f'<text x="{x:.0f}" y="{y:.0f}" {FONT} fill="{colour}">{text}</text>')
+            x += 5.2 * len(html.unescape(text)) + 10
+    return out
+
+
+def _marker(kind: str, x: float, y: float, colour: str) -> str:
+    if kind == "stable":
+        return (
+            f'<circle class="stable" cx="{x:.1f}" cy="{y:.1f}" r="2.4" fill="{colour}" '
+            'stroke="#333" stroke-width="0.3"/>'
+        )
+    if kind == "unstable":
+        return (
+            f'<circle class="unstable" cx="{x:.1f}" cy="{y:.1f}" r="2.4" fill="#fff" '
+            'stroke="#333" stroke-width="0.8"/>'
+        )
+    if kind == "ghost":
+        d = 2.2
+        return (
+            f'<path class="ghost" d="M{x - d:.1f},{y - d:.1f}L{x + d:.1f},{y + d:.1f}'
+            f'M{x - d:.1f},{y + d:.1f}L{x + d:.1f},{y - d:.1f}" stroke="#555" '
+            'stroke-width="0.8"/>'
+        )
+    d = 1.8  # unsettled: a small grey triangle
+    return (
+        f'<path class="unsettled" d="M{x:.1f},{y - d:.1f}L{x + d:.1f},{y + d:.1f}'
+        f'L{x - d:.1f},{y + d:.1f}Z" fill="#aaa"/>'
+    )
 
 
 def bifurcation_svg(
-    cached: dict[str, list[tuple[float, float]]] | None,
+    finder: FinderPoints | None,
     note: str,
     trail: Sequence[D31Event],
     live: tuple[float, float | None],
     beta_range: tuple[float, float],
     ramp_path: Sequence[D31Event] = (),
 ) -> str:
-    """Cached (beta, Delta31) points per series, this session's trail, the path of the beta
-    ramp (a line per direction, drawn as the ramp goes) and the live point."""
+    """The finder's states over beta (stable filled by gait, unstable open, ghosts x,
+    unsettled finals grey triangles), this session's trail, the path of a beta ramp (a line
+    per direction, drawn as it goes) and the live point (red ring)."""
     lo, hi = beta_range
-    f = Frame(lo, hi, 0.0, TWO_PI)
-    out = _open("bifurcation", "Bifurcation: Δ31 vs β", n_cached=str(_count(cached)))
+    f = Frame(lo, hi, 0.0, TWO_PI, h=BIF_H, legend_h=LEGEND_H)
+    pts = finder or FinderPoints()
+    out = _open(
+        "bifurcation",
+        "Bifurcation: Δ31 vs β (finder's states; this run)",
+        h=BIF_H,
+        legend_h=LEGEND_H,
+        n_cached=str(len(pts)),
+    )
     out += _y_angle_axis(f) + _reference_lines(f)
-    legend_x = LEFT + 4
-    for k, (name, pts) in enumerate((cached or {}).items()):
-        colour = _SERIES_COLOURS.get(name, _FALLBACK_COLOURS[k % len(_FALLBACK_COLOURS)])
-        for b, d in pts:
-            if lo <= b <= hi:
-                out.append(
-                    f'<circle cx="{f.x(b):.1f}" cy="{f.y(d):.1f}" r="1.5" fill="{colour}" '
-                    'fill-opacity="0.7"/>'
-                )
-        out.append(
-            f'<text x="{legend_x}" y="{TOP + 10 + 10 * k}" {FONT} fill="{colour}">'
-            f"● {html.escape(name)}</text>"
-        )
+    for b, d in pts.unsettled:
+        if lo <= b <= hi:
+            out.append(_marker("unsettled", f.x(b), f.y(d), ""))
+    for b, d in pts.ghosts:
+        if lo <= b <= hi:
+            out.append(_marker("ghost", f.x(b), f.y(d), ""))
+    for b, d in pts.unstable:
+        if lo <= b <= hi:
+            out.append(_marker("unstable", f.x(b), f.y(d), ""))
+    for b, d, gait in pts.stable:
+        if lo <= b <= hi:
+            colour = GAIT_COLOURS.get(gait, GAIT_COLOURS["other"])
+            out.append(_marker("stable", f.x(b), f.y(d), colour))
     for e in trail:
         if lo <= e.beta <= hi:
             out.append(
                 f'<circle cx="{f.x(e.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" fill="#000" '
                 'fill-opacity="0.35"/>'
             )
-    out += _ramp_lines(f, ramp_path, lo, hi)
+    ramp = _ramp_lines(f, ramp_path, lo, hi)
+    out += ramp
     beta, d31 = live
     if d31 is not None:
         out.append(
@@ -241,14 +328,35 @@ def bifurcation_svg(
             'r="3.5" fill="none" stroke="#e00" stroke-width="1.5"/>'
         )
     if note:
-        out.append(
-            f'<text x="{(LEFT + W - RIGHT) / 2:.0f}" y="{H - BOTTOM - 6}" {FONT} fill="#a00" '
-            f'text-anchor="middle">{html.escape(note)}</text>'
-        )
+        out.append(_note(f, note))
     ticks = [0.55, 0.60, 0.65, 0.70, 0.75, 0.80]
     out += _x_ticks(f, [t for t in ticks if lo <= t <= hi], "{:.2f}")
+    row2 = [("◯ unstable", "#333"), ("× ghost", "#555"), ("▲ not settled", "#999")]
+    row2 += [("◯ now", "#e00"), ("· this run", "#666")]
+    rows = [[(f"● {g}", c) for g, c in GAIT_COLOURS.items()], row2]
+    if ramp:
+        rows.append([(f"— ramp β {d}", RAMP_COLOURS[d]) for d in ("down", "up")])
+    out += _legend(f, rows)
     out.append("</svg>")
     return "\n".join(out)
+
+
+def _note(f: Frame, note: str, width: int = 52) -> str:
+    """A note across the plot area (a missing or invalid file), wrapped to the plot's width;
+    the whole text is also the element's tooltip."""
+    lines = textwrap.wrap(note, width)[:3] or [""]
+    if len(lines) == 3 and len(" ".join(lines)) < len(note):
+        lines[2] = lines[2][: width - 3] + "..."
+    x = (LEFT + f.w - RIGHT) / 2
+    y0 = f.bottom - 6 - 11 * (len(lines) - 1)
+    spans = "".join(
+        f'<tspan x="{x:.0f}" y="{y0 + 11 * k:.0f}">{html.escape(line)}</tspan>'
+        for k, line in enumerate(lines)
+    )
+    return (
+        f'<text class="note" {FONT} fill="#a00" text-anchor="middle">'
+        f"<title>{html.escape(note)}</title>{spans}</text>"
+    )
 
 
 def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> list[str]:
@@ -270,7 +378,7 @@ def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> lis
             segments.append((e.ramp, []))
         segments[-1][1].append(e)
     for direction, seg in segments:
-        colour = _RAMP_COLOURS.get(direction, "#444")
+        colour = RAMP_COLOURS.get(direction, "#444")
         pts = " ".join(f"{f.x(e.beta):.1f},{f.y(e.d31):.1f}" for e in seg)
         if len(seg) >= 2:
             out.append(
@@ -283,14 +391,126 @@ def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> lis
                 f'<circle class="ramp" cx="{f.x(e.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" '
                 f'fill="{colour}"/>'
             )
-    if segments:
-        for k, direction in enumerate(("down", "up")):
-            out.append(
-                f'<text x="{W - RIGHT - 2}" y="{TOP + 30 + 10 * k}" {FONT} text-anchor="end" '
-                f'fill="{_RAMP_COLOURS[direction]}">ramp β {direction}</text>'
-            )
     return out
 
 
-def _count(cached: dict[str, list[tuple[float, float]]] | None) -> int:
-    return sum(len(v) for v in (cached or {}).values())
+# The atlas's regions (sim_core's REGIONS, issue 28): both gaits purple, one gait its colour
+REGION_COLOURS = {
+    "both": "#9467bd",
+    "tripod only": GAIT_COLOURS["tripod"],
+    "metachronal only": GAIT_COLOURS["metachronal"],
+    "other states": "#c7c7c7",
+    "not settled": "#f4f4f4",
+}
+
+
+def _edges(centres: Sequence[float]) -> list[float]:
+    """Cell edges around sorted grid values: halfway between neighbours, half a step outside."""
+    c = list(centres)
+    if len(c) == 1:
+        return [c[0] - 0.5, c[0] + 0.5]
+    mids = [(a + b) / 2 for a, b in itertools.pairwise(c)]
+    return [c[0] - (mids[0] - c[0]), *mids, c[-1] + (c[-1] - mids[-1])]
+
+
+def atlas_svg(
+    atlas: AtlasOutput | None,
+    note: str,
+    axis: str,
+    axis_label: str,
+    live: tuple[float, float],
+    beta_range: tuple[float, float],
+) -> str:
+    """The gait atlas as a grid of cells coloured by region (beta across, mass or slope up),
+    with the live (beta, value) point as a red ring; `note` when there is no atlas."""
+    title = f"Atlas: {axis_label} vs β"
+    if atlas is None or not atlas.betas or not atlas.values:
+        lo, hi = beta_range
+        f = Frame(lo, hi, 0.0, 1.0, h=BIF_H, legend_h=LEGEND_H)
+        out = _open("atlas", title, h=BIF_H, legend_h=LEGEND_H, axis=axis, n_cells="0")
+        out.append(_note(f, note or f"no atlas over {axis}"))
+        out.append("</svg>")
+        return "\n".join(out)
+    order_b = sorted(range(len(atlas.betas)), key=lambda j: atlas.betas[j])
+    order_v = sorted(range(len(atlas.values)), key=lambda i: atlas.values[i])
+    be = _edges([atlas.betas[j] for j in order_b])
+    ve = _edges([atlas.values[i] for i in order_v])
+    f = Frame(be[0], be[-1], ve[0], ve[-1], h=BIF_H, legend_h=LEGEND_H)
+    out = _open(
+        "atlas",
+        title,
+        h=BIF_H,
+        legend_h=LEGEND_H,
+        axis=axis,
+        n_cells=str(len(atlas.betas) * len(atlas.values)),
+    )
+    for vi, i in enumerate(order_v):
+        for bj, j in enumerate(order_b):
+            region = atlas.regions[i][j]
+            x0, x1 = f.x(be[bj]), f.x(be[bj + 1])
+            y0, y1 = f.y(ve[vi + 1]), f.y(ve[vi])
+            out.append(
+                f'<rect class="cell" data-region="{html.escape(region)}" x="{x0:.1f}" '
+                f'y="{y0:.1f}" width="{x1 - x0:.1f}" height="{y1 - y0:.1f}" '
+                f'fill="{REGION_COLOURS.get(region, "#fff")}" stroke="#fff" stroke-width="0.5">'
+                f"<title>β {atlas.betas[j]:g}, {html.escape(axis_label)} {atlas.values[i]:g}: "
+                f"{html.escape(region)}</title></rect>"
+            )
+    beta, value = live
+    inside = be[0] <= beta <= be[-1] and ve[0] <= value <= ve[-1]
+    cx = f.x(min(be[-1], max(be[0], beta)))
+    cy = f.y(min(ve[-1], max(ve[0], value)))
+    out.append(
+        f'<circle class="live" data-inside="{str(inside).lower()}" cx="{cx:.1f}" cy="{cy:.1f}" '
+        'r="3.5" fill="none" stroke="#e00" stroke-width="1.5"/>'
+    )
+    nb = len(atlas.betas)
+    step = max(1, math.ceil(nb / 6))
+    out += _x_ticks(f, [atlas.betas[j] for j in order_b][::step], "{:.3g}")
+    nv = len(atlas.values)
+    vstep = max(1, math.ceil(nv / 6))
+    for i in order_v[::vstep]:
+        v = atlas.values[i]
+        out.append(
+            f'<text x="{LEFT - 3}" y="{f.y(v) + 3:.1f}" {FONT} text-anchor="end">{v:g}</text>'
+        )
+    regions = list(REGION_COLOURS.items())
+    rows = [
+        [(f"■ {r}", c if r != "not settled" else "#999") for r, c in regions[:3]],
+        [(f"■ {r}", c if r != "not settled" else "#999") for r, c in regions[3:]]
+        + [("◯ now", "#e00")],
+    ]
+    out += _legend(f, rows)
+    out.append("</svg>")
+    return "\n".join(out)
+
+
+RM = 170  # the return map's square viewBox
+
+
+def return_map_svg(pairs: Sequence[tuple[float, float]], lag: int = 4) -> str:
+    """Delta31(n) -> Delta31(n + lag) of the current run: a fixed point sits on the diagonal;
+    newer pairs are darker."""
+    f = Frame(0.0, TWO_PI, 0.0, TWO_PI, w=RM, h=RM)
+    out = _open(
+        "return-map", f"Return map: Δ31(n) → Δ31(n+{lag})", w=RM, h=RM, n_pairs=str(len(pairs))
+    )
+    out += _y_angle_axis(f)
+    out.append(
+        f'<line x1="{f.x(0):.1f}" y1="{f.y(0):.1f}" x2="{f.x(TWO_PI):.1f}" '
+        f'y2="{f.y(TWO_PI):.1f}" stroke="#999" stroke-width="0.6" stroke-dasharray="3 2"/>'
+    )
+    shown = list(pairs)[-MAX_DRAWN:]
+    n = len(shown)
+    for k, (x, y) in enumerate(shown):
+        opacity = 0.15 + 0.85 * (k + 1) / n
+        out.append(
+            f'<circle cx="{f.x(x):.1f}" cy="{f.y(y):.1f}" r="1.2" fill="#222" '
+            f'fill-opacity="{opacity:.2f}"/>'
+        )
+    for v, label in ((0.0, "0"), (TWO_PI / 3, "2π/3"), (math.pi, "π"), (TWO_PI, "2π")):
+        out.append(
+            f'<text x="{f.x(v):.1f}" y="{f.bottom + 11}" {FONT} text-anchor="middle">{label}</text>'
+        )
+    out.append("</svg>")
+    return "\n".join(out)

@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from web.page_probe import READ_BY_LABEL
+from web.panels import PRESET_METACHRONAL
 
 pytestmark = pytest.mark.browser
 
@@ -250,6 +251,108 @@ def test_an_out_of_range_keystroke_waits_and_leaving_the_box_clamps_it(
         field.press("Tab")  # leaving the box clamps to the slider's end, which is then applied
         _wait_read(page, "β (simulation)", "0.8000")
         assert float(_read(page, "β (duty factor)") or "nan") == pytest.approx(0.8)
+        assert errors == [], errors
+    finally:
+        page.close()
+
+
+def _set_box(page: Any, label: str, text: str) -> None:
+    """Type a value into the number box of control `label` and leave it (Tab)."""
+    field = _type_into(page, label, text)
+    field.press("Tab")
+    page.wait_for_function(
+        f"({READ_BY_LABEL})({label!r}) !== null && Number(({READ_BY_LABEL})({label!r})) === "
+        f"{float(text)!r}",
+        timeout=10_000,
+    )
+
+
+def _run_ramp(page: Any, button: str, start: str, turn: str, hold: str, ramp: str) -> None:
+    page.get_by_role("button", name=button, exact=True).click()
+    for label, text in (("ramp start", start), ("ramp turn", turn), ("hold (s)", hold),
+                        ("ramp (s)", ramp)):  # fmt: skip
+        _set_box(page, label, text)
+    page.get_by_role("button", name="max", exact=True).click()  # as fast as the machine goes
+    page.get_by_role("button", name="Start ramp", exact=True).click()
+    page.wait_for_function(f"({READ_BY_LABEL})('ramp') !== 'off'", timeout=30_000)
+
+
+def _wait_ramp_done(page: Any, timeout_ms: int = 480_000) -> None:
+    try:
+        page.wait_for_function(f"({READ_BY_LABEL})('ramp') === 'off'", timeout=timeout_ms)
+    except Exception as exc:  # say where the ramp and the simulation stood
+        status = page.evaluate(
+            "() => document.querySelector('[data-readout=status]')?.textContent ?? null"
+        )
+        raise AssertionError(
+            f"the ramp did not end: ramp {_read(page, 'ramp')!r}, sim time "
+            f"{_read(page, 'sim time (s)')!r}, {status!r}"
+        ) from exc
+
+
+def _download(page: Any, button: str) -> list[dict[str, str]]:
+    import csv
+
+    with page.expect_download(timeout=30_000) as info:
+        page.get_by_role("button", name=button, exact=True).click()
+    text = Path(info.value.path()).read_text()
+    return list(csv.DictReader(io.StringIO(text)))
+
+
+def test_the_delta31_export_holds_the_whole_beta_ramp(viewer: str, browser: Any) -> None:
+    page, errors = _open(browser, viewer, draw_3d=False)
+    try:
+        page.get_by_role("button", name=PRESET_METACHRONAL, exact=True).click()
+        # short (2.5 s simulated): on a loaded shared machine "max" has meant 0.05x real time
+        _run_ramp(page, "ramp β", "0.66", "0.62", "0.25", "1")
+        _wait_ramp_done(page)
+        rows = _download(page, "Δ31 trace (CSV)")
+        ramp = [r for r in rows if r["ramp"]]
+        assert ramp, f"no ramp rows in {len(rows)} exported"
+        t = [float(r["time_s"]) for r in ramp]
+        # the whole ramp: from its first hold (0.25 s) through both legs to its last hold
+        assert t[-1] - t[0] > 2.5 * 0.85, (t[0], t[-1])
+        phases = [r["ramp"] for r in ramp]
+        order = [p for k, p in enumerate(phases) if k == 0 or p != phases[k - 1]]
+        assert order == ["hold", "down", "up", "hold"], order
+        betas = [float(r["beta"]) for r in ramp]
+        assert min(betas) == pytest.approx(0.62, abs=0.005) and betas[0] == pytest.approx(0.66)
+        assert rows[0]["time_s"] and float(rows[0]["time_s"]) < t[0]  # the run before it, too
+        # the slider was never written during the ramp; it shows the value the ramp ended at
+        assert float(_read(page, "β (duty factor)") or "nan") == pytest.approx(0.66)
+        assert errors == [], errors
+    finally:
+        page.close()
+
+
+def test_a_body_mass_ramp_follows_hold_ramp_ramp_hold(viewer: str, browser: Any) -> None:
+    page, errors = _open(browser, viewer, draw_3d=False)
+    try:
+        _run_ramp(page, "ramp mass", "3", "5", "0.25", "1")
+        disabled = page.evaluate(
+            """label => {
+              const l = [...document.querySelectorAll('label')]
+                .find(e => e.textContent.trim() === label);
+              let n = l.parentElement;
+              while (n && !n.querySelector('[role=slider]')) n = n.parentElement;
+              // the slider itself (viser 1.1.1 leaves its number box enabled; the loop
+              // ignores values for the ramped parameter)
+              return n.querySelector('[data-disabled], [aria-disabled=true]') !== null;
+            }""",
+            "body mass (g)",
+        )
+        assert disabled, "the ramped parameter's slider is not disabled during the ramp"
+        _wait_ramp_done(page)
+        rows = _download(page, "ramp path (CSV)")
+        assert rows and {r["ramp"] for r in rows} == {"hold", "up", "down"}
+        phases = [r["ramp"] for r in rows]
+        order = [p for k, p in enumerate(phases) if k == 0 or p != phases[k - 1]]
+        assert order == ["hold", "up", "down", "hold"], order
+        for r in rows:  # the mass in force at each touchdown is the schedule's, within a chunk
+            assert float(r["body_mass_g"]) == pytest.approx(float(r["scheduled"]), abs=0.05), r
+        masses = [float(r["body_mass_g"]) for r in rows]
+        assert max(masses) == pytest.approx(5.0, abs=0.15) and masses[-1] == pytest.approx(3.0)
+        _wait_read(page, "body mass (simulation, g)", "3.00")
         assert errors == [], errors
     finally:
         page.close()

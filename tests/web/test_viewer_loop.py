@@ -83,7 +83,7 @@ def test_presets_and_the_ramp_drive_the_running_simulation() -> None:
             app._step(0.25, time.perf_counter() + 600)
             first = app.d31.events[0].d31
             assert abs(first - preset) < 0.15, (preset, first)  # the first touchdowns start there
-        app.apply(StartRamp(0.05))
+        app.apply(StartRamp(controls.make_ramp("beta", 0.66, 0.60, 0.0, 1.0)))
         app._step(0.6, time.perf_counter() + 600)
         assert app.ramp is not None and app.sim.beta < controls.BETA.initial
         path = list(app.d31.ramp_path)
@@ -110,5 +110,36 @@ def test_the_footfall_diagram_reads_every_control_period_of_the_core() -> None:
         assert stance.shape == (times.size, 6)
         later, _ = app.sim.footfall_since(float(times[-3]))
         assert later.tolist() == times[-2:].tolist()
+    finally:
+        app.stop()
+
+
+def test_a_mass_ramp_holds_ramps_and_holds_and_the_export_shows_it() -> None:
+    """The core's Ramp drives body mass from the loop: hold, up, down, hold, then the ramp
+    ends at its start; the Delta31 export carries the mass in force at every touchdown."""
+    import csv
+    import io
+
+    from web import controls
+    from web.requests import Export, SetParam, StartRamp
+
+    app = ViewerApp("127.0.0.1", 0)
+    try:
+        app._step(0.2, time.perf_counter() + 600)
+        ramp = controls.make_ramp("body_mass_g", 3.0, 5.0, 0.3, 0.4)
+        app.apply(StartRamp(ramp))
+        app.apply(SetParam("body_mass_g", 9.0))  # its slider is disabled: a stale request
+        t0 = app.sim.time_s
+        app._step(ramp.duration_s + 0.1, time.perf_counter() + 600)
+        assert app.ramp is None and app.sim.body_mass_g == 3.0
+        got: list[tuple[str, bytes]] = []
+        app.apply(Export("d31", lambda name, data: got.append((name, data))))
+        rows = list(csv.DictReader(io.StringIO(got[0][1].decode())))
+        during = [r for r in rows if r["ramp"]]
+        assert {r["ramp"] for r in during} == {"hold", "up", "down"}
+        for r in during:
+            expected = ramp.value(float(r["time_s"]) - t0)
+            assert abs(float(r["body_mass_g"]) - expected) < 0.05, r  # within one chunk
+        assert max(float(r["body_mass_g"]) for r in during) > 4.5
     finally:
         app.stop()

@@ -11,7 +11,7 @@ from web import controls
 from web.footfall import D31Trace, FootfallBuffer
 from web.pacing import RateMeter, SimClock
 from web.panels import Readouts, format_readouts
-from web.requests import Request, RequestQueue, Reset, SetBeta, SetSlope, StartRamp, coalesce
+from web.requests import Request, RequestQueue, Reset, SetParam, StartRamp, StopRamp, coalesce
 from web.svg import d31_svg, footfall_svg
 
 
@@ -32,26 +32,36 @@ def test_sliders_map_to_values_the_core_accepts() -> None:
     assert controls.speed_value("max") is None and controls.speed_value("0.1x") == 0.1
 
 
-def test_beta_ramp_goes_down_up_and_back() -> None:
-    ramp = controls.BetaRamp(start=0.66, lo=0.62, hi=0.70, rate_per_s=0.01)
-    assert ramp.beta_at(0) == 0.66
-    assert ramp.beta_at(4) == pytest.approx(0.62) and ramp.direction_at(3) == "down"
-    assert ramp.beta_at(12) == pytest.approx(0.70) and ramp.direction_at(10) == "up"
-    assert ramp.beta_at(ramp.duration_s + 1) == pytest.approx(0.66)
-    assert ramp.direction_at(ramp.duration_s + 1) == "done"
+def test_the_ramp_is_the_cores_schedule_with_hold_phases() -> None:
+    from sim_core.contract import Ramp
+
+    ramp = controls.make_ramp("body_mass_g", 3.0, 60.0, 1.0, 2.0)  # turn clamped to 10 g
+    assert isinstance(ramp, Ramp) and ramp.turn == controls.BODY_MASS_G.hi
+    phases = [controls.ramp_phase(ramp, t) for t in (0.5, 1.5, 3.5, 5.5, 6.0)]
+    assert phases == ["hold", "up", "down", "hold", "done"]
+    assert ramp.value(0.5) == 3.0 and ramp.value(2.0) == pytest.approx(6.5)
+    assert ramp.value(3.0) == pytest.approx(10.0) and ramp.value(5.5) == 3.0
+    down = controls.make_ramp("beta", 0.70, 0.62, 0.0, 1.0)
+    assert [controls.ramp_phase(down, t) for t in (0.5, 1.5)] == ["down", "up"]
     with pytest.raises(ValueError):
-        controls.BetaRamp(start=0.66, rate_per_s=0)
+        controls.make_ramp("gravity", 1.0, 2.0, 1.0, 1.0)
 
 
 def test_coalesce_keeps_only_the_latest_setting_but_respects_order() -> None:
-    reqs: list[Request] = [SetBeta(0.6), SetBeta(0.61), SetSlope(2.0), SetBeta(0.62)]
-    assert coalesce(reqs) == [SetBeta(0.62), SetSlope(2.0)]
+    reqs: list[Request] = [
+        SetParam("beta", 0.6),
+        SetParam("beta", 0.61),
+        SetParam("slope_deg", 2.0),
+        SetParam("beta", 0.62),
+    ]
+    assert coalesce(reqs) == [SetParam("beta", 0.62), SetParam("slope_deg", 2.0)]
     ordered: list[Request] = [
-        SetBeta(0.6),
-        StartRamp(0.01),
-        SetBeta(0.7),
+        SetParam("beta", 0.6),
+        StartRamp(controls.make_ramp("beta", 0.7, 0.62, 1.0, 1.0)),
+        SetParam("beta", 0.7),
+        StopRamp(),
         Reset(2.0),
-        SetBeta(0.65),
+        SetParam("beta", 0.65),
     ]
     assert coalesce(ordered) == ordered
 
@@ -173,7 +183,12 @@ def test_speed_is_measured_along_the_heading_not_world_x() -> None:
 
 
 def test_the_follow_camera_can_turn_the_world_so_the_body_faces_x() -> None:
-    from web.scene import quat_rotate, world_pose
+    import viser.transforms as vtf
+
+    from web.scene import world_pose
+
+    def quat_rotate(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        return vtf.SO3(np.asarray(q, dtype=float)).apply(np.asarray(v, dtype=float))
 
     body = np.array([0.03, 0.04, 0.01])
     q, p = world_pose(0.0, controls.CAMERA_HEADING, body, math.pi / 2)

@@ -1,0 +1,213 @@
+"""The viewer's new panels and exports, pure: the finder's bifurcation points, the gait atlas,
+the return map, the whole-run Delta31 record, stance intervals, CSV/JSON exports, job bodies."""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+import re
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+from sim_core.contract import AtlasOutput, FinderOutput
+from web import controls, export
+from web.bifurcation import WatchedFile, finder_points, load_validated
+from web.footfall import D31Event, D31Trace, StanceLog
+from web.svg import MAX_DRAWN, atlas_svg, bifurcation_svg, d31_svg, return_map_svg
+
+
+def _run(d31_init: float, final: float | None, settled: bool, attractor: int | None) -> dict:
+    return {
+        "d31_init": d31_init, "duration_s": 40.0, "final": final, "drift": 0.0001,
+        "settled": settled, "why": "" if settled else "drifts", "attractor": attractor,
+    }  # fmt: skip
+
+
+def _cell(beta: float, mass: float = 3.0, slope: float = 0.0, **kw: Any) -> dict[str, Any]:
+    attractors = kw.get("attractors", [(2.95, "tripod"), (1.75, "metachronal")])
+    return {
+        "beta": beta, "body_mass_g": mass, "slope_deg": slope,
+        "attractors": [
+            {"d31": d, "lo": d - 0.01, "hi": d + 0.01, "gait": g, "starts": 3, "runs": 4,
+             "slope": 0.5, "slope_pairs": 10, "max_drift": 1e-4}
+            for d, g in attractors
+        ],
+        "borders": kw.get("borders", [
+            {"below": 0, "above": 1, "start_lo": 2.3, "start_hi": 2.32, "resolved": True,
+             "d31": 2.4, "slope": 1.4, "steps": 6}
+        ]),
+        "ghosts": kw.get("ghosts", [{"d31": 2.6, "drift": 0.001, "cycles": 40, "d31_init": 3.1}]),
+        "runs": kw.get("runs", [_run(0.0, 1.75, True, 1), _run(3.9, 4.4, False, None)]),
+        "sim_s": 400.0,
+    }  # fmt: skip
+
+
+def _finder() -> FinderOutput:
+    return FinderOutput.model_validate(
+        {"source": "test", "config": {}, "cells": [_cell(0.62), _cell(0.70, attractors=[
+            (1.8, "metachronal"), (4.0, "other")])]}
+    )  # fmt: skip
+
+
+def test_a_finder_output_draws_each_kind_of_point(tmp_path: Path) -> None:
+    path = tmp_path / "bifurcation.json"
+    path.write_text(_finder().model_dump_json())
+    finder, note = load_validated(path, FinderOutput, "finder results")
+    assert finder is not None and note == ""
+    pts = finder_points(finder)
+    assert len(pts.stable) == 4 and len(pts.unstable) == 2 and len(pts.ghosts) == 2
+    assert pts.unsettled == [(0.62, 4.4), (0.70, 4.4)]  # finals of the runs that did not settle
+    svg = bifurcation_svg(pts, note, [], (0.66, 2.0), (0.55, 0.80))
+    assert svg.count('class="stable"') == 4
+    assert svg.count('class="unstable"') == 2 and 'fill="#fff"' in svg  # open circles
+    assert svg.count('class="ghost"') == 2 and svg.count('class="unsettled"') == 2
+    # coloured by gait: tripod orange, metachronal green, other grey
+    for colour in ("#ff7f0e", "#2ca02c", "#7f7f7f"):
+        assert re.search(f'class="stable"[^>]*fill="{colour}"', svg), colour
+    assert 'class="live"' in svg and 'class="note"' not in svg
+
+
+@pytest.mark.parametrize(
+    ("content", "says"),
+    [
+        (None, "absent"),
+        ("{not json", "bifurcation.json is not a FinderOutput: (top level): Invalid JSON"),
+        ('{"source": "x", "points": []}', "is not a FinderOutput: config: Field required"),
+    ],
+)
+def test_a_missing_or_invalid_file_gives_a_one_line_note(
+    tmp_path: Path, content: str | None, says: str
+) -> None:
+    path = tmp_path / "bifurcation.json"
+    if content is not None:
+        path.write_text(content)
+    finder, note = load_validated(path, FinderOutput, "finder results")
+    assert finder is None and says in note and "\n" not in note
+    svg = bifurcation_svg(None, note, [], (0.66, None), (0.55, 0.80))
+    assert 'class="note"' in svg and 'class="stable"' not in svg
+
+
+def test_the_watched_file_rereads_when_it_changes(tmp_path: Path) -> None:
+    path = tmp_path / "bifurcation.json"
+    w = WatchedFile(path, FinderOutput, "finder results")
+    assert w.get()[0] is None
+    path.write_text(_finder().model_dump_json())
+    assert w.get()[0] is not None
+
+
+def _atlas() -> AtlasOutput:
+    betas, values = [0.60, 0.65, 0.70], [2.0, 3.0]
+    regions = [["both", "tripod only", "metachronal only"], ["other states", "not settled", "both"]]
+    cells = [_cell(b, m) for m in values for b in betas]
+    return AtlasOutput.model_validate({
+        "source": "test", "axis": "mass", "param": "body_mass_g", "betas": betas,
+        "values": values, "cells": cells, "regions": regions, "folds": [], "sweep_beta": 0.66,
+        "sweep_range": [1.0, 6.0], "paper_direction": "heavier: tripod", "config": {},
+    })  # fmt: skip
+
+
+def test_the_atlas_draws_a_cell_per_condition_coloured_by_region() -> None:
+    svg = atlas_svg(_atlas(), "", "mass", "body mass (g)", (0.66, 2.4), (0.55, 0.80))
+    assert svg.count('class="cell"') == 6
+    for region in ("both", "tripod only", "metachronal only", "other states", "not settled"):
+        assert f'data-region="{region}"' in svg
+    assert 'class="live" data-inside="true"' in svg
+    outside = atlas_svg(_atlas(), "", "mass", "body mass (g)", (0.66, 9.0), (0.55, 0.80))
+    assert 'data-inside="false"' in outside
+    none = atlas_svg(None, "no atlas: /x/atlas_slope.json absent", "slope", "slope", (0.6, 0),
+                     (0.55, 0.80))  # fmt: skip
+    assert 'class="note"' in none and "absent" in none and 'class="cell"' not in none
+
+
+def test_the_d31_record_keeps_the_whole_run_and_draws_a_bounded_number() -> None:
+    tr = D31Trace(maxlen=10_000)
+    core = [(0.1 * k, 2.0 + 0.001 * k) for k in range(5000)]  # 500 s of touchdowns
+    tr.sync(core, 0.66, "up", 3.0, 0.0)
+    assert len(tr.events) == 5000 and tr.events[0].time_s == 0.0  # nothing scrolled away
+    assert [e.time_s for e in tr.recent(499.75)] == pytest.approx([499.8, 499.9])
+    whole = d31_svg(tr.events, 500.0, None, "metachronal")
+    assert "whole run" in whole and 'data-t0="0.000"' in whole
+    assert whole.count("<circle") <= MAX_DRAWN and "1 in 5 drawn" in whole
+    last = d31_svg(tr.recent(470.0), 500.0, 30.0, "metachronal")
+    assert "last 30 s" in last and 'data-t0="470.000"' in last
+    small = D31Trace(maxlen=100)
+    small.sync(core, 0.66)
+    assert len(small.events) == 100 and small.events[0].time_s == pytest.approx(490.0)
+
+
+def test_stance_intervals_of_the_whole_run() -> None:
+    log = StanceLog()
+    t = np.arange(10) * 0.1
+    s = np.zeros((10, 6), bool)
+    s[2:5, 0] = True  # R1 in stance from 0.2 to 0.5
+    s[7:, 0] = True  # and from 0.7, still on at the end
+    s[:, 3] = True  # L2 always
+    log.extend(t[:6], s[:6])
+    log.extend(t[6:], s[6:])  # in two pieces, as the loop feeds it
+    rows = log.rows()
+    assert ("0", 0.2, pytest.approx(0.5)) in rows
+    assert ("0", pytest.approx(0.7), pytest.approx(0.9)) in rows
+    assert ("3", 0.0, pytest.approx(0.9)) in rows and len(rows) == 3
+    text = export.footfall_csv(rows).decode()
+    assert text.splitlines()[0] == "leg,start_s,end_s" and "R1,0.2,0.5" in text and "L2,0.0" in text
+    log.extend(np.array([0.0]), np.zeros((1, 6), bool))  # time went back: a reset
+    assert log.rows() == []
+
+
+def _settings(**kw: Any) -> export.Settings:
+    base = dict(beta=0.66, body_mass_g=3.0, slope_deg=0.0, d31_init=2.09, speed=1.0,
+                time_s=12.0, ramp=None, ramp_running=False, ramp_started_at_s=None)  # fmt: skip
+    return export.Settings(**{**base, **kw})
+
+
+def test_the_exports_carry_the_records() -> None:
+    ev = [D31Event(0.1 * k, 2.0, 0.70 - 0.001 * k, "down", 3.0, 0.0) for k in range(5)]
+    rows = list(csv.DictReader(io.StringIO(export.d31_csv(ev).decode())))
+    assert [float(r["beta"]) for r in rows] == pytest.approx([0.70, 0.699, 0.698, 0.697, 0.696])
+    assert rows[0].keys() == set(export.D31_COLUMNS) and rows[0]["ramp"] == "down"
+    ramp = controls.make_ramp("beta", 0.70, 0.62, 0.0, 8.0)
+    rows = list(csv.DictReader(io.StringIO(export.ramp_csv(ev, ramp, 0.0).decode())))
+    assert float(rows[-1]["scheduled"]) == pytest.approx(0.70 - 0.08 * 0.4 / 8.0)  # t = 0.4 s
+    js = json.loads(export.settings_json(_settings(ramp=ramp)))
+    assert js["ramp"]["param"] == "beta" and js["jobs"]["hysteresis"]["turn"] == 0.62
+    assert js["jobs_url"] == "http://127.0.0.1:8000/v1/jobs"
+
+
+def test_the_job_bodies_are_what_the_api_accepts() -> None:
+    from server.schemas import JOB_SPEC_ADAPTER
+
+    ramp = controls.make_ramp("body_mass_g", 3.0, 6.0, 5.0, 30.0)
+    jobs = export.jobs(_settings(beta=0.62, slope_deg=-7.5, ramp=ramp))
+    run = JOB_SPEC_ADAPTER.validate_python(jobs["run"])
+    assert run.kind == "run" and run.beta == 0.62 and run.slope_deg == -7.5  # type: ignore[union-attr]
+    hyst = JOB_SPEC_ADAPTER.validate_python(jobs["hysteresis"])
+    assert hyst.kind == "hysteresis" and hyst.parameter == "body_mass_g"  # type: ignore[union-attr]
+    assert "hysteresis" not in export.jobs(_settings())
+    line = export.curl("http://h:1/", jobs["run"])
+    assert line.startswith("curl -s -X POST http://h:1/v1/jobs ") and '"kind": "run"' in line
+
+
+def test_the_return_map_and_the_status_box() -> None:
+    from web.panels import status_html
+
+    svg = return_map_svg([(2.0, 2.01), (2.01, 2.02)])
+    assert 'data-plot="return-map"' in svg and svg.count("<circle") == 2
+    assert 'data-n-pairs="2"' in svg
+    long = "behind: 0.62x of 1x (machine cannot keep up); " + "x" * 200
+    box = status_html(long)
+    assert "white-space:normal" in box and long in box  # wrapped, nothing cut
+
+
+def test_the_viewer_reads_the_results_folder_through_one_constant() -> None:
+    from web import paths
+
+    assert paths.DEFAULT_BIFURCATION == paths.RESULTS_DIR / "bifurcation.json"
+    assert paths.atlas_path(paths.RESULTS_DIR, "slope").name == "atlas_slope.json"
+    with pytest.raises(ValueError):
+        paths.atlas_path(paths.RESULTS_DIR, "gravity")
+    assert math.isfinite(controls.RAMP_HOLD_S.initial)

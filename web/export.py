@@ -1,0 +1,141 @@
+"""What the page exports and what it offers to submit: files and REST job bodies, kept pure.
+
+The loop thread builds each file from its own records when a browser asks (a download button
+queues an `Export` request) and hands the bytes to that browser (viser's
+`ClientHandle.send_file_download`). The REST bodies are what `POST /v1/jobs` takes
+(docs/API.md): a `run` job at the current settings and, when a ramp is set up, the
+`hysteresis` job that runs the same ramp (`Ramp`'s fields are the job's).
+"""
+
+from __future__ import annotations
+
+import csv
+import io
+import json
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from sim_core.contract import LEG_NAMES, Ramp
+from web.footfall import D31Event
+from web.paths import DEFAULT_API_URL
+
+EXPORTS = ("d31", "footfall", "ramp", "settings")
+D31_COLUMNS = ("time_s", "d31_rad", "beta", "body_mass_g", "slope_deg", "ramp")
+
+
+@dataclass(frozen=True)
+class Settings:
+    """The viewer's state a person set, as the export and the job bodies say it."""
+
+    beta: float
+    body_mass_g: float
+    slope_deg: float
+    d31_init: float  # of the last (re)start
+    speed: float | None  # multiple of real time; None = as fast as possible
+    time_s: float  # simulated time now
+    ramp: Ramp | None  # the ramp running now, or the one set up in the ramp inputs
+    ramp_running: bool
+    ramp_started_at_s: float | None
+    job_duration_s: float = 30.0
+    api_url: str = DEFAULT_API_URL
+
+
+def _csv(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> bytes:
+    buf = io.StringIO()
+    w = csv.writer(buf, lineterminator="\n")
+    w.writerow(header)
+    for row in rows:
+        w.writerow(["" if isinstance(v, float) and not math.isfinite(v) else v for v in row])
+    return buf.getvalue().encode()
+
+
+def _event_row(e: D31Event) -> tuple[Any, ...]:
+    return (
+        round(e.time_s, 6),
+        round(e.d31, 6),
+        round(e.beta, 6),
+        e.body_mass_g,
+        e.slope_deg,
+        e.ramp,
+    )
+
+
+def d31_csv(events: Iterable[D31Event]) -> bytes:
+    """Delta31 at every leg-1 touchdown kept (the whole run), with the parameters then."""
+    return _csv(D31_COLUMNS, (_event_row(e) for e in events))
+
+
+def footfall_csv(intervals: Iterable[tuple[str, float, float]]) -> bytes:
+    """Stance intervals (leg R1..L3, start, end in s), in order of their start."""
+    return _csv(
+        ("leg", "start_s", "end_s"),
+        ((LEG_NAMES[int(leg)], round(a, 6), round(b, 6)) for leg, a, b in intervals),
+    )
+
+
+def ramp_csv(path: Iterable[D31Event], ramp: Ramp | None, started_at_s: float | None) -> bytes:
+    """The ramp's path: each touchdown during the ramp with the scheduled value of the ramped
+    parameter (`Ramp.value` at that time) next to the parameters in force."""
+    rows = []
+    for e in path:
+        scheduled = (
+            ramp.value(e.time_s - started_at_s)
+            if ramp is not None and started_at_s is not None
+            else math.nan
+        )
+        rows.append((*_event_row(e), scheduled))
+    return _csv((*D31_COLUMNS, "scheduled"), rows)
+
+
+def run_job(s: Settings) -> dict[str, Any]:
+    """A `run` job at the current beta, mass and slope from the last initial Delta31."""
+    return {
+        "kind": "run",
+        "beta": round(s.beta, 6),
+        "body_mass_g": round(s.body_mass_g, 6),
+        "slope_deg": round(s.slope_deg, 6),
+        "d31_init": [round(s.d31_init, 6)],
+        "duration_s": s.job_duration_s,
+    }
+
+
+def hysteresis_job(s: Settings, ramp: Ramp) -> dict[str, Any]:
+    """The same ramp as a `hysteresis` job: the held parameters are the current ones."""
+    return {
+        "kind": "hysteresis",
+        "parameter": ramp.param,
+        "start": ramp.start,
+        "turn": ramp.turn,
+        "hold_s": ramp.hold_s,
+        "ramp_s": ramp.ramp_s,
+        "beta": round(s.beta if ramp.param != "beta" else ramp.start, 6),
+        "body_mass_g": round(s.body_mass_g if ramp.param != "body_mass_g" else ramp.start, 6),
+        "slope_deg": round(s.slope_deg if ramp.param != "slope_deg" else ramp.start, 6),
+        "d31_init": round(s.d31_init, 6),
+    }
+
+
+def jobs(s: Settings) -> dict[str, dict[str, Any]]:
+    out = {"run": run_job(s)}
+    if s.ramp is not None:
+        out["hysteresis"] = hysteresis_job(s, s.ramp)
+    return out
+
+
+def curl(api_url: str, body: dict[str, Any]) -> str:
+    """The command line that submits `body` (the API may ask for a bearer token: docs/API.md)."""
+    data = json.dumps(body, separators=(", ", ": "))
+    return (
+        f"curl -s -X POST {api_url.rstrip('/')}/v1/jobs "
+        f"-H 'Content-Type: application/json' -d '{data}'"
+    )
+
+
+def settings_json(s: Settings) -> bytes:
+    out = asdict(s)
+    out["ramp"] = None if s.ramp is None else asdict(s.ramp)
+    out["jobs"] = jobs(s)
+    out["jobs_url"] = f"{s.api_url.rstrip('/')}/v1/jobs"
+    return json.dumps(out, indent=2).encode()
