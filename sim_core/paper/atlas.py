@@ -194,13 +194,18 @@ def plot_atlas(out: AtlasOutput, path: Path) -> None:
                 return k + (beta - bs[k]) / (bs[k + 1] - bs[k])
         return float(nb - 1)
 
+    # each fold where it was measured: a bar across its own row at the fold's beta, midway
+    # between the two grid betas it lies between (+- half the step); rows are not joined
+    for f in out.folds:
+        i = out.values.index(f.value)
+        colour = "tab:orange" if f.gait == "tripod" else "tab:green"
+        ax.plot([col(f.beta)] * 2, [i - 0.5, i + 0.5], "-" if f.side == "upper" else "--",
+                color=colour, lw=2.5)  # fmt: skip
     for gait, colour in (("tripod", "tab:orange"), ("metachronal", "tab:green")):
         for side, ls in (("upper", "-"), ("lower", "--")):
-            pts = sorted((out.values.index(f.value), col(f.beta)) for f in out.folds
-                         if f.gait == gait and f.side == side)  # fmt: skip
-            if pts:
-                ax.plot([p[1] for p in pts], [p[0] for p in pts], ls, color=colour, lw=2,
-                        marker="|", ms=10, label=f"{gait} fold ({side} end)")  # fmt: skip
+            ax.plot([], [], ls, color=colour, lw=2.5,
+                    label=f"{gait} fold ({'lives below' if side == 'upper' else 'lives above'} "
+                    "this β)")  # fmt: skip
     # the paper's Fig. 9 sweep: at sweep_beta over sweep_range
     lo, hi = out.sweep_range
 

@@ -294,14 +294,15 @@ def finder_cells(figs: list[str], cfg: Config) -> list[Cell]:
 Found = dict[float, CellResult]
 
 
-def _pairs(cell: CellResult, p: ModelParams, get: Lookup) -> ReturnMap:
-    """Fig. 7's n -> n+4 pairs: every settled run of the search (the first touchdowns dropped,
-    as `return_map_from_series`)."""
+def _pairs(cell: CellResult, p: ModelParams, get: Lookup, settled: bool = True) -> ReturnMap:
+    """Fig. 7's n -> n+4 pairs: every settled run of the search (or, `settled=False`, every
+    run that did not settle: drawn apart) with the first touchdowns dropped, as
+    `return_map_from_series`."""
     c = Cell(cell.beta, cell.body_mass_g, cell.slope_deg)
     series = [
         get(probe_task(c, Probe(r.d31_init, r.duration_s), p))["d31"]
         for r in cell.runs
-        if r.settled and r.failure is None
+        if r.settled == settled and r.failure is None
     ]
     return return_map_from_series(cell.beta, series)
 
@@ -329,6 +330,7 @@ def _fig7(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[Figure
     for beta in cfg.map_betas:
         cell = found[beta]
         rm = _pairs(cell, p, get)
+        un = _pairs(cell, p, get, settled=False)
         pts = _points(cell)
         maps.append({
             "beta": beta, "x": rm.x.tolist(), "y": rm.y.tolist(), "fixed_points": pts,
@@ -336,6 +338,7 @@ def _fig7(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[Figure
             "ghosts": [g.d31 for g in cell.ghosts],
             "ghost_drifts": [g.drift for g in cell.ghosts],
             "unsettled": [r.model_dump() for r in cell.unsettled], "pairs": int(rm.x.size),
+            "x_unsettled": un.x.tolist(), "y_unsettled": un.y.tolist(),
         })  # fmt: skip
         rows += [[beta, x, y] for x, y in zip(rm.x.tolist(), rm.y.tolist(), strict=True)]
     keys = ("window_pattern", "window_fixed_points", "ghosts", "unsettled")

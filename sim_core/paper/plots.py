@@ -151,8 +151,26 @@ def _fixed_points(ax: Any, points: list[dict[str, Any]], x: float | None = None)
 def fig7(data: dict[str, Any], path: Path, paper_ghosts: dict[float, float] | None = None) -> None:
     maps = data["maps"]
     lo, hi = data["window_rad"]
-    fig, axes = plt.subplots(1, len(maps), figsize=(4.3 * len(maps), 4.9), squeeze=False)
+    fig, axes = plt.subplots(2, len(maps), figsize=(4.3 * len(maps), 8.6), squeeze=False,
+                             gridspec_kw={"height_ratios": [1.15, 1]})  # fmt: skip
+    for ax, m in zip(axes[1], maps, strict=True):  # the same pairs as drift per cycle
+        x, y = np.asarray(m["x"]), np.asarray(m["y"])
+        d = np.mod(y - x + np.pi, TWO_PI) - np.pi
+        xu, yu = np.asarray(m.get("x_unsettled", [])), np.asarray(m.get("y_unsettled", []))
+        du = np.mod(yu - xu + np.pi, TWO_PI) - np.pi
+        ax.plot(xu, du / data["lag"] * 1e3, ".", ms=1.5, color="0.7", label="runs not settled")
+        ax.plot(x, d / data["lag"] * 1e3, ".", ms=2, alpha=0.5, label="settled runs")
+        ax.legend(loc="lower left", fontsize=7)
+        ax.axhline(0, color="k", lw=0.8)
+        ax.axvspan(lo, hi, color="0.93", zorder=0)
+        for f in m["fixed_points"]:
+            ax.plot(f["d31"], 0, "o", ms=7, mfc="k" if f["stable"] else "w", mec="k", zorder=5)
+        ax.set_ylim(-15, 15)
+        ax.set_xlim(0, TWO_PI)
+        ax.set_xlabel("Δ31 n (rad)")
+    axes[1][0].set_ylabel("drift per cycle (Δ31 n+4 − Δ31 n)/4 (mrad)")
     for ax, m in zip(axes[0], maps, strict=True):
+        ax.plot(m.get("x_unsettled", []), m.get("y_unsettled", []), ".", ms=1.5, color="0.7")
         ax.plot(m["x"], m["y"], ".", ms=2, alpha=0.5)
         ax.plot([0, TWO_PI], [0, TWO_PI], "k-", lw=0.8)
         ax.axvspan(lo, hi, color="0.93", zorder=0)
@@ -167,7 +185,6 @@ def fig7(data: dict[str, Any], path: Path, paper_ghosts: dict[float, float] | No
         n_un = len(m.get("unsettled", []))
         ax.set_title(f"β = {m['beta']}: {m['window_pattern'] or 'none'} in the band"
                      + (f"; {n_un} run(s) not settled" if n_un else ""), fontsize=9)  # fmt: skip
-        ax.set_xlabel("Δ31 n (rad)")
         ax.set_xlim(0, TWO_PI)
         ax.set_ylim(0, TWO_PI)
         ax.set_aspect("equal")
