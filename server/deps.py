@@ -13,7 +13,7 @@ from typing import Annotated, Any
 from fastapi import Depends, HTTPException, Path, Request
 from fastapi.security import HTTPAuthorizationCredentials, HTTPBearer
 
-from server.jobs import JobStore
+from server.jobs import JobRow, JobStore
 from server.schemas import Problem, ValidationProblem
 from server.settings import Settings
 from server.workers import WorkerPool
@@ -93,11 +93,11 @@ TokenDep = Annotated[None, Depends(require_token)]
 JobId = Annotated[str, Path(min_length=1, max_length=64, description="job id from POST /v1/jobs")]
 
 
-def get_job_or_404(job_id: JobId, store: StoreDep) -> dict[str, Any]:
+def get_job_or_404(job_id: JobId, store: StoreDep) -> JobRow:
     job = store.get(job_id)
     if job is None:
         raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
     return job
 
 
-JobDep = Annotated[dict[str, Any], Depends(get_job_or_404)]
+JobDep = Annotated[JobRow, Depends(get_job_or_404)]

@@ -14,7 +14,7 @@ from typing import Any
 
 from pydantic import BaseModel
 
-from server.schemas import KIND_MODELS
+from server.kinds import KIND_MODELS
 
 
 def _allowed_for(model: type[BaseModel] | None, path: Sequence[str | int]) -> str | None:
@@ -25,10 +25,11 @@ def _allowed_for(model: type[BaseModel] | None, path: Sequence[str | int]) -> st
             break
         info = model.model_fields[part]
         extra = info.json_schema_extra
-        allowed = extra.get("allowed") if isinstance(extra, dict) else None  # type: ignore[assignment]
+        text = extra.get("allowed") if isinstance(extra, dict) else None
+        allowed = text if isinstance(text, str) else None
         ann = info.annotation
         model = ann if isinstance(ann, type) and issubclass(ann, BaseModel) else None
-    return allowed if isinstance(allowed, str) else None
+    return allowed
 
 
 def _model_at(model: type[BaseModel] | None, path: Sequence[str | int]) -> type[BaseModel] | None:

@@ -9,7 +9,9 @@ from collections.abc import Sequence
 from datetime import datetime
 from typing import Any
 
-from server.schemas import step_weight
+from server.jobs import JobRow
+from server.kinds.base import step_weight
+from server.status import JobStatus
 
 MIN_PROGRESS = 0.02  # below this, progress says too little to extrapolate from
 # no history yet: wall s per simulated s at the default step (measured 0.49 for one
@@ -82,20 +84,20 @@ def wall_per_sim_second(done: Sequence[tuple[float, float, dict[str, Any]]]) -> 
     return xs[len(xs) // 2] if xs else None
 
 
-def eta_of(job: dict[str, Any], now: datetime, wall_per_sim_s: float | None) -> float | None:
+def eta_of(job: JobRow, now: datetime, wall_per_sim_s: float | None) -> float | None:
     """`remaining_s` for a running job as the store returns it; None for any other state. Its
     size is its simulated seconds weighted by its step (`weighted_sim_seconds`), so a job at
     dt_s 1e-6 s is estimated 50 times longer than the same job at the default 5e-5 s."""
-    if job.get("status", "running") != "running":
+    if job.status is not JobStatus.RUNNING:
         return None
-    elapsed = seconds_since(job.get("started_at"), now)
+    elapsed = seconds_since(job.started_at, now)
     if elapsed is None:
         return None
-    sim = weighted_sim_seconds(float(job.get("sim_seconds") or 0.0), job.get("spec"))
+    sim = weighted_sim_seconds(job.sim_seconds, job.spec)
     return round(
         remaining_s(
             elapsed_s=elapsed,
-            progress=float(job.get("progress") or 0.0),
+            progress=job.progress,
             sim_seconds=sim,
             wall_per_sim_s=wall_per_sim_s,
         ),

@@ -22,17 +22,19 @@ from contextlib import contextmanager
 from dataclasses import dataclass
 from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any
+from typing import Any, Literal
+
+from server.status import ACTIVE, FINISHED, JobStatus, sql_list
 
 SCHEMA_VERSION = 1
 
-_SCHEMA = """
+_SCHEMA = f"""
 CREATE TABLE IF NOT EXISTS jobs (
     seq         INTEGER PRIMARY KEY AUTOINCREMENT,
     id          TEXT NOT NULL UNIQUE,
     kind        TEXT NOT NULL,
     spec        TEXT NOT NULL,
-    status      TEXT NOT NULL CHECK (status IN ('queued','running','done','failed','cancelled')),
+    status      TEXT NOT NULL CHECK (status IN ({sql_list(JobStatus)})),
     progress    REAL NOT NULL DEFAULT 0,
     attempts    INTEGER NOT NULL DEFAULT 0,
     requeues    INTEGER NOT NULL DEFAULT 0,
@@ -54,16 +56,50 @@ _COLUMNS = (
     "id, kind, spec, status, progress, attempts, requeues, sim_seconds, created_at, started_at,"
     " finished_at, error, note"
 )
+_FINISHED_SQL = sql_list(FINISHED)
+Missing = Literal["missing"]  # what cancel and delete_finished report for an unknown id
 
 
 def now_iso() -> str:
     return datetime.now(UTC).isoformat(timespec="milliseconds").replace("+00:00", "Z")
 
 
-def _row_to_job(row: sqlite3.Row) -> dict[str, Any]:
-    job = dict(row)
-    job["spec"] = json.loads(job["spec"])
-    return job
+@dataclass(frozen=True)
+class JobRow:
+    """One row of the job table as the store returns it (times as ISO 8601 UTC text)."""
+
+    id: str
+    kind: str
+    spec: dict[str, Any]
+    status: JobStatus
+    progress: float
+    attempts: int
+    requeues: int
+    sim_seconds: float
+    created_at: str
+    started_at: str | None
+    finished_at: str | None
+    error: str | None
+    note: str | None
+
+    @classmethod
+    def from_sql(cls, row: sqlite3.Row) -> JobRow:
+        """From a row selected as `_COLUMNS`."""
+        return cls(
+            id=str(row["id"]),
+            kind=str(row["kind"]),
+            spec=json.loads(row["spec"]),
+            status=JobStatus(row["status"]),
+            progress=float(row["progress"]),
+            attempts=int(row["attempts"]),
+            requeues=int(row["requeues"]),
+            sim_seconds=float(row["sim_seconds"]),
+            created_at=str(row["created_at"]),
+            started_at=row["started_at"],
+            finished_at=row["finished_at"],
+            error=row["error"],
+            note=row["note"],
+        )
 
 
 @dataclass(frozen=True)
@@ -77,6 +113,14 @@ class Claim:
 @dataclass(frozen=True)
 class QueueFull:
     queued: int
+
+
+# Every write a worker makes holds only while its claim does: same attempt, still running.
+_FENCE = "id = ? AND attempts = ? AND status = ?"
+
+
+def _fence(claim: Claim) -> tuple[str, int, JobStatus]:
+    return claim.job_id, claim.attempt, JobStatus.RUNNING
 
 
 class JobStore:
@@ -140,31 +184,33 @@ class JobStore:
 
     def submit(
         self, kind: str, spec: dict[str, Any], sim_seconds: float, queue_limit: int
-    ) -> dict[str, Any] | QueueFull:
+    ) -> JobRow | QueueFull:
         """Insert a queued job unless the queue is full; the check and insert are one lock."""
         job_id = str(uuid.uuid4())
         with self._write() as conn:
-            queued = conn.execute("SELECT count(*) FROM jobs WHERE status = 'queued'").fetchone()
+            queued = conn.execute(
+                "SELECT count(*) FROM jobs WHERE status = ?", (JobStatus.QUEUED,)
+            ).fetchone()
             if queued[0] >= queue_limit:
                 return QueueFull(queued=int(queued[0]))
             conn.execute(
                 "INSERT INTO jobs (id, kind, spec, status, sim_seconds, created_at)"
-                " VALUES (?, ?, ?, 'queued', ?, ?)",
-                (job_id, kind, json.dumps(spec), sim_seconds, now_iso()),
+                " VALUES (?, ?, ?, ?, ?, ?)",
+                (job_id, kind, json.dumps(spec), JobStatus.QUEUED, sim_seconds, now_iso()),
             )
         job = self.get(job_id)
         assert job is not None
         return job
 
-    def get(self, job_id: str) -> dict[str, Any] | None:
+    def get(self, job_id: str) -> JobRow | None:
         row = (
             self._conn().execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
         )
-        return _row_to_job(row) if row is not None else None
+        return JobRow.from_sql(row) if row is not None else None
 
     def list_jobs(
-        self, status: str | None, limit: int, offset: int
-    ) -> tuple[list[dict[str, Any]], int]:
+        self, status: JobStatus | None, limit: int, offset: int
+    ) -> tuple[list[JobRow], int]:
         """Newest first."""
         conn = self._conn()
         where, args = ("WHERE status = ?", (status,)) if status else ("", ())
@@ -173,34 +219,39 @@ class JobStore:
             f"SELECT {_COLUMNS} FROM jobs {where} ORDER BY seq DESC LIMIT ? OFFSET ?",
             (*args, limit, offset),
         ).fetchall()
-        return [_row_to_job(r) for r in rows], int(total)
+        return [JobRow.from_sql(r) for r in rows], int(total)
 
-    def cancel(self, job_id: str) -> tuple[str, dict[str, Any] | None]:
+    def cancel(self, job_id: str) -> tuple[JobStatus | Missing, JobRow | None]:
         """-> (previous status or 'missing', job). Only queued and running jobs change."""
         with self._write() as conn:
             row = conn.execute("SELECT status FROM jobs WHERE id = ?", (job_id,)).fetchone()
             if row is None:
                 return "missing", None
-            previous = str(row[0])
-            if previous in ("queued", "running"):
+            previous = JobStatus(row[0])
+            if previous in ACTIVE:
                 conn.execute(
-                    "UPDATE jobs SET status = 'cancelled', finished_at = ?,"
+                    "UPDATE jobs SET status = ?, finished_at = ?,"
                     " note = coalesce(note || ' ', '') || ? WHERE id = ?",
-                    (now_iso(), f"cancelled by request while {previous}.", job_id),
+                    (
+                        JobStatus.CANCELLED,
+                        now_iso(),
+                        f"cancelled by request while {previous}.",
+                        job_id,
+                    ),
                 )
         return previous, self.get(job_id)
 
-    def delete_finished(self, job_id: str) -> tuple[str, dict[str, Any] | None]:
+    def delete_finished(self, job_id: str) -> tuple[JobStatus | Missing, JobRow | None]:
         """-> (status or 'missing', the job as it was). Only finished jobs are deleted, with
         their result (ON DELETE CASCADE)."""
         with self._write() as conn:
             row = conn.execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
             if row is None:
                 return "missing", None
-            job = _row_to_job(row)
-            if job["status"] in ("done", "failed", "cancelled"):
+            job = JobRow.from_sql(row)
+            if job.status in FINISHED:
                 conn.execute("DELETE FROM jobs WHERE id = ?", (job_id,))
-        return str(job["status"]), job
+        return job.status, job
 
     def purge_finished(self, older_than_days: float | None, keep: int | None) -> int:
         """Retention: delete finished jobs finished more than `older_than_days` ago, and all
@@ -209,27 +260,27 @@ class JobStore:
         with self._write() as conn:
             if older_than_days is not None:
                 cur = conn.execute(
-                    "DELETE FROM jobs WHERE status IN ('done', 'failed', 'cancelled')"
+                    f"DELETE FROM jobs WHERE status IN ({_FINISHED_SQL})"
                     " AND julianday(finished_at) < julianday('now') - ?",
                     (older_than_days,),
                 )
                 deleted += cur.rowcount
             if keep is not None:
                 cur = conn.execute(
-                    "DELETE FROM jobs WHERE status IN ('done', 'failed', 'cancelled')"
+                    f"DELETE FROM jobs WHERE status IN ({_FINISHED_SQL})"
                     " AND seq NOT IN (SELECT seq FROM jobs"
-                    " WHERE status IN ('done', 'failed', 'cancelled') ORDER BY seq DESC LIMIT ?)",
+                    f" WHERE status IN ({_FINISHED_SQL}) ORDER BY seq DESC LIMIT ?)",
                     (keep,),
                 )
                 deleted += cur.rowcount
         return deleted
 
-    def running_jobs(self) -> list[dict[str, Any]]:
-        """id, started_at, progress, sim_seconds and spec of every running job (estimates)."""
+    def running_jobs(self) -> list[JobRow]:
+        """Every running job (for the estimates)."""
         rows = self._conn().execute(
-            "SELECT id, started_at, progress, sim_seconds, spec FROM jobs WHERE status = 'running'"
+            f"SELECT {_COLUMNS} FROM jobs WHERE status = ?", (JobStatus.RUNNING,)
         )
-        return [_row_to_job(r) for r in rows]
+        return [JobRow.from_sql(r) for r in rows]
 
     def recent_done(self, limit: int = 20) -> list[tuple[float, float, dict[str, Any]]]:
         """(wall seconds, simulated seconds, spec) of the last `limit` done jobs: what a job
@@ -238,9 +289,9 @@ class JobStore:
             self._conn()
             .execute(
                 "SELECT (julianday(finished_at) - julianday(started_at)) * 86400.0, sim_seconds,"
-                " spec FROM jobs WHERE status = 'done' AND started_at IS NOT NULL"
+                " spec FROM jobs WHERE status = ? AND started_at IS NOT NULL"
                 " AND sim_seconds > 0 ORDER BY seq DESC LIMIT ?",
-                (limit,),
+                (JobStatus.DONE, limit),
             )
             .fetchall()
         )
@@ -255,13 +306,14 @@ class JobStore:
         out: dict[str, Any] = json.loads(zlib.decompress(row[0]))
         return out
 
-    def counts(self) -> dict[str, int]:
+    def counts(self) -> dict[JobStatus, int]:
+        """Queued and running jobs (the active statuses), each counted."""
         rows = self._conn().execute(
-            "SELECT status, count(*) FROM jobs"
-            " WHERE status IN ('queued', 'running') GROUP BY status"
+            f"SELECT status, count(*) FROM jobs WHERE status IN ({sql_list(ACTIVE)})"
+            " GROUP BY status"
         )
-        out = {"queued": 0, "running": 0}
-        out.update({str(s): int(n) for s, n in rows})
+        out = dict.fromkeys(sorted(ACTIVE, key=list(JobStatus).index), 0)
+        out.update({JobStatus(s): int(n) for s, n in rows})
         return out
 
     def typical_job_seconds(self) -> float | None:
@@ -270,8 +322,9 @@ class JobStore:
             self._conn()
             .execute(
                 "SELECT (julianday(finished_at) - julianday(started_at)) * 86400.0 FROM jobs"
-                " WHERE status = 'done' AND started_at IS NOT NULL"
-                " ORDER BY seq DESC LIMIT 20"
+                " WHERE status = ? AND started_at IS NOT NULL"
+                " ORDER BY seq DESC LIMIT 20",
+                (JobStatus.DONE,),
             )
             .fetchall()
         )
@@ -284,17 +337,19 @@ class JobStore:
         """Oldest queued job -> running, atomically; its new attempt number fences the worker."""
         # a plain read first: an idle pool polls this, and must not take the write lock for it
         if (
-            self._conn().execute("SELECT 1 FROM jobs WHERE status = 'queued' LIMIT 1").fetchone()
+            self._conn()
+            .execute("SELECT 1 FROM jobs WHERE status = ? LIMIT 1", (JobStatus.QUEUED,))
+            .fetchone()
             is None
         ):
             return None
         with self._write() as conn:
             row = conn.execute(
-                "UPDATE jobs SET status = 'running', attempts = attempts + 1, progress = 0,"
+                "UPDATE jobs SET status = ?, attempts = attempts + 1, progress = 0,"
                 " started_at = ?, finished_at = NULL"
-                " WHERE seq = (SELECT seq FROM jobs WHERE status = 'queued' ORDER BY seq LIMIT 1)"
+                " WHERE seq = (SELECT seq FROM jobs WHERE status = ? ORDER BY seq LIMIT 1)"
                 " RETURNING id, attempts",
-                (now_iso(),),
+                (JobStatus.RUNNING, now_iso(), JobStatus.QUEUED),
             ).fetchone()
         return Claim(str(row[0]), int(row[1])) if row is not None else None
 
@@ -309,16 +364,18 @@ class JobStore:
         failed: list[str] = []
         with self._write() as conn:
             rows = conn.execute(
-                "SELECT id, requeues, attempts FROM jobs WHERE status = 'running' ORDER BY seq"
+                "SELECT id, requeues, attempts FROM jobs WHERE status = ? ORDER BY seq",
+                (JobStatus.RUNNING,),
             ).fetchall()
             stamp = now_iso()
             for job_id, requeues, attempts in rows:
                 if requeues < max_requeues:
                     conn.execute(
-                        "UPDATE jobs SET status = 'queued', progress = 0, started_at = NULL,"
+                        "UPDATE jobs SET status = ?, progress = 0, started_at = NULL,"
                         " requeues = requeues + 1, note = coalesce(note || ' ', '') || ?"
                         " WHERE id = ?",
                         (
+                            JobStatus.QUEUED,
                             f"re-queued at {stamp}: the server stopped while attempt "
                             f"{attempts} was running.",
                             job_id,
@@ -327,9 +384,9 @@ class JobStore:
                     requeued.append(job_id)
                 else:
                     conn.execute(
-                        "UPDATE jobs SET status = 'failed', finished_at = ?, error = ?"
-                        " WHERE id = ?",
+                        "UPDATE jobs SET status = ?, finished_at = ?, error = ? WHERE id = ?",
                         (
+                            JobStatus.FAILED,
                             stamp,
                             f"the server stopped while this job was running, {requeues + 1} "
                             f"time(s); not re-queued again (limit max_requeues = "
@@ -344,23 +401,23 @@ class JobStore:
         """A clean shutdown interrupted this job: it goes back to the queue, no requeue spent."""
         with self._write() as conn:
             cur = conn.execute(
-                "UPDATE jobs SET status = 'queued', progress = 0, started_at = NULL,"
+                "UPDATE jobs SET status = ?, progress = 0, started_at = NULL,"
                 " note = coalesce(note || ' ', '') || ?"
-                " WHERE id = ? AND attempts = ? AND status = 'running'",
+                f" WHERE {_FENCE}",
                 (
+                    JobStatus.QUEUED,
                     f"re-queued at {now_iso()}: the server shut down while it ran.",
-                    claim.job_id,
-                    claim.attempt,
+                    *_fence(claim),
                 ),
             )
         return cur.rowcount == 1
 
-    def status_of(self, job_ids: list[str]) -> dict[str, str]:
+    def status_of(self, job_ids: list[str]) -> dict[str, JobStatus]:
         if not job_ids:
             return {}
         marks = ",".join("?" * len(job_ids))
         rows = self._conn().execute(f"SELECT id, status FROM jobs WHERE id IN ({marks})", job_ids)
-        return {str(i): str(s) for i, s in rows}
+        return {str(i): JobStatus(s) for i, s in rows}
 
     # ---- worker side ---------------------------------------------------------------------
 
@@ -370,8 +427,8 @@ class JobStore:
 
     def set_progress(self, claim: Claim, fraction: float) -> bool:
         cur = self._conn().execute(
-            "UPDATE jobs SET progress = ? WHERE id = ? AND attempts = ? AND status = 'running'",
-            (min(max(float(fraction), 0.0), 1.0), claim.job_id, claim.attempt),
+            f"UPDATE jobs SET progress = ? WHERE {_FENCE}",
+            (min(max(float(fraction), 0.0), 1.0), *_fence(claim)),
         )
         return cur.rowcount == 1
 
@@ -380,9 +437,8 @@ class JobStore:
         body = zlib.compress(json.dumps(result, allow_nan=False).encode(), 6)
         with self._write() as conn:
             cur = conn.execute(
-                "UPDATE jobs SET status = 'done', progress = 1, finished_at = ?"
-                " WHERE id = ? AND attempts = ? AND status = 'running'",
-                (now_iso(), claim.job_id, claim.attempt),
+                f"UPDATE jobs SET status = ?, progress = 1, finished_at = ? WHERE {_FENCE}",
+                (JobStatus.DONE, now_iso(), *_fence(claim)),
             )
             if cur.rowcount != 1:
                 return False
@@ -395,8 +451,7 @@ class JobStore:
     def finish_failed(self, claim: Claim, error: str) -> bool:
         with self._write() as conn:
             cur = conn.execute(
-                "UPDATE jobs SET status = 'failed', finished_at = ?, error = ?"
-                " WHERE id = ? AND attempts = ? AND status = 'running'",
-                (now_iso(), error, claim.job_id, claim.attempt),
+                f"UPDATE jobs SET status = ?, finished_at = ?, error = ? WHERE {_FENCE}",
+                (JobStatus.FAILED, now_iso(), error, *_fence(claim)),
             )
         return cur.rowcount == 1

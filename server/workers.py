@@ -35,6 +35,7 @@ from pathlib import Path
 from typing import Any
 
 from server.jobs import Claim, JobStore
+from server.status import JobStatus
 
 log = logging.getLogger("insect_gait.server.workers")
 
@@ -101,8 +102,7 @@ def worker_main(
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     from server.errors import exception_message, sanitize
-    from server.kinds import JobFailed, execute
-    from server.schemas import JOB_SPEC_ADAPTER
+    from server.kinds import JOB_SPEC_ADAPTER, JobFailed, execute
 
     with contextlib.suppress(Exception):
         # warm the engine (MuJoCo, numba) before the first job arrives; `import sim_core`
@@ -329,11 +329,11 @@ class WorkerPool:
             return
         statuses = self.store.status_of(list(busy))
         for job_id, w in busy.items():
-            status = statuses.get(job_id, "missing")
+            status = statuses.get(job_id)
             # done/failed: the worker wrote it and its "finished" is on the way; leave it be
-            if status not in ("cancelled", "missing"):
+            if status is not None and status is not JobStatus.CANCELLED:
                 continue
-            log.info("job %s is %s: stopping worker %s", job_id, status, w.pid)
+            log.info("job %s is %s: stopping worker %s", job_id, status or "missing", w.pid)
             w.proc.kill()
             w.proc.join(2.0)
             w.conn.close()

@@ -29,37 +29,50 @@ from server.deps import (
 )
 from server.errors import limit_error, sanitize
 from server.estimates import eta_of, retry_after_s, wall_per_sim_second
-from server.jobs import JobStore, QueueFull
-from server.kinds import RECORD_COLUMNS, SERIES_COLUMNS
-from server.schemas import FINISHED, Job, JobPage, JobSpec, JobStatus, Problem
+from server.jobs import JobRow, JobStore, QueueFull
+from server.kinds import RECORD_COLUMNS, JobSpec
+from server.kinds.run import SERIES_COLUMNS
+from server.schemas import Job, JobLinks, JobPage, Problem
 from server.settings import Settings
+from server.status import FINISHED, JobStatus, StatusValue
 from sim_core.contract import DEFAULT_DT_S
 
 router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 write_router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 
 
-def job_out(job: dict[str, Any], store: JobStore | None = None) -> dict[str, Any]:
+def job_out(job: JobRow, store: JobStore | None = None) -> Job:
     """A stored job as the API shows it: links, an estimated time left while it runs, and an
     error message cleaned of anything internal (rows written by older servers included)."""
-    base = f"/v1/jobs/{job['id']}"
+    base = f"/v1/jobs/{job.id}"
     eta = None
-    if job["status"] == "running" and store is not None:
+    if job.status is JobStatus.RUNNING and store is not None:
         eta = eta_of(job, datetime.now(UTC), wall_per_sim_second(store.recent_done()))
-    return {
-        **job,
-        "error": sanitize(job["error"]) if job.get("error") else job.get("error"),
-        "eta_s": eta,
-        "links": {"self": base, "result": f"{base}/result", "figure": f"{base}/figure.png"},
-    }
+    return Job(
+        id=job.id,
+        kind=job.kind,
+        status=job.status.value,
+        progress=job.progress,
+        created_at=job.created_at,
+        started_at=job.started_at,
+        finished_at=job.finished_at,
+        error=sanitize(job.error) if job.error else job.error,
+        note=job.note,
+        attempts=job.attempts,
+        requeues=job.requeues,
+        sim_seconds=job.sim_seconds,
+        eta_s=eta,
+        spec=job.spec,
+        links=JobLinks(self=base, result=f"{base}/result", figure=f"{base}/figure.png"),
+    )
 
 
-def require_done(job: dict[str, Any]) -> None:
-    if job["status"] != "done":
-        why = f": {sanitize(job['error'])}" if job.get("error") else ""
+def require_done(job: JobRow) -> None:
+    if job.status is not JobStatus.DONE:
+        why = f": {sanitize(job.error)}" if job.error else ""
         raise HTTPException(
             status_code=409,
-            detail=f"job {job['id']} is {job['status']}, results exist only for done jobs{why}",
+            detail=f"job {job.id} is {job.status}, results exist only for done jobs{why}",
         )
 
 
@@ -129,7 +142,7 @@ def submit_job(
         )
     if problems:
         return JSONResponse(status_code=422, content={"detail": problems})
-    out = store.submit(spec.kind, spec.model_dump(mode="json"), total, settings.queue_limit)
+    out = store.submit(spec.kind_name(), spec.model_dump(mode="json"), total, settings.queue_limit)
     if isinstance(out, QueueFull):
         retry = retry_after(store, settings)
         return JSONResponse(
@@ -141,18 +154,18 @@ def submit_job(
             },
         )
     pool.wake()
-    response.headers["Location"] = f"/v1/jobs/{out['id']}"
+    response.headers["Location"] = f"/v1/jobs/{out.id}"
     return job_out(out, store)
 
 
 @router.get("", response_model=JobPage, responses=R422, summary="List jobs, newest first")
 def list_jobs(
     store: StoreDep,
-    status: Annotated[JobStatus | None, Query(description="only jobs in this state")] = None,
+    status: Annotated[StatusValue | None, Query(description="only jobs in this state")] = None,
     limit: Annotated[int, Query(ge=1, le=200)] = 50,
     offset: Annotated[int, Query(ge=0, le=1_000_000_000)] = 0,
 ) -> Any:
-    items, total = store.list_jobs(status, limit, offset)
+    items, total = store.list_jobs(JobStatus(status) if status else None, limit, offset)
     return {
         "items": [job_out(j, store) for j in items],
         "total": total,
@@ -200,7 +213,7 @@ def get_result(
         raise HTTPException(status_code=409, detail=f"job {job_id} has no stored result")
     if format == "csv":
         if table == "records":
-            rows, columns = result.get("records", []), RECORD_COLUMNS.get(job["kind"], [])
+            rows, columns = result.get("records", []), RECORD_COLUMNS.get(job.kind, ())
         elif "series" in result:
             rows, columns = result["series"][table], SERIES_COLUMNS[table]
         else:
@@ -215,7 +228,7 @@ def get_result(
             media_type="text/csv",
             headers={"Content-Disposition": f'attachment; filename="{name}.csv"'},
         )
-    return JSONResponse({"job_id": job_id, "kind": job["kind"], "result": result})
+    return JSONResponse({"job_id": job_id, "kind": job.kind, "result": result})
 
 
 @router.get(
@@ -235,7 +248,7 @@ def get_figure(job_id: JobId, store: StoreDep) -> Response:
     result = store.result(job_id)
     if result is None:
         raise HTTPException(status_code=409, detail=f"job {job_id} has no stored result")
-    return Response(figures.figure_png(job, result), media_type="image/png")
+    return Response(figures.figure_png(job.kind, job.spec, result), media_type="image/png")
 
 
 @write_router.delete(
@@ -270,7 +283,7 @@ def delete_job(
     previous, job = store.cancel(job_id)
     if job is None:
         raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
-    if previous in FINISHED and previous != "cancelled":
+    if previous in FINISHED and previous is not JobStatus.CANCELLED:
         raise HTTPException(
             status_code=409,
             detail=f"job {job_id} is already {previous}; nothing to cancel (to delete it and "

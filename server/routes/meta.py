@@ -23,6 +23,7 @@ from server.schemas import (
     ModelParameter,
     WorkerHealth,
 )
+from server.status import JobStatus
 from sim_core.contract import (
     DEFAULT_DT_S,
     DEFAULT_INTEGRATOR,
@@ -131,7 +132,7 @@ def healthz(store: StoreDep, pool: PoolDep, settings: SettingsDep) -> Any:
     return {
         "status": "ok" if ok else "degraded",
         "workers": WorkerHealth(configured=stats.configured, alive=stats.alive, busy=stats.busy),
-        "queued": counts["queued"],
-        "running": counts["running"],
+        "queued": counts[JobStatus.QUEUED],
+        "running": counts[JobStatus.RUNNING],
         "queue_limit": settings.queue_limit,
     }

@@ -8,7 +8,7 @@ import math
 import pytest
 from pydantic import ValidationError
 
-from server.schemas import RunJob
+from server.kinds.run import RunJob
 from sim_core import RunSpec
 from sim_core.cli.main import main
 from sim_core.contract import MAX_STABLE_DT_S, step_problem

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from server.kinds import JobFailed, execute
-from server.schemas import RunJob
+from server.kinds.run import RunJob
 from sim_core import RunSpec, simulate, simulate_batch
 from sim_core.cli.main import main
 from sim_core.contract import FAILURE_KINDS, NO_FOOTHOLD_S, SLIDE_BACK_SPEED_M_S

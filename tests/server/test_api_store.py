@@ -10,9 +10,13 @@ from typing import Any
 import annotated_types as at
 import pytest
 
-from server import errors, estimates, kinds, schemas
-from server.jobs import JobStore, QueueFull
-from server.schemas import D31, RunJob, SweepJob
+from server import errors, estimates
+from server.jobs import JobRow, JobStore, QueueFull
+from server.kinds import bounds, common
+from server.kinds.bounds import D31
+from server.kinds.run import RunJob
+from server.kinds.sweep import SweepJob
+from server.status import JobStatus
 from sim_core.contract import RunFailure, RunSpec
 
 
@@ -26,7 +30,7 @@ def store(tmp_path: Path) -> JobStore:
 def _submit(store: JobStore, limit: int = 10) -> str:
     out = store.submit("run", {"kind": "run"}, 1.0, limit)
     assert not isinstance(out, QueueFull)
-    return str(out["id"])
+    return out.id
 
 
 def test_wal_mode_and_fifo_claims(store: JobStore) -> None:
@@ -47,7 +51,7 @@ def test_cancelled_job_cannot_be_overwritten_by_its_worker(store: JobStore) -> N
     assert not store.finish_done(claim, {"records": []})
     assert not store.finish_failed(claim, "late")
     job = store.get(job_id)
-    assert job is not None and job["status"] == "cancelled" and store.result(job_id) is None
+    assert job is not None and job.status == "cancelled" and store.result(job_id) is None
 
 
 def test_stale_attempt_is_fenced_after_recovery(store: JobStore) -> None:
@@ -127,7 +131,7 @@ def test_retention_keeps_the_newest_finished_and_all_active(store: JobStore) -> 
     for job_id in ids[:4]:
         store.cancel(job_id)
     assert store.purge_finished(None, keep=2) == 2
-    left = {j["id"] for j in store.list_jobs(None, 10, 0)[0]}
+    left = {j.id for j in store.list_jobs(None, 10, 0)[0]}
     assert left == {ids[2], ids[3], ids[4]}  # two newest finished + the queued one
     # age: nothing finished more than a day ago, until one is back-dated by three days
     assert store.purge_finished(1.0, None) == 0
@@ -138,9 +142,9 @@ def test_retention_keeps_the_newest_finished_and_all_active(store: JobStore) -> 
             (ids[2],),
         )
     assert store.purge_finished(2.0, None) == 1
-    assert {j["id"] for j in store.list_jobs(None, 10, 0)[0]} == {ids[3], ids[4]}
+    assert {j.id for j in store.list_jobs(None, 10, 0)[0]} == {ids[3], ids[4]}
     assert store.purge_finished(None, keep=0) == 1
-    assert {j["id"] for j in store.list_jobs(None, 10, 0)[0]} == {ids[4]}
+    assert {j.id for j in store.list_jobs(None, 10, 0)[0]} == {ids[4]}
 
 
 def test_remaining_time_from_progress_or_history() -> None:
@@ -158,13 +162,15 @@ def test_remaining_time_from_progress_or_history() -> None:
 def test_the_estimate_counts_the_step() -> None:
     """Issue 30: eta_s ignored dt_s, so a job at 1e-6 s was estimated as one at the default
     5e-5 s, 50 times too short. Both the job's size and the history rate are step-weighted."""
+    from dataclasses import replace
     from datetime import UTC, datetime
 
     now = datetime.now(UTC)
     started = now.isoformat().replace("+00:00", "Z")
-    job = {"status": "running", "started_at": started, "progress": 0.0, "sim_seconds": 10.0,
-           "spec": {"kind": "run"}}  # fmt: skip
-    fine = {**job, "spec": {"kind": "run", "dt_s": 1e-6, "control_dt_s": 5e-4}}
+    job = JobRow(id="j", kind="run", spec={"kind": "run"}, status=JobStatus.RUNNING,
+                 progress=0.0, attempts=1, requeues=0, sim_seconds=10.0, created_at=started,
+                 started_at=started, finished_at=None, error=None, note=None)  # fmt: skip
+    fine = replace(job, spec={"kind": "run", "dt_s": 1e-6, "control_dt_s": 5e-4})
     default = estimates.eta_of(job, now, 0.5)
     assert default == pytest.approx(5.0, abs=0.2)
     assert estimates.eta_of(fine, now, 0.5) == pytest.approx(50 * default, rel=0.05)
@@ -204,19 +210,19 @@ def test_error_messages_carry_no_paths_or_tracebacks() -> None:
 def test_advice_is_chosen_from_the_failure_kind() -> None:
     flip = [RunFailure("flipped", 0.26, "implicitfast", 5e-5, "body flipped (up-axis z 0.49)")]
     steep = RunJob(slope_deg=80.0)
-    assert "smaller dt_s will not help" in kinds.advice(steep, flip)
+    assert "smaller dt_s will not help" in common.advice(steep, flip)
     coarse = RunJob(slope_deg=80.0, dt_s=4e-4, control_dt_s=4e-4)
-    assert "try a smaller dt_s" in kinds.advice(coarse, flip)
+    assert "try a smaller dt_s" in common.advice(coarse, flip)
     # the kind decides, not the words: a numerical kind whose reason names nothing numerical
     blowup = [RunFailure("mujoco_warning", 0.01, "implicitfast", 5e-5, "anything")]
-    assert "try a smaller dt_s" in kinds.advice(RunJob(), blowup)
+    assert "try a smaller dt_s" in common.advice(RunJob(), blowup)
     worded = [RunFailure("on_floor", 0.3, "implicitfast", 5e-5, "MuJoCo warning non-finite")]
-    assert "smaller dt_s will not help" in kinds.advice(RunJob(), worded)
+    assert "smaller dt_s will not help" in common.advice(RunJob(), worded)
 
 
 def test_floats_come_back_tidy() -> None:
-    assert schemas.tidy(0.6599999999999999) == 0.66
-    assert schemas.tidy(1.234567890123456e-7) == 1.23456789012e-7
+    assert bounds.tidy(0.6599999999999999) == 0.66
+    assert bounds.tidy(1.234567890123456e-7) == 1.23456789012e-7
     job = SweepJob(beta_range={"start": 0.62, "stop": 0.70, "steps": 5})
     assert job.beta_range.values() == [0.62, 0.64, 0.66, 0.68, 0.7]
 

@@ -361,7 +361,7 @@ def test_model_parameters(client: httpx.Client) -> None:
 def test_a_job_too_large_for_memory_is_refused_by_the_core_rule() -> None:
     """Memory per job (issue 30): runs held at once x their records; the series as JSON-able
     lists cost ~17x the bare arrays (measured), so include_series reaches the bound first."""
-    from server.schemas import RunJob
+    from server.kinds.run import RunJob
     from sim_core.contract import MAX_JOB_BYTES, cost_problem, run_cost
 
     small = RunJob(d31_init=[2.0] * 3, duration_s=600)

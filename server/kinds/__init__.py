@@ -1,0 +1,98 @@
+"""The job kinds: one module each (`server/kinds/<name>.py`: request model, runner, record
+columns, figure, exported together as `KIND`), and the registry derived from `NAMES`.
+
+Adding a kind is a new module and its name in `NAMES` (docs/API.md, "Adding a job kind").
+Shared pieces: `bounds` (ranges as numbers and as words), `base` (the request bases and `Kind`),
+`common` (the runners' and figures' helpers), `finder` (what the finder kinds share).
+
+Importing this package loads neither MuJoCo nor matplotlib: runners import the core when they
+run (in a worker process), figures import matplotlib when they draw.
+"""
+
+from __future__ import annotations
+
+import importlib
+import math
+from typing import TYPE_CHECKING, Annotated, Any, TypeAlias, Union
+
+from pydantic import Field, TypeAdapter
+
+from server.kinds.base import JobFailed, Kind, Physics, Progress
+from server.kinds.bounds import tidy
+
+# The registry: one line per kind, in the order the request union (and so OpenAPI) lists them.
+NAMES = (
+    "run",
+    "return_map",
+    "sweep",
+    "bifurcation",
+    "hysteresis",
+    "atlas",
+)
+
+
+def _load(name: str) -> Kind[Any]:
+    kind = getattr(importlib.import_module(f"server.kinds.{name}"), "KIND", None)
+    if not isinstance(kind, Kind) or kind.name != name:
+        raise TypeError(f"server/kinds/{name}.py must export KIND = Kind(...) of kind {name!r}")
+    return kind
+
+
+KINDS: dict[str, Kind[Any]] = {name: _load(name) for name in NAMES}
+KIND_MODELS: dict[str, type[Physics]] = {name: k.model for name, k in KINDS.items()}
+RECORD_COLUMNS: dict[str, tuple[str, ...]] = {name: k.columns for name, k in KINDS.items()}
+
+# A request: one of the kinds' models, told apart by `kind`. Built from the registry at run
+# time, so type checkers see the models' common base.
+if TYPE_CHECKING:
+    AnyJob: TypeAlias = Physics
+else:
+    AnyJob = Union[tuple(k.model for k in KINDS.values())]  # noqa: UP007
+JobSpec = Annotated[AnyJob, Field(discriminator="kind")]
+JOB_SPEC_ADAPTER: TypeAdapter[AnyJob] = TypeAdapter(JobSpec)
+
+__all__ = [
+    "JOB_SPEC_ADAPTER",
+    "KINDS",
+    "KIND_MODELS",
+    "NAMES",
+    "RECORD_COLUMNS",
+    "AnyJob",
+    "JobFailed",
+    "JobSpec",
+    "Kind",
+    "execute",
+]
+
+
+def execute(job: AnyJob, progress: Progress, nthread: int) -> dict[str, Any]:
+    """Run `job` by its kind's runner (in a worker process); the result checked finite and its
+    floats tidied."""
+    result = KINDS[job.kind_name()].run(job, progress, nthread)
+    _check_finite(result)
+    out: dict[str, Any] = _tidy(result)
+    return out
+
+
+def _tidy(obj: Any) -> Any:
+    """Floats to 12 significant digits (0.66, not 0.6599999999999999): far below any physical
+    resolution of the model, and what a person reads back is what they sent."""
+    if isinstance(obj, float):
+        return tidy(obj)
+    if isinstance(obj, dict):
+        return {k: _tidy(v) for k, v in obj.items()}
+    if isinstance(obj, list | tuple):
+        return [_tidy(v) for v in obj]
+    return obj
+
+
+def _check_finite(obj: Any, path: str = "result") -> None:
+    """JSON has no NaN; a non-finite number means a broken run, which must not pass as data."""
+    if isinstance(obj, float) and not math.isfinite(obj):
+        raise JobFailed(f"the simulation produced a non-finite number at {path}")
+    if isinstance(obj, dict):
+        for k, v in obj.items():
+            _check_finite(v, f"{path}.{k}")
+    elif isinstance(obj, list):
+        for i, v in enumerate(obj):
+            _check_finite(v, f"{path}[{i}]")

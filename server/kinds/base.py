@@ -1,0 +1,283 @@
+"""What every job kind is: the request models' bases and `Kind`, the four things a kind module
+exports as `KIND` (its request model, its runner, its record columns, its figure).
+
+Job specs are strict (no coercion from strings, no unknown fields, no NaN) because a job runs
+minutes after it was accepted: everything that can be refused must be refused at the door, with
+a message naming the field and its allowed range. The rules are the core's own
+(`sim_core.contract`: RunSpec's ranges and defaults, the integrators with their measured step
+limits, the run's numerics): the kinds compose them and state only tighter bounds, each with its
+reason. The contract loads without MuJoCo, so validating a request never waits on the physics
+engine.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, Any, Generic, TypeVar
+
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
+
+from server.kinds.bounds import (
+    BETA_BOUNDS,
+    DT_REASON,
+    DURATION_BOUNDS,
+    MASS_BOUNDS,
+    MAX_DT_S,
+    SLOPE_BOUNDS,
+    IntLike,
+    bounded,
+    core_default,
+    tidy,
+)
+from sim_core.contract import (
+    DEFAULT_DT_S,
+    DEFAULT_INTEGRATOR,
+    INTEGRATORS,
+    MASS_REASON,
+    Integrator,
+    cost_problem,
+    numerics_problem,
+    resolve_numerics,
+)
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+Progress = Callable[[float], None]
+
+
+class JobFailed(Exception):
+    """A refusal or failure whose message is meant for the client, as is."""
+
+
+def step_weight(spec: dict[str, Any]) -> float:
+    """Physics steps per simulated second of a job spec (its integrator, dt_s, control_dt_s,
+    possibly null or absent) against the default step's: 1 at the default, 10 at 5e-6 s. The
+    job-size limit and the time estimates (`server.estimates`) scale with it."""
+    dt = resolve_numerics(spec.get("integrator"), spec.get("dt_s"), spec.get("control_dt_s"))[1]
+    return DEFAULT_DT_S / dt
+
+
+class Strict(BaseModel):
+    model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=True)
+
+
+class Physics(Strict):
+    """Fields every kind shares; they map one to one onto `sim_core.RunSpec`.
+
+    Cross-field rules run as field validators on the later field (so the 422 names it) with
+    `validate_default`, so a default that clashes with a given value is refused too. Each
+    kind adds `kind: Literal["<name>"] = "<name>"`, the tag of the request union.
+    """
+
+    body_mass_g: float = bounded(
+        core_default("body_mass_g"), "body_mass_g", "body mass, g", **MASS_BOUNDS, why=MASS_REASON
+    )
+    slope_deg: float = bounded(
+        core_default("slope_deg"), "slope_deg", "ground slope, deg, uphill +", **SLOPE_BOUNDS
+    )
+    phase_reset: bool = Field(
+        core_default("phase_reset"), description="phase resetting at touchdown (paper eq. 4)"
+    )
+    integrator: Integrator | None = Field(
+        None,
+        description=f"MuJoCo integrator; allowed: {', '.join(INTEGRATORS)} or null "
+        f"(the default, {DEFAULT_INTEGRATOR})",
+        json_schema_extra={"allowed": f"{', '.join(INTEGRATORS)} or null"},
+    )
+    dt_s: float | None = bounded(
+        None,
+        "dt_s",
+        "physics timestep, s",
+        gt=0.0,
+        le=MAX_DT_S,
+        nullable=True,
+        why=DT_REASON,
+        validate_default=True,
+    )
+    control_dt_s: float | None = bounded(
+        None,
+        "control_dt_s",
+        "controller period, s (>= dt_s)",
+        gt=0.0,
+        le=0.01,
+        nullable=True,
+        validate_default=True,
+    )
+
+    @classmethod
+    def kind_name(cls) -> str:
+        """The kind's tag (`kind` in a request), the default of the subclass's `kind` field."""
+        return str(cls.model_fields["kind"].default)
+
+    @field_validator("dt_s")
+    @classmethod
+    def _stable_for_the_integrator(cls, v: float | None, info: ValidationInfo) -> Any:
+        if "integrator" not in info.data:
+            return v  # the integrator itself was refused; that error says enough
+        problem = numerics_problem(info.data.get("integrator"), v)
+        if problem:
+            raise ValueError(problem)
+        return v
+
+    @field_validator("control_dt_s")
+    @classmethod
+    def _control_not_faster_than_physics(cls, v: float | None, info: ValidationInfo) -> Any:
+        # a field validator (not a model one) so the 422 names control_dt_s itself
+        if v is None or "dt_s" not in info.data:
+            return v
+        given = info.data.get("dt_s")
+        dt = DEFAULT_DT_S if given is None else given
+        if v < dt * (1 - 1e-9):
+            shown = f"{dt:g}" if given is not None else f"the default {dt:g}"
+            raise ValueError(f"control_dt_s ({v:g}) must be >= dt_s ({shown})")
+        return v
+
+    def effective_control_dt_s(self) -> float:
+        return resolve_numerics(self.integrator, self.dt_s, self.control_dt_s)[2]
+
+    def effective_dt_s(self) -> float:
+        return resolve_numerics(self.integrator, self.dt_s, self.control_dt_s)[1]
+
+    def keeps_series(self) -> bool:
+        return False
+
+    def cost_problem(self) -> str | None:
+        """The core's cost rule for the whole job (`sim_core.contract.cost_problem`): steps per
+        run and the memory of all its runs at once; None if it fits."""
+        return cost_problem(
+            self.sim_seconds_per_run(), self.integrator, self.dt_s, self.control_dt_s,
+            runs=self.run_count(), series=self.keeps_series(),
+        )  # fmt: skip
+
+    def run_count(self) -> int:
+        raise NotImplementedError
+
+    def sim_seconds_per_run(self) -> float:
+        raise NotImplementedError
+
+    def total_sim_seconds(self) -> float:
+        """Simulated seconds, summed over runs."""
+        return self.run_count() * self.sim_seconds_per_run()
+
+    def step_weight(self) -> float:
+        """Physics steps per simulated second against the default step's (dt_s 5e-6 s: 10):
+        CPU time grows with the steps, not with simulated time alone."""
+        return step_weight(self.spec_numerics())
+
+    def spec_numerics(self) -> dict[str, Any]:
+        return {"integrator": self.integrator, "dt_s": self.dt_s, "control_dt_s": self.control_dt_s}
+
+    def size_sim_seconds(self) -> float:
+        """What the job-size limit (max_job_sim_seconds) counts: simulated seconds summed over
+        runs, a finer step than the default counted as that many more (a coarser one as 1)."""
+        return self.total_sim_seconds() * max(1.0, self.step_weight())
+
+    def physics_fields(self) -> dict[str, Any]:
+        return {
+            "body_mass_g": self.body_mass_g,
+            "slope_deg": self.slope_deg,
+            "phase_reset": self.phase_reset,
+            "integrator": self.integrator,
+            "dt_s": self.dt_s,
+            "control_dt_s": self.control_dt_s,
+        }
+
+
+def run_cost_problem(duration_s: float, info: ValidationInfo) -> str | None:
+    """The core's per-run cost rule (the CLI's too) once the numerics fields are valid."""
+    if not {"integrator", "dt_s", "control_dt_s"} <= set(info.data):
+        return None  # a numerics field was refused; that error says enough
+    d = info.data
+    return cost_problem(duration_s, d["integrator"], d["dt_s"], d["control_dt_s"])
+
+
+class Timed(Physics):
+    """Kinds whose runs last a fixed `duration_s`."""
+
+    duration_s: float = bounded(
+        core_default("duration_s"),
+        "duration_s",
+        "simulated time of each run, s",
+        **DURATION_BOUNDS,
+    )
+
+    @field_validator("duration_s")
+    @classmethod
+    def _at_least_one_control_period(cls, v: float, info: ValidationInfo) -> float:
+        if "dt_s" in info.data and "control_dt_s" in info.data:
+            period = resolve_numerics(
+                info.data.get("integrator"), info.data.get("dt_s"), info.data.get("control_dt_s")
+            )[2]
+            if v < period:
+                raise ValueError(
+                    f"duration_s ({v:g}) is shorter than one control period ({period:g} s): "
+                    "nothing would be simulated"
+                )
+            problem = run_cost_problem(v, info)
+            if problem:
+                raise ValueError(problem)
+        return v
+
+    def sim_seconds_per_run(self) -> float:
+        return self.duration_s
+
+    def run_fields(self) -> dict[str, Any]:
+        """The RunSpec keyword arguments shared by every run of this job."""
+        return {**self.physics_fields(), "duration_s": self.duration_s}
+
+
+class BetaRange(Strict):
+    """An evenly spaced duty-factor grid; start > stop sweeps downwards (hysteresis runs)."""
+
+    start: float = bounded(..., "start", "first beta", **BETA_BOUNDS)
+    stop: float = bounded(..., "stop", "last beta", **BETA_BOUNDS)
+    steps: IntLike = bounded(11, "steps", "grid points, start and stop included", ge=2, le=201)
+
+    @field_validator("stop")
+    @classmethod
+    def _a_range_not_a_point(cls, v: float, info: ValidationInfo) -> float:
+        # refused, not run once: `steps` points of one beta would be identical simulations,
+        # and a client who sent start == stop most likely mistyped one of them
+        if info.data.get("start") == v:
+            raise ValueError(
+                f"stop ({v:g}) equals start: every grid point would be the same beta and the "
+                "runs identical; for one beta send a 'run' job, else make stop differ from start"
+            )
+        return v
+
+    def values(self) -> list[float]:
+        n = self.steps
+        # 12 significant digits: 0.66, not 0.6599999999999999 (grid values are what the
+        # client meant, to far below any physical resolution)
+        return [tidy(self.start + (self.stop - self.start) * i / (n - 1)) for i in range(n)]
+
+
+J = TypeVar("J", bound=Physics)
+Runner = Callable[[J, Progress, int], dict[str, Any]]
+Draw = Callable[["Figure", dict[str, Any], dict[str, Any]], None]
+
+
+@dataclass(frozen=True)
+class Kind(Generic[J]):
+    """One job kind, as its module `server/kinds/<name>.py` exports it (`KIND`).
+
+    model: the request model (a `Physics` subclass with `kind: Literal["<name>"]`).
+    run: `run(job, progress, nthread) -> result`, called in a worker process only: a JSON-able
+        dict with a `records` list of flat rows (the CSV export and the figure read those) plus
+        whatever else the kind keeps; it raises `JobFailed` rather than return numbers from a
+        failed simulation.
+    columns: the columns of `records`, so that an empty table still has its header.
+    draw: `draw(fig, spec, result)` draws the kind's figure on a matplotlib Figure (6.4 x 4.8
+        in unless it resizes it), from the stored spec and result.
+    """
+
+    model: type[J]
+    run: Runner[J]
+    columns: tuple[str, ...]
+    draw: Draw
+
+    @property
+    def name(self) -> str:
+        return self.model.kind_name()

@@ -1,0 +1,87 @@
+"""`bifurcation`: the paper's Fig. 8 over a beta grid from settled walking, by the fixed-point
+finder `insect-gait reproduce` uses."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import asdict
+from typing import TYPE_CHECKING, Any, Literal
+
+from server.kinds.base import BetaRange, Kind, Progress
+from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
+from server.kinds.common import core
+from server.kinds.finder import (
+    FINDER_COLUMNS,
+    FINDER_DEFAULTS,
+    Finder,
+    draw_finder_points,
+    finder_rows,
+    finder_runner,
+)
+from sim_core.contract import Cell, FinderConfig, FinderOutput, find
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+
+class BifurcationJob(Finder):
+    """The paper's Fig. 8 over a beta grid, from settled walking (the fixed-point finder, the
+    same function as `insect-gait reproduce`): stable gaits with how many starts reach them
+    and their map slope, unstable ones as bisected basin borders, ghosts, and the runs that
+    did not settle in the time given."""
+
+    kind: Literal["bifurcation"] = "bifurcation"
+    beta_range: BetaRange
+    bisect_duration_s: float = bounded(
+        FINDER_DEFAULTS.bisect_duration_s, "bisect_duration_s",
+        "simulated time of a bisection run, s (re-run at duration_s if it has not settled)",
+        ge=2.0, le=DURATION_BOUNDS["le"],
+    )  # fmt: skip
+    border_tol_rad: float = bounded(
+        FINDER_DEFAULTS.border_tol_rad, "border_tol_rad",
+        "width of a bisected border's bracket, rad", ge=0.005, le=1.0,
+    )  # fmt: skip
+    max_borders: IntLike = bounded(
+        FINDER_DEFAULTS.max_borders, "max_borders", "basin borders bisected per beta", ge=0, le=4
+    )
+
+    def cells(self) -> int:
+        return self.beta_range.steps
+
+    def bisect_steps(self) -> int:
+        """Bisection runs one border may take: from the starts' spacing to border_tol_rad."""
+        return max(1, math.ceil(math.log2(2 * math.pi / self.starts / self.border_tol_rad)))
+
+    def extra_runs_per_cell(self) -> int:
+        return self.max_borders * self.bisect_steps()
+
+    def extra_sim_seconds_per_cell(self) -> float:
+        return self.extra_runs_per_cell() * self.bisect_duration_s
+
+    def finder_config(self) -> FinderConfig:
+        return FinderConfig(
+            starts=self.starts, duration_s=self.duration_s,
+            bisect_duration_s=self.bisect_duration_s, border_tol_rad=self.border_tol_rad,
+            max_borders=self.max_borders,
+        )  # fmt: skip
+
+
+def run(job: BifurcationJob, progress: Progress, nthread: int) -> dict[str, Any]:
+    """Fig. 8 from settled walking: the fixed-point finder (`find`, the function `reproduce`
+    uses) at every beta of the grid; its typed output (`FinderOutput`) plus flat rows."""
+    cells = [Cell(beta=b, body_mass_g=job.body_mass_g, slope_deg=job.slope_deg)
+             for b in job.beta_range.values()]  # fmt: skip
+    found = find(cells, job.finder_config(), finder_runner(core(), job, progress, nthread))
+    out = FinderOutput(source="REST bifurcation job: the settled fixed-point finder",
+                       config=asdict(job.finder_config()), cells=found)  # fmt: skip
+    return {"kind": "bifurcation", "finder": out.model_dump(mode="json"),
+            "records": finder_rows(found)}  # fmt: skip
+
+
+def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
+    ax = fig.add_subplot()
+    draw_finder_points(ax, result.get("records", []))
+    ax.grid(alpha=0.3)
+
+
+KIND = Kind(model=BifurcationJob, run=run, columns=FINDER_COLUMNS, draw=draw)

@@ -1,0 +1,121 @@
+"""What the finder kinds (bifurcation, atlas) share: their request base, the finder's runs as
+`simulate_batch` rounds, its output as flat rows, and those rows drawn against beta."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import TYPE_CHECKING, Any
+
+from server.kinds.base import Physics, Progress
+from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
+from sim_core.contract import Cell, CellResult, FinderConfig, Probe
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+FINDER_COLUMNS = ("beta", "body_mass_g", "slope_deg", "kind", "d31", "gait", "starts", "slope",
+                  "drift")  # fmt: skip
+FINDER_DEFAULTS = FinderConfig()
+
+
+class Finder(Physics):
+    """Kinds answered by the settled fixed-point finder (`sim_core.contract.find`): settled
+    runs from starts spread over the circle, judged by the core's one settled rule."""
+
+    starts: IntLike = bounded(
+        FINDER_DEFAULTS.starts, "starts", "starts spread over the circle per beta", ge=2, le=16
+    )
+    duration_s: float = bounded(
+        FINDER_DEFAULTS.duration_s, "duration_s",
+        "simulated time of each start's run, s (the settled rule needs a last quarter of "
+        "40 gait cycles, ~16-20 s; near a fold 40 s tells a ghost from a gait)",
+        ge=2.0, le=DURATION_BOUNDS["le"],
+    )  # fmt: skip
+
+    def run_count(self) -> int:
+        return self.cells() * (self.starts + self.extra_runs_per_cell())
+
+    def sim_seconds_per_run(self) -> float:
+        return self.duration_s
+
+    def total_sim_seconds(self) -> float:
+        return self.cells() * (self.starts * self.duration_s + self.extra_sim_seconds_per_cell())
+
+    def cells(self) -> int:
+        raise NotImplementedError
+
+    def extra_runs_per_cell(self) -> int:
+        return 0
+
+    def extra_sim_seconds_per_cell(self) -> float:
+        return 0.0
+
+    def numerics_fields(self) -> dict[str, Any]:
+        """RunSpec fields besides beta, mass, slope (those come from the finder's cells)."""
+        out = self.physics_fields()
+        del out["body_mass_g"], out["slope_deg"]
+        return out
+
+
+FinderRun = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
+
+
+def finder_runner(core: Any, job: Finder, progress: Progress, nthread: int) -> FinderRun:
+    """The finder's `run`: each round as one `simulate_batch` (this worker's threads), with
+    the job's numerics; progress as the share of the job's estimated simulated time done."""
+    budget = max(job.total_sim_seconds(), 1e-9)
+    done = 0.0
+
+    def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
+        nonlocal done
+        specs = [
+            core.RunSpec(d31_init=p.d31_init, duration_s=p.duration_s, **c.spec_fields(),
+                         **job.numerics_fields())
+            for c, p in batch
+        ]  # fmt: skip
+        results = core.simulate_batch(specs, nthread=nthread)
+        done += sum(p.duration_s for _, p in batch)
+        progress(min(0.99, done / budget))
+        return [{"d31": r.d31.tolist(), "error": r.error} for r in results]
+
+    return run
+
+
+def finder_rows(cells: list[CellResult]) -> list[dict[str, Any]]:
+    """One row per point the finder reports: stable, unstable, ghost or not settled."""
+    rows: list[dict[str, Any]] = []
+    for c in cells:
+        base = {"beta": c.beta, "body_mass_g": c.body_mass_g, "slope_deg": c.slope_deg}
+        for a in c.attractors:
+            rows.append(base | {"kind": "stable", "d31": a.d31, "gait": a.gait,
+                                "starts": a.starts, "slope": a.slope,
+                                "drift": a.max_drift})  # fmt: skip
+        for b in c.borders:
+            rows.append(base | {"kind": "unstable", "d31": b.d31, "gait": None, "starts": None,
+                                "slope": b.slope, "drift": None})  # fmt: skip
+        for g in c.ghosts:
+            rows.append(base | {"kind": "ghost", "d31": g.d31, "gait": None, "starts": None,
+                                "slope": None, "drift": g.drift})  # fmt: skip
+        for u in c.unsettled:
+            rows.append(base | {"kind": "not settled", "d31": u.final, "gait": None,
+                                "starts": None, "slope": None, "drift": u.drift})  # fmt: skip
+    return rows
+
+
+FINDER_MARKERS = {  # kind -> (marker, face colour, label)
+    "stable": ("o", "k", "stable (settled runs)"),
+    "unstable": ("o", "w", "unstable (basin border)"),
+    "ghost": ("x", "tab:red", "ghost (slowest passage)"),
+    "not settled": ("v", "0.6", "not settled"),
+}
+
+
+def draw_finder_points(ax: Axes, records: list[dict[str, Any]]) -> None:
+    """The finder's rows against beta: stable, unstable, ghosts, unsettled finals."""
+    for kind, (marker, face, label) in FINDER_MARKERS.items():
+        pts = [(r["beta"], r["d31"]) for r in records if r["kind"] == kind and r["d31"] is not None]
+        if pts:
+            edge = "k" if marker == "o" else face
+            xs, ys = [p[0] for p in pts], [p[1] for p in pts]
+            ax.scatter(xs, ys, s=22, marker=marker, facecolors=face, edgecolors=edge, label=label)
+    ax.legend(fontsize="small")

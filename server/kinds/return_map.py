@@ -1,0 +1,78 @@
+"""`return_map`: the paper's Fig. 7, pairs (Delta31[n], Delta31[n + lag]) collected over
+several runs at one beta."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Literal
+
+from server.kinds.base import Kind, Progress, Timed
+from server.kinds.bounds import (
+    BETA_BOUNDS,
+    BETA_DEFAULT,
+    D31,
+    TWO_PI,
+    IntLike,
+    bounded,
+    d31_list,
+)
+from server.kinds.common import core, d31_axis
+from server.kinds.run import simulate_each
+from sim_core.contract import RETURN_MAP_SKIP, return_map_from_series
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+COLUMNS = ("d31_init", "n", "d31_n", "d31_n_plus_lag")
+
+
+class ReturnMapJob(Timed):
+    """Fig. 7 of the paper: pairs (Delta31[n], Delta31[n + lag]) collected over several runs."""
+
+    kind: Literal["return_map"] = "return_map"
+    beta: float = bounded(BETA_DEFAULT, "beta", "duty factor", **BETA_BOUNDS)
+    d31_init: list[D31] = d31_list([TWO_PI * i / 12.0 for i in range(12)])
+    lag: IntLike = bounded(4, "lag", "touchdowns between the two members of a pair", ge=1, le=50)
+
+    def run_count(self) -> int:
+        return len(self.d31_init)
+
+
+def run(job: ReturnMapJob, progress: Progress, nthread: int) -> dict[str, Any]:
+    """The paper's Fig. 7 construction, the core's own (`return_map_from_series`, as in
+    `reproduce`): Delta31 at touchdown n against touchdown n + lag, the first
+    RETURN_MAP_SKIP touchdowns of each run dropped; `n` counts from the run's first touchdown."""
+    results = simulate_each(core(), job, progress, nthread)
+    records: list[dict[str, Any]] = []
+    for d0, res in zip(job.d31_init, results, strict=True):
+        rm = return_map_from_series(job.beta, [res.d31], lag=job.lag)
+        for k, (x, y) in enumerate(zip(rm.x.tolist(), rm.y.tolist(), strict=True)):
+            records.append({"d31_init": d0, "n": RETURN_MAP_SKIP + k, "d31_n": x,
+                            "d31_n_plus_lag": y})  # fmt: skip
+    runs = [r.summary() for r in results]
+    return {
+        "kind": "return_map",
+        "beta": job.beta,
+        "lag": job.lag,
+        "records": records,
+        "runs": runs,
+    }
+
+
+def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
+    """The return map: Delta31[n + lag] against Delta31[n], with the diagonal."""
+    ax = fig.add_subplot()
+    records = result.get("records", [])
+    xs = [r["d31_n"] for r in records]
+    ys = [r["d31_n_plus_lag"] for r in records]
+    ax.scatter(xs, ys, s=8)
+    ax.plot([0, TWO_PI], [0, TWO_PI], color="grey", lw=0.8)
+    lag = result.get("lag", spec.get("lag"))
+    ax.set_xlabel("Δ31[n] (rad)")
+    ax.set_ylabel(f"Δ31[n+{lag}] (rad)")
+    d31_axis(ax, "x")
+    d31_axis(ax)
+    ax.set_title(f"return map: β = {spec.get('beta')}")
+    ax.grid(alpha=0.3)
+
+
+KIND = Kind(model=ReturnMapJob, run=run, columns=COLUMNS, draw=draw)

@@ -1,0 +1,154 @@
+"""`run`: independent simulations at one beta, one per initial Delta31, optionally with their
+time series (Delta31 per touchdown, stance per leg, body position) as two more tables."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Literal
+
+from pydantic import Field
+
+from server.kinds.base import Kind, Progress, Timed
+from server.kinds.bounds import BETA_BOUNDS, BETA_DEFAULT, D31, bounded, core_default, d31_list
+from server.kinds.common import (
+    SUMMARY_COLUMNS,
+    core,
+    d31_axis,
+    failed,
+    summary_row,
+    warnings_of,
+)
+from sim_core.contract import LEG_NAMES
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+    from server.kinds.return_map import ReturnMapJob
+
+# The time-series tables of a run job with include_series (`?table=` of the CSV export).
+SERIES_COLUMNS: dict[str, tuple[str, ...]] = {
+    "d31": ("run", "d31_init", "n", "time_s", "d31"),
+    "samples": ("run", "d31_init", "time_s", *(f"stance_{leg}" for leg in LEG_NAMES),
+                "x_m", "y_m", "z_m"),
+}  # fmt: skip
+
+
+class RunJob(Timed):
+    """Independent simulations at one beta, one per initial Delta31."""
+
+    kind: Literal["run"] = "run"
+    beta: float = bounded(BETA_DEFAULT, "beta", "duty factor", **BETA_BOUNDS)
+    d31_init: list[D31] = d31_list([core_default("d31_init")])
+    include_series: bool = Field(
+        False, description="also keep each run's time series (large); for plots and CSV export"
+    )
+
+    def run_count(self) -> int:
+        return len(self.d31_init)
+
+    def keeps_series(self) -> bool:
+        return self.include_series
+
+
+def simulate_each(
+    core: Any, job: RunJob | ReturnMapJob, progress: Progress, nthread: int
+) -> list[Any]:
+    """One run per d31_init of a `run` or `return_map` job, one batch call; `JobFailed` naming
+    every run that failed."""
+    specs = [core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
+    results: list[Any] = core.simulate_batch(specs, nthread=nthread, progress=progress)
+    failures = [
+        (f"run {i + 1} of {len(results)} (d31_init = {d:.4g})", r.failure)
+        for i, (d, r) in enumerate(zip(job.d31_init, results, strict=True))
+        if r.failure is not None
+    ]
+    if failures:
+        raise failed(job, failures, len(results))
+    return results
+
+
+def run(job: RunJob, progress: Progress, nthread: int) -> dict[str, Any]:
+    results = simulate_each(core(), job, progress, nthread)
+    runs = [r.to_dict() if job.include_series else r.summary() for r in results]
+    records = [summary_row(d, r.summary()) for d, r in zip(job.d31_init, results, strict=True)]
+    out: dict[str, Any] = {"kind": "run", "runs": runs, "records": records,
+                           "warnings": warnings_of(results)}  # fmt: skip
+    if job.include_series:
+        out["series"] = series_tables(job.d31_init, runs)
+    return out
+
+
+def series_tables(d31_init: list[float], runs: list[dict[str, Any]]) -> dict[str, Any]:
+    """The time series as flat tables: Delta31 at each leg-1 touchdown, and every recorded
+    sample (stance per leg in the paper's order 1..6 = R1 L1 R2 L2 R3 L3, as
+    `sim_core.leg_names()`; body position, m)."""
+    legs = SERIES_COLUMNS["samples"][3:9]
+    d31_rows: list[dict[str, Any]] = []
+    samples: list[dict[str, Any]] = []
+    for k, (d0, run) in enumerate(zip(d31_init, runs, strict=True)):
+        for n, (t, d) in enumerate(zip(run["d31_times_s"], run["d31"], strict=True)):
+            d31_rows.append({"run": k, "d31_init": d0, "n": n, "time_s": t, "d31": d})
+        for t, stance, pos in zip(run["times_s"], run["stance"], run["body_pos_m"], strict=True):
+            row: dict[str, Any] = {"run": k, "d31_init": d0, "time_s": t}
+            row.update({leg: int(on) for leg, on in zip(legs, stance, strict=True)})
+            row.update({"x_m": pos[0], "y_m": pos[1], "z_m": pos[2]})
+            samples.append(row)
+    return {"d31": d31_rows, "samples": samples}
+
+
+def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
+    """Delta31 over touchdowns; with the time series, Delta31 over time, the footfall of the
+    first run and the body's path, in three panels."""
+    series = "series" in result
+    if series:
+        fig.set_size_inches(6.4, 9.6)
+        ax, ax_foot, ax_pos = fig.subplots(3, 1)
+    else:
+        ax = fig.add_subplot()
+    for d0, run in zip(spec.get("d31_init", []), result.get("runs", []), strict=False):
+        d31 = run.get("d31") or []
+        xs = run.get("d31_times_s") if series else range(len(d31))
+        ax.plot(xs, d31, marker="o", ms=3, label=f"Δ31(0) = {d0:.2f}")
+    ax.set_xlabel("time at leg-1 touchdown (s)" if series else "leg-1 touchdown n")
+    ax.set_ylabel("Δ31 (rad)")
+    d31_axis(ax)
+    ax.set_title(f"run: β = {spec.get('beta')}, {spec.get('duration_s')} s")
+    if 0 < len(result.get("runs", [])) <= 12:
+        ax.legend(fontsize="small")
+    if series:
+        _footfall(ax_foot, result["runs"][0])
+        _body_path(ax_pos, result["runs"])
+    ax.grid(alpha=0.3)
+
+
+def _footfall(ax: Axes, run: dict[str, Any]) -> None:
+    """Stance bars per leg (first run), paper legs 1..6 from the top."""
+    times = run.get("times_s") or []
+    stance = run.get("stance") or []
+    if len(times) < 2:
+        return
+    dt = times[1] - times[0]
+    for leg in range(6):
+        spans: list[tuple[float, float]] = []
+        for t, row in zip(times, stance, strict=False):
+            if row[leg]:
+                if spans and abs(spans[-1][0] + spans[-1][1] - t) < 1.5 * dt:
+                    spans[-1] = (spans[-1][0], spans[-1][1] + dt)
+                else:
+                    spans.append((t, dt))
+        ax.broken_barh(spans, (5 - leg - 0.4, 0.8), color="black")
+    ax.set_yticks(range(6), list(LEG_NAMES)[::-1])
+    ax.set_xlabel("time (s)")
+    ax.set_title("stance (first run)")
+
+
+def _body_path(ax: Axes, runs: list[dict[str, Any]]) -> None:
+    for k, run in enumerate(runs[:12]):
+        pos = run.get("body_pos_m") or []
+        ax.plot(run.get("times_s") or [], [100.0 * p[0] for p in pos], label=f"run {k}")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("body x (cm)")
+    ax.set_title("body position along the slope")
+
+
+KIND = Kind(model=RunJob, run=run, columns=SUMMARY_COLUMNS, draw=draw)
