@@ -164,9 +164,15 @@ def exception_message(exc: BaseException) -> str:
         parts = []
         for e in exc.errors():
             loc = [p for p in e.get("loc", ()) if isinstance(p, str | int)]
-            if loc and loc[0] in KIND_MODELS:
+            model: type[BaseModel] | None = None
+            if loc and isinstance(loc[0], str) and loc[0] in KIND_MODELS:
+                model = KIND_MODELS[loc[0]]
                 loc = loc[1:]  # the union's tag: the job kind, not a field
-            parts.append(f"{_field_name(loc)}: {e.get('msg', 'invalid value')}")
+            text = f"{_field_name(loc)}: {e.get('msg', 'invalid value')}"
+            owner = _model_at(model, loc) if e.get("type") == "extra_forbidden" else None
+            if owner is not None:  # as a 422 says it: which fields the kind does have
+                text += f"; allowed fields: {', '.join(sorted(owner.model_fields))}"
+            parts.append(text)
         return sanitize(f"invalid job: {'; '.join(parts)}")
     return sanitize(f"internal error ({type(exc).__name__}): {exc}")
 
