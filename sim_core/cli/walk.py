@@ -76,12 +76,12 @@ def _cmd_run(args: argparse.Namespace) -> int:
     except ValidationError as exc:
         print(f"insect-gait run: error: {_validation_message(exc)}", file=sys.stderr)
         return EXIT_USAGE
-    # the REST API's rule and words (server/schemas.py calls the same function)
+    # the REST API's rule and words (server/kinds/ calls the same function)
     problem = numerics_problem(spec.integrator, spec.dt_s, spec.control_dt_s)
     if problem:
         print(f"insect-gait run: error: --dt-s: {problem}", file=sys.stderr)
         return EXIT_USAGE
-    # the REST API's cost rule and words (server/schemas.py, server/routes/jobs.py)
+    # the REST API's cost rule and words (server/kinds/, server/routes/jobs.py)
     problem = cost_problem(spec.duration_s, spec.integrator, spec.dt_s, spec.control_dt_s)
     if problem:
         print(f"insect-gait run: error: --duration-s: {problem}", file=sys.stderr)
