@@ -179,7 +179,7 @@ def test_the_exports_carry_the_records() -> None:
 
 
 def test_the_job_bodies_are_what_the_api_accepts() -> None:
-    from server.schemas import JOB_SPEC_ADAPTER
+    from server.kinds import JOB_SPEC_ADAPTER
 
     ramp = controls.make_ramp("body_mass_g", 3.0, 6.0, 5.0, 30.0)
     jobs = export.jobs(_settings(beta=0.62, slope_deg=-7.5, ramp=ramp))
