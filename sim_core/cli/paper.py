@@ -4,10 +4,20 @@ from __future__ import annotations
 
 import argparse
 import sys
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE, doc_to_update
+
+
+def _add_backend_args(p: Any, backends: Sequence[str]) -> None:
+    """Where the runs go and where they are kept: shared by `reproduce` and `atlas`."""
+    p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
+    p.add_argument("--backend", choices=list(backends), default="local",
+                   help="local: process pool on this machine; dask: dask.distributed")  # fmt: skip
+    p.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
+    p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
 
 
 def _add_reproduce(sub: Any) -> None:
@@ -22,11 +32,7 @@ def _add_reproduce(sub: Any) -> None:
     p.add_argument(
         "--out", default=None, help="folder (default docs/figures; --quick: out/reproduce-quick)"
     )
-    p.add_argument("--cache", default="out/cache", help="task result cache folder")
-    p.add_argument("--backend", choices=BACKENDS, default="local",
-                   help="local: process pool on this machine; dask: dask.distributed")  # fmt: skip
-    p.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
-    p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    _add_backend_args(p, BACKENDS)
     p.add_argument("--quick", action="store_true", help="tiny sizes: a smoke test, not science")
     p.add_argument("--doc", default=None,
                    help="markdown file whose reproduce section to regenerate (default "
@@ -111,11 +117,7 @@ def _add_atlas(sub: Any) -> None:
     p.add_argument("--out", default=None,
                    help="folder for atlas_<axis>.json/png (default docs/figures; --quick: "
                    "out/atlas-quick)")  # fmt: skip
-    p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
-    p.add_argument("--backend", choices=[b for b in BACKENDS if b != "ray"], default="local",
-                   help="local: process pool here; dask: dask.distributed")  # fmt: skip
-    p.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
-    p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
+    _add_backend_args(p, [b for b in BACKENDS if b != "ray"])
     p.add_argument("--no-progress", action="store_true", help="no progress output")
     p.set_defaults(func=_cmd_atlas)
 
