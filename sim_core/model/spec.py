@@ -9,7 +9,7 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass
-from typing import Any, Literal
+from typing import Any, Literal, get_args
 
 import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
@@ -174,16 +174,7 @@ FailureKind = Literal[
     "no_footholds",
     "sliding_back",
 ]
-FAILURE_KINDS: tuple[FailureKind, ...] = (
-    "mujoco_error",
-    "mujoco_warning",
-    "non_finite",
-    "flipped",
-    "on_floor",
-    "left_ground",
-    "no_footholds",
-    "sliding_back",
-)
+FAILURE_KINDS: tuple[FailureKind, ...] = get_args(FailureKind)
 NUMERICAL_FAILURES: frozenset[str] = frozenset({"mujoco_error", "mujoco_warning", "non_finite"})
 SANITY_FAILURES: frozenset[str] = frozenset({"left_ground", "no_footholds", "sliding_back"})
 
