@@ -439,7 +439,8 @@ def _search(
         slope, pairs = map_slope([r.d31 for r in mine], c.value)
         xs = np.unwrap(np.asarray(c.finals))
         attractors.append(Attractor(
-            d31=c.value, lo=float(wrap(xs.min())), hi=float(wrap(xs.max())), gait=gait_of(c.value),
+            d31=c.value, lo=float(wrap(xs.min())), hi=float(wrap(xs.max())),
+            gait=classify_gait(c.value),
             starts=sum(1 for r in mine if r.role == "start"), runs=len(mine), slope=slope,
             slope_pairs=pairs, max_drift=max(abs(r.settle.drift or 0.0) for r in mine),
         ))  # fmt: skip
@@ -470,10 +471,6 @@ def _search(
         beta=cell.beta, body_mass_g=cell.body_mass_g, slope_deg=cell.slope_deg,
         attractors=attractors, borders=borders, ghosts=ghosts, runs=outcomes, sim_s=sim_s,
     )  # fmt: skip
-
-
-def gait_of(d31: float) -> str:
-    return classify_gait(d31)
 
 
 def _width(br: list[Any]) -> float:

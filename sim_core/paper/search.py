@@ -8,12 +8,11 @@ and goes to whichever backend `reproduce` or `atlas` was given.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from typing import Any
 
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec
-from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe, RunFn, find
+from sim_core.paper.fixedpoints import Cell, Probe, RunFn
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import Task, execute_chunk, run_task
@@ -49,18 +48,3 @@ def task_runner(
         return [results[t.key] for t in tasks]
 
     return run
-
-
-def find_cached(
-    cells: Sequence[Cell],
-    cfg: FinderConfig,
-    cache: ResultCache,
-    backend: Backend,
-    params: ModelParams | None = None,
-    *,
-    progress: bool = True,
-    stats: RunStats | None = None,
-) -> list[CellResult]:
-    """`find` with every run cached and on `backend`."""
-    run = task_runner(cache, backend, params, progress=progress, stats=stats)
-    return find(cells, cfg, run)
