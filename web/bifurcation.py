@@ -73,17 +73,21 @@ class FinderPoints:
 
     stable: list[tuple[float, float, str]] = field(default_factory=list)  # + gait
     unstable: list[tuple[float, float]] = field(default_factory=list)  # borders' saddles
+    # settled states whose kicks came back from one side only (or neither): not stable points
+    one_sided: list[tuple[float, float]] = field(default_factory=list)
     ghosts: list[tuple[float, float]] = field(default_factory=list)
     unsettled: list[tuple[float, float]] = field(default_factory=list)  # finals, not settled
 
     def __len__(self) -> int:
-        return len(self.stable) + len(self.unstable) + len(self.ghosts) + len(self.unsettled)
+        return (len(self.stable) + len(self.unstable) + len(self.one_sided) + len(self.ghosts)
+                + len(self.unsettled))  # fmt: skip
 
 
 def finder_points(out: FinderOutput) -> FinderPoints:
     pts = FinderPoints()
     for c in out.cells:
-        pts.stable.extend((c.beta, a.d31 % (2 * math.pi), a.gait) for a in c.attractors)
+        pts.stable.extend((c.beta, a.d31 % (2 * math.pi), a.gait) for a in c.stable())
+        pts.one_sided.extend((c.beta, a.d31 % (2 * math.pi)) for a in c.one_sided())
         pts.unstable.extend((c.beta, b.d31 % (2 * math.pi)) for b in c.borders if b.d31 is not None)
         pts.ghosts.extend((c.beta, g.d31 % (2 * math.pi)) for g in c.ghosts)
         pts.unsettled.extend(

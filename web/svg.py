@@ -264,6 +264,11 @@ def _marker(kind: str, x: float, y: float, colour: str) -> str:
             f'<circle class="unstable" cx="{x:.1f}" cy="{y:.1f}" r="2.4" fill="#fff" '
             'stroke="#333" stroke-width="0.8"/>'
         )
+    if kind == "one-sided":
+        return (
+            f'<circle class="one-sided" cx="{x:.1f}" cy="{y:.1f}" r="2.0" fill="#bbb" '
+            'stroke="#555" stroke-width="0.5"/>'
+        )
     if kind == "ghost":
         d = 2.2
         return (
@@ -286,9 +291,9 @@ def bifurcation_svg(
     beta_range: tuple[float, float],
     ramp_path: Sequence[D31Event] = (),
 ) -> str:
-    """The finder's states over beta (stable filled by gait, unstable open, ghosts x,
-    unsettled finals grey triangles), this session's trail, the path of a beta ramp (a line
-    per direction, drawn as it goes) and the live point (red ring)."""
+    """The finder's states over beta (stable filled by gait, unstable open, one-sided grey,
+    ghosts x, unsettled finals grey triangles), this session's trail, the path of a beta ramp
+    (a line per direction, drawn as it goes) and the live point (red ring)."""
     lo, hi = beta_range
     f = Frame(lo, hi, 0.0, TWO_PI, h=BIF_H, legend_h=LEGEND_H)
     pts = finder or FinderPoints()
@@ -309,6 +314,9 @@ def bifurcation_svg(
     for b, d in pts.unstable:
         if lo <= b <= hi:
             out.append(_marker("unstable", f.x(b), f.y(d), ""))
+    for b, d in pts.one_sided:
+        if lo <= b <= hi:
+            out.append(_marker("one-sided", f.x(b), f.y(d), ""))
     for b, d, gait in pts.stable:
         if lo <= b <= hi:
             colour = GAIT_COLOURS.get(gait, GAIT_COLOURS["other"])
@@ -331,7 +339,8 @@ def bifurcation_svg(
         out.append(_note(f, note))
     ticks = [0.55, 0.60, 0.65, 0.70, 0.75, 0.80]
     out += _x_ticks(f, [t for t in ticks if lo <= t <= hi], "{:.2f}")
-    row2 = [("◯ unstable", "#333"), ("× ghost", "#555"), ("▲ not settled", "#999")]
+    row2 = [("◯ unstable", "#333"), ("● one-sided", "#999"), ("× ghost", "#555"),
+            ("▲ not settled", "#999")]  # fmt: skip
     row2 += [("◯ now", "#e00"), ("· this run", "#666")]
     rows = [[(f"● {g}", c) for g, c in GAIT_COLOURS.items()], row2]
     if ramp:

@@ -3,6 +3,7 @@ function `insect-gait atlas` uses."""
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import Field, ValidationInfo, field_validator
@@ -24,7 +25,7 @@ from server.kinds.finder import (
     finder_rows,
     finder_runner,
 )
-from sim_core.contract import AXIS_PARAM, AtlasAxis, AtlasOutput, FinderConfig, region_of
+from sim_core.contract import AXIS_PARAM, AtlasAxis, AtlasOutput, region_of
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -81,9 +82,10 @@ def run(job: AtlasJob, progress: Progress, nthread: int) -> dict[str, Any]:
     """The gait atlas on the job's grid: `atlas_search`, the function `insect-gait atlas`
     uses; its typed output (`AtlasOutput`) plus flat rows with each cell's region."""
     sim = core()
+    finder = replace(sim.AtlasConfig(job.axis).finder, starts=job.starts,
+                     duration_s=job.duration_s)  # fmt: skip
     cfg = sim.AtlasConfig(job.axis, betas=tuple(job.betas), values=tuple(job.values),
-                          finder=FinderConfig(starts=job.starts, duration_s=job.duration_s,
-                                              max_borders=0))  # fmt: skip
+                          finder=finder)  # fmt: skip
     atlas: AtlasOutput = sim.atlas_search(cfg, finder_runner(sim, job, progress, nthread))
     rows = finder_rows(atlas.cells)
     regions = {(c.beta, c.body_mass_g, c.slope_deg): region_of(c) for c in atlas.cells}

@@ -87,7 +87,8 @@ def finder_rows(cells: list[CellResult]) -> list[dict[str, Any]]:
     for c in cells:
         base = {"beta": c.beta, "body_mass_g": c.body_mass_g, "slope_deg": c.slope_deg}
         for a in c.attractors:
-            rows.append(base | {"kind": "stable", "d31": a.d31, "gait": a.gait,
+            kind = "stable" if a.stable else "one-sided"
+            rows.append(base | {"kind": kind, "d31": a.d31, "gait": a.gait,
                                 "starts": a.starts, "slope": a.slope,
                                 "drift": a.max_drift})  # fmt: skip
         for b in c.borders:
@@ -105,6 +106,7 @@ def finder_rows(cells: list[CellResult]) -> list[dict[str, Any]]:
 FINDER_MARKERS = {  # kind -> (marker, face colour, label)
     "stable": ("o", "k", "stable (settled runs)"),
     "unstable": ("o", "w", "unstable (basin border)"),
+    "one-sided": ("o", "0.7", "settled, kicks return from one side only"),
     "ghost": ("x", "tab:red", "ghost (slowest passage)"),
     "not settled": ("v", "0.6", "not settled"),
 }

@@ -170,6 +170,10 @@ def _add_finder_check(sub: Any) -> None:
     )
     p.add_argument("--beta", type=float, nargs="+", default=[0.62, 0.655, 0.70],
                    help="betas to check (default %(default)s)")  # fmt: skip
+    p.add_argument("--grid", choices=("fig8", "alone"), default="fig8",
+                   help="the finder runs over Fig. 8's beta grid (as reproduce, whose runs the "
+                        "cache then holds) or over the checked betas alone (default "
+                        "%(default)s)")  # fmt: skip
     p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -179,7 +183,7 @@ def _add_finder_check(sub: Any) -> None:
 def _cmd_finder_check(args: argparse.Namespace) -> int:
     import time
 
-    from sim_core.paper.fixedpoints import FinderConfig
+    from sim_core.paper.figures import Config
     from sim_core.paper.validation import report, validate
     from sim_core.runs.backends import RunStats, get_backend
     from sim_core.runs.cache import ResultCache
@@ -193,7 +197,9 @@ def _cmd_finder_check(args: argparse.Namespace) -> int:
     stats = RunStats()
     t0 = time.perf_counter()
     try:
-        checks = validate(args.beta, FinderConfig(), ResultCache(args.cache), backend,
+        cfg = Config()
+        grid = cfg.bif_betas if args.grid == "fig8" else None
+        checks = validate(args.beta, cfg.finder, ResultCache(args.cache), backend, grid=grid,
                           progress=not args.no_progress, stats=stats)  # fmt: skip
     finally:
         backend.close()

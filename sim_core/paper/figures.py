@@ -281,14 +281,12 @@ def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
 
 
 def finder_cells(figs: list[str], cfg: Config) -> list[Cell]:
-    """The conditions the finder searches for the asked-for figures (Fig. 7's betas are on
-    Fig. 8's grid in the full config, so their searches are shared)."""
-    betas: set[float] = set()
-    if "7" in figs:
-        betas |= set(cfg.map_betas)
-    if "8" in figs:
-        betas |= set(cfg.bif_betas)
-    return [Cell(b) for b in sorted(betas)]
+    """The conditions the finder searches for the asked-for figures: Fig. 8's grid and Fig.
+    7's betas together whenever either is asked for, since each beta's neighbours lend it
+    their states (`FinderConfig.neighbour_seeds`): Fig. 7 alone gives the same answer as all."""
+    if "7" not in figs and "8" not in figs:
+        return []
+    return [Cell(b) for b in sorted({*cfg.map_betas, *cfg.bif_betas})]
 
 
 Found = dict[float, CellResult]
@@ -308,16 +306,20 @@ def _pairs(cell: CellResult, p: ModelParams, get: Lookup, settled: bool = True) 
 
 
 def _points(cell: CellResult) -> list[dict[str, Any]]:
-    """Stable (attractors) and unstable (borders' saddles) points, by Delta31."""
-    pts = [
-        {"d31": a.d31, "stable": True, "gait": a.gait, "slope": a.slope} for a in cell.attractors
-    ]
+    """Stable (attractors confirmed from both sides) and unstable (borders' saddles) points,
+    by Delta31; states that kicks confirmed from one side only are in `_one_sided`."""
+    pts = [{"d31": a.d31, "stable": True, "gait": a.gait, "slope": a.slope} for a in cell.stable()]
     pts += [
         {"d31": b.d31, "stable": False, "gait": classify_gait(b.d31), "slope": b.slope}
         for b in cell.borders
         if b.d31 is not None
     ]
     return sorted(pts, key=lambda f: f["d31"])
+
+
+def _one_sided(cell: CellResult) -> list[dict[str, Any]]:
+    """Settled states whose kicks came back from one side or neither (not stable points)."""
+    return [{"d31": a.d31, "gait": a.gait, "confirmed": a.confirmed} for a in cell.one_sided()]
 
 
 def _in_window(pts: list[dict[str, Any]]) -> list[dict[str, Any]]:
@@ -335,6 +337,7 @@ def _fig7(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[Figure
         maps.append({
             "beta": beta, "x": rm.x.tolist(), "y": rm.y.tolist(), "fixed_points": pts,
             "window_fixed_points": _in_window(pts), "window_pattern": cell.pattern(PAPER_WINDOW),
+            "one_sided": _one_sided(cell),
             "ghosts": [g.d31 for g in cell.ghosts],
             "ghost_drifts": [g.drift for g in cell.ghosts],
             "unsettled": [r.model_dump() for r in cell.unsettled], "pairs": int(rm.x.size),
@@ -356,7 +359,8 @@ def _fig8(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[Figure
     r_up = beta_ramp(cfg, up=True)
     res_up = get(_ramp_task(r_up, cfg, p))
     points: list[dict[str, Any]] = [
-        {"beta": c.beta, "fixed_points": _points(c), "ghosts": [g.model_dump() for g in c.ghosts],
+        {"beta": c.beta, "fixed_points": _points(c), "one_sided": _one_sided(c),
+         "ghosts": [g.model_dump() for g in c.ghosts],
          "unsettled": [u.model_dump() for u in c.unsettled]}
         for c in cells
     ]  # fmt: skip

@@ -6,9 +6,13 @@ drifts by 0-5 mrad per gait cycle, far below what 3 s runs resolve, and a kernel
 curve through such data finds zeros where the noise crosses zero. Here every answer comes
 from whole runs judged by the one settled rule (`sim_core.model.gait.settling`):
 
-- **stable gaits**: runs from starts spread over the circle; each settled final is an
-  attractor (finals within CLUSTER_TOL are one), with how many starts reach it and how fast
-  it attracts (the slope of the n -> n+4 map at it, fitted to the approach of its runs);
+- **stable gaits**: runs from starts spread over the circle (and from the states the
+  neighbouring betas found); each settled final is a state (finals within CLUSTER_TOL are
+  one), with how many starts reach it and how fast it attracts (the slope of the n -> n+4 map
+  at it, fitted to the approach of its runs). A state counts as stable only when runs kicked
+  to either side of it come back (`Attractor.confirmed`): one settled run can end where the
+  drift merely changes speed (2.12 at beta 0.62 attracts from below only) or on a state whose
+  basin, seen from Delta31 starts, is a thin sliver (4.54 at 0.62);
 - **unstable gaits**: the border between two basins, by bisection of the start between two
   starts that end on attractors of different gaits, to `border_tol_rad`; the two bracketing
   runs dwell at the unstable fixed point before they part, which gives its Delta31, and the
@@ -28,7 +32,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Generator, Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, replace
 from typing import Any, Literal
 
 import numpy as np
@@ -69,6 +73,12 @@ SLOPE_MIN_PAIRS = 5
 # cycle exceeds this (and 3 standard errors): a quarter of the settled rule, so a run that
 # lingers at the saddle itself is not forced to a side.
 HEADING_DRIFT = 5e-5
+# A kick stays inside its state's basin: at most this share of the way to the nearest saddle or
+# other state on that side (a kick past the saddle tests nothing about the state).
+KICK_ROOM = 0.5
+# Kick rounds per condition: states a kick finds are kicked in the next round; left over after
+# this many (none seen), a state is reported as confirmed from "neither" side.
+MAX_KICK_ROUNDS = 3
 LAG = 4  # the paper's return map: Delta31(n) -> Delta31(n + 4)
 
 
@@ -91,12 +101,22 @@ class FinderConfig:
     # Borders are bisected between attractors of different gaits only (classify_gait);
     # two settled states of one gait (e.g. 1.77 / 2.12 at 0.62) are both listed, unbisected.
     window: tuple[float, float] = (1.4, 3.4)  # PAPER_WINDOW
+    # Each state is re-run from this far on either side (bisect_duration_s, then duration_s
+    # if unsettled) and is stable only if both come back within CLUSTER_TOL: the issue's
+    # "reached from near it" made two-sided. 0.03: a tenth of the smallest basin measured
+    # (2.88-2.95 at 0.62 is 0.07 wide; closer saddles shrink the kick, KICK_ROOM). 0: no
+    # kicks; every state is then reported as "not checked" (the atlas, to stay in budget).
+    kick_rad: float = 0.03
+    # Neighbouring betas (same mass and slope) lend their settled finals as extra starts:
+    # a state with a thin basin that this beta's spread starts miss (4.58 at 0.655, found at
+    # 0.645 and 0.66) is then looked for where it should be.
+    neighbour_seeds: bool = True
 
     @classmethod
     def quick(cls) -> FinderConfig:
         """The machinery on short runs (tests, --quick): nothing here settles by the rule."""
         return cls(starts=3, duration_s=1.5, bisect_duration_s=1.0, border_tol_rad=0.4,
-                   max_borders=1)  # fmt: skip
+                   max_borders=1, kick_rad=0.0, neighbour_seeds=False)  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -127,7 +147,11 @@ class _Model(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
 
-Role = Literal["start", "seed", "bisect"]
+Role = Literal["start", "seed", "bisect", "kick"]
+# How a state's kicks came back: from both sides (stable), from one side only (it attracts
+# from below or above only: semi-stable, or the edge of a slowly drifting band), from neither
+# (only its own start reached it), or not kicked (FinderConfig.kick_rad = 0).
+Confirmed = Literal["both sides", "below only", "above only", "neither", "not checked"]
 
 
 class RunOutcome(_Model):
@@ -156,6 +180,13 @@ class Attractor(_Model):
     slope: float | None  # of the n -> n+4 map at it, from its runs' approach (< 1: attracts)
     slope_pairs: int
     max_drift: float  # largest |drift| per cycle of its runs' settled tails
+    confirmed: Confirmed = "not checked"
+    kicks: tuple[float, float] | None = None  # the kicks' sizes below and above, rad
+
+    @property
+    def stable(self) -> bool:
+        """A stable gait: its kicks came back from both sides, or it was not kicked."""
+        return self.confirmed in ("both sides", "not checked")
 
 
 class Border(_Model):
@@ -198,11 +229,16 @@ class CellResult(_Model):
         return [r for r in self.runs if not r.settled and r.failure is None]
 
     def stable(self, gait: str | None = None) -> list[Attractor]:
-        return [a for a in self.attractors if gait is None or a.gait == gait]
+        """The stable states (`Attractor.stable`), of one gait if given."""
+        return [a for a in self.attractors if a.stable and (gait is None or a.gait == gait)]
+
+    def one_sided(self) -> list[Attractor]:
+        """Settled states that kicks did not confirm from both sides."""
+        return [a for a in self.attractors if not a.stable]
 
     def pattern(self, window: tuple[float, float] = (1.4, 3.4)) -> str:
         """'S U S'-style, in order of Delta31 inside `window`: the paper's Fig. 7 reading."""
-        pts = [(a.d31, "S") for a in self.attractors]
+        pts = [(a.d31, "S") for a in self.stable()]
         pts += [(b.d31, "U") for b in self.borders if b.d31 is not None]
         return " ".join(s for x, s in sorted(pts) if window[0] <= x <= window[1])
 
@@ -432,17 +468,55 @@ def _search(
             k for k in active if not brackets[k][3] and _width(brackets[k]) > cfg.border_tol_rad
         ]
 
+    # kicks: each state re-run from either side; new states a kick finds are kicked in turn
+    saddles = [_saddle(br) for br in brackets]
+    confirmed: dict[int, tuple[Confirmed, tuple[float, float]]] = {}
+    for _ in range(MAX_KICK_ROUNDS if cfg.kick_rad > 0 else 0):
+        todo = [k for k in range(len(clusters)) if k not in confirmed]
+        if not todo:
+            break
+        sizes = {k: _kick_sizes(k, clusters, saddles, cfg.kick_rad) for k in todo}
+        kicks = [(k, side, Probe(float(wrap(clusters[k].value + sign * sizes[k][side])),
+                                 cfg.bisect_duration_s))
+                 for k in todo for side, sign in ((0, -1.0), (1, 1.0))]  # fmt: skip
+        outs = yield from ask([p for _, _, p in kicks])
+        back: dict[tuple[int, int], _Run] = {}
+        again = []
+        for (k, side, p), res in zip(kicks, outs, strict=True):
+            back[k, side] = _run_of(p, "kick", res)
+            if not back[k, side].settle.settled and back[k, side].failure is None:
+                again.append((k, side, Probe(p.d31_init, cfg.duration_s)))
+        if again:
+            outs = yield from ask([p for _, _, p in again])
+            for (k, side, p), res in zip(again, outs, strict=True):
+                runs.append(back[k, side])  # the short try stays in the record
+                back[k, side] = _run_of(p, "kick", res)
+        for r in back.values():
+            runs.append(r)
+            if r.settle.settled and r.settle.final is not None:
+                r.label = _label(r.settle.final, clusters)
+                if r.label is None:  # a state no start reached: kicked next round
+                    clusters.append(_Cluster([r.settle.final]))
+                    r.label = len(clusters) - 1
+                else:
+                    clusters[r.label].finals.append(r.settle.final)
+        for k in todo:
+            came = [back[k, side].label == k for side in (0, 1)]
+            confirmed[k] = (_CONFIRMED[came[0], came[1]], sizes[k])
+
     # the record
     attractors = []
     for k, c in enumerate(clusters):
         mine = [r for r in runs if r.label == k]
         slope, pairs = map_slope([r.d31 for r in mine], c.value)
         xs = np.unwrap(np.asarray(c.finals))
+        how, kicked = confirmed.get(k, ("not checked" if cfg.kick_rad == 0 else "neither", None))
         attractors.append(Attractor(
             d31=c.value, lo=float(wrap(xs.min())), hi=float(wrap(xs.max())),
             gait=classify_gait(c.value),
             starts=sum(1 for r in mine if r.role == "start"), runs=len(mine), slope=slope,
             slope_pairs=pairs, max_drift=max(abs(r.settle.drift or 0.0) for r in mine),
+            confirmed=how, kicks=kicked,
         ))  # fmt: skip
     borders = []
     for a, b, steps, note, headed in brackets:
@@ -471,6 +545,31 @@ def _search(
         beta=cell.beta, body_mass_g=cell.body_mass_g, slope_deg=cell.slope_deg,
         attractors=attractors, borders=borders, ghosts=ghosts, runs=outcomes, sim_s=sim_s,
     )  # fmt: skip
+
+
+_CONFIRMED: dict[tuple[bool, bool], Confirmed] = {
+    (True, True): "both sides", (True, False): "below only", (False, True): "above only",
+    (False, False): "neither",
+}  # fmt: skip
+
+
+def _saddle(br: list[Any]) -> float:
+    """Where a border's saddle is: its bracketing runs' dwell, else its bracket's middle."""
+    dwell, _ = parting(br[0].d31, br[1].d31)
+    return _mid(br) if dwell is None else dwell
+
+
+def _kick_sizes(
+    k: int, clusters: list[_Cluster], saddles: list[float], kick: float
+) -> tuple[float, float]:
+    """(below, above): `kick`, or KICK_ROOM of the way to the nearest saddle or other state on
+    that side if that is closer, so that a kick tests the state and not its neighbour's basin."""
+    x = clusters[k].value
+    others = [c.value for j, c in enumerate(clusters) if j != k] + saddles
+    d = [float(angle_diff(o, x)) for o in others]
+    below = min((-v for v in d if v < 0), default=math.pi)
+    above = min((v for v in d if v > 0), default=math.pi)
+    return min(kick, KICK_ROOM * below), min(kick, KICK_ROOM * above)
 
 
 def _width(br: list[Any]) -> float:
@@ -544,15 +643,35 @@ RunFn = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
 def find(cells: Sequence[Cell], cfg: FinderConfig, run: RunFn) -> list[CellResult]:
     """The finder over many conditions: each round, every search's probes in one `run` call
     (one batch for the backend). `run` takes (cell, probe) pairs and returns one result dict
-    per pair with the task result's keys (`d31`, `error`)."""
+    per pair with the task result's keys (`d31`, `error`). With `cfg.neighbour_seeds`, a first
+    round of the spread starts at every condition lends each condition the states its
+    neighbours along beta settled on (`neighbour_seeds`); a probe asked twice is run once."""
+    cells = list(cells)
+    memo: dict[tuple[int, Probe], dict[str, Any]] = {}
+
+    def batch(asked: list[tuple[int, Probe]]) -> list[dict[str, Any]]:
+        new = list(dict.fromkeys(q for q in asked if q not in memo))
+        if new:
+            memo.update(zip(new, run([(cells[k], p) for k, p in new]), strict=True))
+        return [memo[q] for q in asked]
+
+    if cfg.neighbour_seeds and len(cells) > 1:
+        spread = [Probe(float(x), cfg.duration_s) for x in initial_values(cfg.starts)]
+        outs = batch([(k, p) for k in range(len(cells)) for p in spread])
+        finals: list[list[float]] = []
+        for k in range(len(cells)):
+            mine = outs[k * len(spread) : (k + 1) * len(spread)]
+            ends = [settling(r["d31"]) for r in mine if not r.get("error")]
+            finals.append([s.final for s in ends if s.settled and s.final is not None])
+        cells = [replace(c, seeds=c.seeds + neighbour_seeds(cells, finals, k))
+                 for k, c in enumerate(cells)]  # fmt: skip
     searches = [_search(c, cfg) for c in cells]
     pending: dict[int, list[Probe]] = {}
     results: dict[int, CellResult] = {}
     for k, s in enumerate(searches):
         pending[k] = next(s)
     while pending:
-        batch = [(cells[k], p) for k, ps in pending.items() for p in ps]
-        outs = run(batch)
+        outs = batch([(k, p) for k, ps in pending.items() for p in ps])
         i = 0
         nxt: dict[int, list[Probe]] = {}
         for k, ps in pending.items():
@@ -565,11 +684,36 @@ def find(cells: Sequence[Cell], cfg: FinderConfig, run: RunFn) -> list[CellResul
     return [results[k] for k in range(len(cells))]
 
 
+def neighbour_seeds(
+    cells: Sequence[Cell], finals: Sequence[list[float]], k: int
+) -> tuple[float, ...]:
+    """The states (clustered settled finals) that cell k's nearest betas below and above, at
+    its mass and slope, settled on and that neither its own finals nor seeds come near."""
+    c = cells[k]
+    same = [
+        j
+        for j, o in enumerate(cells)
+        if (o.body_mass_g, o.slope_deg) == (c.body_mass_g, c.slope_deg)
+    ]
+    below = [j for j in same if cells[j].beta < c.beta]
+    above = [j for j in same if cells[j].beta > c.beta]
+    near = [max(below, key=lambda j: cells[j].beta)] if below else []
+    near += [min(above, key=lambda j: cells[j].beta)] if above else []
+    own = [*finals[k], *c.seeds]
+    out: list[float] = []
+    for j in near:
+        for cl in _clusters(finals[j]):
+            x = cl.value
+            if all(abs(float(angle_diff(x, o))) > CLUSTER_TOL for o in [*own, *out]):
+                out.append(x)
+    return tuple(out)
+
+
 def branch_ranges(cells: Sequence[CellResult], gait: str) -> dict[str, Any]:
     """Where `gait` has an attractor along a beta grid: ranges, their ends and the folds
     between (beta of the last point on each branch, +- half the grid step)."""
     betas = [c.beta for c in cells]
-    fixed = [[FixedPoint(a.d31, a.slope or 0.0, True) for a in c.attractors] for c in cells]
+    fixed = [[FixedPoint(a.d31, a.slope or 0.0, True) for a in c.stable()] for c in cells]
     rng = stable_ranges(betas, fixed, gait)
     return {"ranges": rng, "ends": range_ends(betas, rng),
             "folds": [asdict(f) for f in folds(betas, rng, gait)]}  # fmt: skip
@@ -587,8 +731,8 @@ REGIONS: tuple[str, ...] = ("both", "tripod only", "metachronal only", "other st
 
 def region_of(cell: CellResult) -> Region:
     """Which of the paper's two gaits are stable at one condition (classify_gait of each
-    attractor); 'not settled' when no run settled at all."""
-    gaits = {a.gait for a in cell.attractors}
+    stable state); 'not settled' when no run settled at all."""
+    gaits = {a.gait for a in cell.stable()}
     if "tripod" in gaits and "metachronal" in gaits:
         return "both"
     if "tripod" in gaits:

@@ -148,6 +148,12 @@ def _fixed_points(ax: Any, points: list[dict[str, Any]], x: float | None = None)
         ax.plot(px, py, "o", ms=7, mfc="k" if f["stable"] else "w", mec="k", zorder=5)
 
 
+def _one_sided(ax: Any, points: list[dict[str, Any]], x: float | None = None) -> None:
+    for f in points:
+        px, py = (f["d31"], f["d31"]) if x is None else (x, f["d31"])
+        ax.plot(px, py, "o", ms=6, mfc="0.65", mec="0.35", fillstyle="left", zorder=4)
+
+
 def fig7(data: dict[str, Any], path: Path, paper_ghosts: dict[float, float] | None = None) -> None:
     maps = data["maps"]
     lo, hi = data["window_rad"]
@@ -175,6 +181,7 @@ def fig7(data: dict[str, Any], path: Path, paper_ghosts: dict[float, float] | No
         ax.plot([0, TWO_PI], [0, TWO_PI], "k-", lw=0.8)
         ax.axvspan(lo, hi, color="0.93", zorder=0)
         _fixed_points(ax, m["fixed_points"])
+        _one_sided(ax, m.get("one_sided", []))
         for g in m["ghosts"]:
             ax.annotate("ghost", (g, g), (g + 0.6, g - 1.0), fontsize=8,
                         arrowprops={"arrowstyle": "->", "lw": 0.7})  # fmt: skip
@@ -190,7 +197,8 @@ def fig7(data: dict[str, Any], path: Path, paper_ghosts: dict[float, float] | No
         ax.set_aspect("equal")
     axes[0][0].set_ylabel(f"Δ31 n+{data['lag']} (rad)")
     fig.suptitle("return maps of the settled runs; solid: stable, open: unstable (bisected "
-                 "basin border); grey band: the paper's range", fontsize=9)  # fmt: skip
+                 "basin border), half: settled but kicks return from one side only; grey band: "
+                 "the paper's range", fontsize=9)  # fmt: skip
     _save(fig, path)
 
 
@@ -203,6 +211,7 @@ def fig8(data: dict[str, Any], path: Path, paper: PaperValues | None = None) -> 
             ax.plot(sw["value"], sw["d31"], ".", ms=1.2, color=colour, zorder=0, label=label)
     for p in data["points"]:
         _fixed_points(ax, p["fixed_points"], x=p["beta"])
+        _one_sided(ax, p.get("one_sided", []), x=p["beta"])
         for g in p.get("ghosts", []):
             ax.plot(p["beta"], g["d31"], "x", ms=6, color="tab:red", zorder=4)
         for u in p.get("unsettled", []):
@@ -218,8 +227,10 @@ def fig8(data: dict[str, Any], path: Path, paper: PaperValues | None = None) -> 
             ax.axvline(f["beta"], ls="--", lw=0.8, color="tab:purple")
             ax.text(f["beta"], 0.2, f" fold ({gait}) {f['beta']:.4g} ± {f['half_width']:.4g}",
                     rotation=90, fontsize=7)  # fmt: skip
-    ax.plot([], [], "ko", label="stable (settled runs)")
+    ax.plot([], [], "ko", label="stable (settled; kicks return from both sides)")
     ax.plot([], [], "o", mfc="w", mec="k", label="unstable (basin border, bisected)")
+    ax.plot([], [], "o", mfc="0.65", mec="0.35", fillstyle="left",
+            label="settled, kicks return from one side only")  # fmt: skip
     ax.plot([], [], "x", color="tab:red", label="ghost (slowest passage)")
     ax.plot([], [], "v", color="0.45", label="not settled in the time given")
     ax.set_xlabel("duty factor β")

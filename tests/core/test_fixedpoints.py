@@ -2,6 +2,9 @@
 the settled rule on synthetic series."""
 
 import math
+from collections.abc import Callable
+from dataclasses import replace
+from typing import Any
 
 import numpy as np
 import pytest
@@ -10,6 +13,8 @@ from sim_core.model.gait import TAIL_DRIFT_SETTLED, settling
 from sim_core.paper.fixedpoints import (
     Cell,
     FinderConfig,
+    Probe,
+    RunFn,
     _clusters,
     find,
     map_slope,
@@ -87,3 +92,68 @@ def test_pure_helpers() -> None:
                             np.linspace(2.99, 2.0, 40), np.full(100, 2.0)])  # fmt: skip
     g = slowest_passage(ghost, 2.0)
     assert g is not None and g.d31 == pytest.approx(3.0, abs=0.02) and g.cycles >= 20
+
+
+def map_runner(
+    step: Callable[[float, float], float], calls: list[tuple[Cell, Probe]] | None = None
+) -> RunFn:
+    """A `run` on a one-dimensional map x <- x + step(x, beta), 400 cycles per run."""
+
+    def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
+        if calls is not None:
+            calls.extend(batch)
+        out: list[dict[str, Any]] = []
+        for cell, probe in batch:
+            x, xs = probe.d31_init, list[float]()
+            for _ in range(400):
+                xs.append(x % (2 * math.pi))
+                x += float(np.clip(step(x, cell.beta), -0.3, 0.3))
+            out.append({"d31": xs, "error": None})
+        return out
+
+    return run
+
+
+def test_kicks_confirm_a_stable_state_from_both_sides() -> None:
+    (c,) = find([Cell(0.655)], CFG, fake_runner)
+    window = [a for a in c.attractors if 1.4 < a.d31 < 3.4]
+    assert window and all(a.confirmed == "both sides" and a.stable for a in window)
+    assert all(a.kicks == (CFG.kick_rad, CFG.kick_rad) for a in window)
+    assert sum(r.role == "kick" for r in c.runs) >= 2 * len(c.attractors)
+
+
+def test_a_state_that_attracts_from_below_only_is_not_called_stable() -> None:
+    # x = 2 attracts from below and repels above (a semi-stable point); 2.6 attracts both ways
+    def step(x: float, beta: float) -> float:
+        return 0.6 * (x - 2.0) ** 2 * (2.6 - x)
+
+    (c,) = find([Cell(0.66)], FinderConfig(max_borders=0), map_runner(step))
+    by_place = {round(a.d31, 1): a for a in c.attractors}
+    assert by_place[2.0].confirmed == "below only" and not by_place[2.0].stable
+    assert by_place[2.6].confirmed == "both sides"
+    assert [round(a.d31, 1) for a in c.stable()] == [2.6] and c.pattern() == "S"
+    assert [round(a.d31, 1) for a in c.one_sided()] == [2.0]
+
+
+def test_a_thin_basin_missed_by_the_spread_starts_is_found_from_a_neighbour() -> None:
+    # a state at 4.7: its basin is 3.7-5.7 at beta 0.60 but only 4.6-4.8 at 0.61, between the
+    # spread starts (4.32, 5.11); elsewhere everything goes to 2.6 (above the basin, upward
+    # round the circle, so no run passes through it)
+    def step(x: float, beta: float) -> float:
+        half = 1.0 if beta < 0.605 else 0.1
+        if abs(x - 4.7) < half:
+            return 0.3 * (4.7 - x)
+        return 0.3 * (2.6 + (2 * math.pi if x > 4.7 else 0.0) - x)
+
+    cells = [Cell(0.60), Cell(0.61)]
+    alone = find(cells, replace(CFG, max_borders=0, kick_rad=0.0, neighbour_seeds=False),
+                 map_runner(step))  # fmt: skip
+    assert [round(a.d31, 1) for a in alone[1].attractors] == [2.6]
+    calls: list[tuple[Cell, Probe]] = []
+    cfg = replace(CFG, max_borders=0, kick_rad=0.0)
+    seeded = find(cells, cfg, map_runner(step, calls))
+    at_061 = {round(a.d31, 1): a for a in seeded[1].attractors}
+    assert set(at_061) == {2.6, 4.7} and at_061[4.7].starts == 0  # reached by the seed only
+    assert [r.role for r in seeded[1].runs if r.attractor is not None and
+            round(seeded[1].attractors[r.attractor].d31, 1) == 4.7] == ["seed"]  # fmt: skip
+    assert len(calls) == len(set(calls))  # a probe asked twice is run once
