@@ -209,8 +209,86 @@ def _cmd_finder_check(args: argparse.Namespace) -> int:
     return 0 if all(c.ok for c in checks) else 1
 
 
+def _add_finder_claims(sub: Any) -> None:
+    p = sub.add_parser(
+        "finder-claims",
+        help="the finder's stable points at dt/2, their landing share, and the tripod's fold "
+        "under +-10%% of each calibrated parameter",
+    )
+    p.add_argument("--what", choices=("numerics", "robustness", "all"), default="all",
+                   help="numerics: dt/2 and landing share of the stable points; robustness: "
+                        "+-10%% of each calibrated parameter (default %(default)s)")  # fmt: skip
+    p.add_argument("--beta", type=float, nargs="+", default=[0.62, 0.645, 0.655, 0.70],
+                   help="betas whose stable points get the numerics check (default "
+                        "%(default)s)")  # fmt: skip
+    p.add_argument("--bifurcation", type=Path, default=Path("docs/figures/bifurcation.json"),
+                   help="the finder's output to check (reproduce writes it; default "
+                        "%(default)s)")  # fmt: skip
+    p.add_argument(
+        "--out",
+        type=Path,
+        default=Path("out/claims"),
+        help="folder for claims.json and claims.md (default %(default)s)",
+    )
+    p.add_argument("--threads", type=int, default=0, help="simulation threads (0: all cores)")
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_finder_claims)
+
+
+def _cmd_finder_claims(args: argparse.Namespace) -> int:
+    import json
+    import time
+    from dataclasses import asdict
+
+    from tqdm import tqdm
+
+    from sim_core.paper.claims import numerics, numerics_report, robustness, robustness_report
+    from sim_core.paper.fixedpoints import FinderOutput, branch_ranges
+
+    try:
+        found = FinderOutput.model_validate_json(args.bifurcation.read_text())
+    except (OSError, ValueError) as e:
+        print(f"insect-gait finder-claims: error: cannot read the finder's output "
+              f"{args.bifurcation}: {e}", file=sys.stderr)  # fmt: skip
+        return EXIT_USAGE
+    args.out.mkdir(parents=True, exist_ok=True)
+    lines: list[str] = []
+    record: dict[str, Any] = {"bifurcation": str(args.bifurcation)}
+    for what in ("numerics", "robustness"):
+        if args.what not in (what, "all"):
+            continue
+        t0 = time.perf_counter()
+        with tqdm(total=1.0, desc=what, disable=args.no_progress,
+                  bar_format="{l_bar}{bar}| {elapsed}<{remaining}") as bar:  # fmt: skip
+
+            def progress(f: float, bar: Any = bar) -> None:
+                bar.n = round(f, 3)
+                bar.refresh()
+
+            if what == "numerics":
+                folds = [f["beta"] for g in ("tripod", "metachronal")
+                         for f in branch_ranges(found.cells, g)["folds"]]  # fmt: skip
+                checks = numerics(found, args.beta, folds, nthread=args.threads,
+                                  progress=progress)  # fmt: skip
+                rows = numerics_report(checks)
+                record[what] = [asdict(c) | {"same": c.same, "lands_ok": c.lands_ok}
+                                for c in checks]  # fmt: skip
+            else:
+                variants = robustness(nthread=args.threads, progress=progress)
+                rows = robustness_report(variants)
+                record[what] = [asdict(v) | {"fold": v.fold()} for v in variants]
+        wall = time.perf_counter() - t0
+        record[f"{what}_wall_s"] = wall
+        lines += [f"{what} ({wall:.0f} s wall):", "", *rows, ""]
+    (args.out / "claims.json").write_text(json.dumps(record, indent=1))
+    (args.out / "claims.md").write_text("\n".join(lines))
+    print("\n".join(lines))
+    return 0
+
+
 def register(sub: Any) -> None:
     _add_reproduce(sub)
     _add_atlas(sub)
     _add_finder_check(sub)
+    _add_finder_claims(sub)
     _add_study(sub)
