@@ -614,8 +614,11 @@ def _narrow(br: list[Any], r: _Run, clusters: list[_Cluster]) -> None:
     elif r.label == br[1].side:
         br[1] = r
     else:  # a third state between the two: say so and stop this border
-        clusters.append(_Cluster([r.settle.final]))
-        r.label = len(clusters) - 1
+        if r.label is None:  # a state no start reached (else it is one the starts found)
+            clusters.append(_Cluster([r.settle.final]))
+            r.label = len(clusters) - 1
+        else:
+            clusters[r.label].finals.append(r.settle.final)
         br[3] = f"a run from {r.probe.d31_init:.3f} settles on a third state, {r.settle.final:.3f}"
 
 

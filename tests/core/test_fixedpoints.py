@@ -157,3 +157,23 @@ def test_a_thin_basin_missed_by_the_spread_starts_is_found_from_a_neighbour() ->
     assert [r.role for r in seeded[1].runs if r.attractor is not None and
             round(seeded[1].attractors[r.attractor].d31, 1) == 4.7] == ["seed"]  # fmt: skip
     assert len(calls) == len(set(calls))  # a probe asked twice is run once
+
+
+def test_a_bisection_run_on_a_known_third_state_adds_no_second_copy() -> None:
+    # 1.9 (metachronal) below 2.3, 2.9 (tripod) above 2.4, and a sliver 2.3-2.4 that jumps to
+    # 4.6, a state the start 4.32 reaches too: the border 1.96 | 2.75 runs into it
+    def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
+        out: list[dict[str, Any]] = []
+        for _, p in batch:
+            x = p.d31_init
+            if 2.3 <= x < 2.4 or 3.6 <= x < 5.6:
+                end = 4.6
+            else:
+                end = 1.9 if x < 2.3 or x >= 5.6 else 2.9
+            out.append({"d31": [x] + [end] * 399, "error": None})
+        return out
+
+    (c,) = find([Cell(0.66)], FinderConfig(kick_rad=0.0), run)
+    places = sorted(round(a.d31, 2) for a in c.attractors)
+    assert places == [1.9, 2.9, 4.6], places
+    assert any("third state" in b.note for b in c.borders)
