@@ -226,7 +226,17 @@ class CellResult(_Model):
 
     @property
     def unsettled(self) -> list[RunOutcome]:
-        return [r for r in self.runs if not r.settled and r.failure is None]
+        """Runs that did not settle and were not re-run longer from the same start (a 20 s
+        bisection or kick run that is re-run at 40 s is a screen, not a finding)."""
+        longest: dict[tuple[float, str], float] = {}
+        for r in self.runs:
+            key = (r.d31_init, r.role)
+            longest[key] = max(longest.get(key, 0.0), r.duration_s)
+        return [
+            r
+            for r in self.runs
+            if not r.settled and r.failure is None and r.duration_s >= longest[(r.d31_init, r.role)]
+        ]
 
     def stable(self, gait: str | None = None) -> list[Attractor]:
         """The stable states (`Attractor.stable`), of one gait if given."""

@@ -177,3 +177,18 @@ def test_a_bisection_run_on_a_known_third_state_adds_no_second_copy() -> None:
     places = sorted(round(a.d31, 2) for a in c.attractors)
     assert places == [1.9, 2.9, 4.6], places
     assert any("third state" in b.note for b in c.borders)
+
+
+def test_a_short_run_re_run_longer_is_not_listed_as_unsettled() -> None:
+    from sim_core.paper.fixedpoints import CellResult, RunOutcome
+
+    def out(x: float, dur: float, settled: bool) -> RunOutcome:
+        why = "" if settled else "drifting"
+        return RunOutcome(d31_init=x, duration_s=dur, final=2.0, drift=0.0, settled=settled,
+                          why=why, attractor=None, role="kick")  # fmt: skip
+
+    c = CellResult(beta=0.66, body_mass_g=3.0, slope_deg=0.0, attractors=[], borders=[],
+                   ghosts=[], sim_s=0.0,
+                   runs=[out(2.0, 20.0, False), out(2.0, 40.0, True), out(2.5, 20.0, False),
+                         out(2.5, 40.0, False)])  # fmt: skip
+    assert [(r.d31_init, r.duration_s) for r in c.unsettled] == [(2.5, 40.0)]
