@@ -79,6 +79,9 @@ KICK_ROOM = 0.5
 # Kick rounds per condition: states a kick finds are kicked in the next round; left over after
 # this many (none seen), a state is reported as confirmed from "neither" side.
 MAX_KICK_ROUNDS = 3
+# Rounds of neighbour seeding along the beta grid (each lends the states the last round found);
+# a state then travels at most this many grid steps from where a spread start reached it.
+MAX_SEED_ROUNDS = 4
 LAG = 4  # the paper's return map: Delta31(n) -> Delta31(n + 4)
 
 
@@ -669,15 +672,24 @@ def find(cells: Sequence[Cell], cfg: FinderConfig, run: RunFn) -> list[CellResul
         return [memo[q] for q in asked]
 
     if cfg.neighbour_seeds and len(cells) > 1:
-        spread = [Probe(float(x), cfg.duration_s) for x in initial_values(cfg.starts)]
-        outs = batch([(k, p) for k in range(len(cells)) for p in spread])
-        finals: list[list[float]] = []
-        for k in range(len(cells)):
-            mine = outs[k * len(spread) : (k + 1) * len(spread)]
-            ends = [settling(r["d31"]) for r in mine if not r.get("error")]
-            finals.append([s.final for s in ends if s.settled and s.final is not None])
-        cells = [replace(c, seeds=c.seeds + neighbour_seeds(cells, finals, k))
-                 for k, c in enumerate(cells)]  # fmt: skip
+        # states pass from neighbour to neighbour, round by round, until no beta learns one
+        # (4.58 at 0.655: its neighbours reached it from seeds of their own, not their starts)
+        asked: list[list[Probe]] = [
+            [Probe(float(x), cfg.duration_s) for x in (*initial_values(cfg.starts), *c.seeds)]
+            for c in cells
+        ]
+        finals: list[list[float]] = [[] for _ in cells]
+        for _ in range(MAX_SEED_ROUNDS):
+            pending = [(k, p) for k, ps in enumerate(asked) for p in ps]
+            for (k, _p), r in zip(pending, batch(pending), strict=True):
+                s = settling(r["d31"]) if not r.get("error") else None
+                if s is not None and s.settled and s.final is not None:
+                    finals[k].append(s.final)
+            new = [neighbour_seeds(cells, finals, k) for k in range(len(cells))]
+            if not any(new):
+                break
+            cells = [replace(c, seeds=c.seeds + n) for c, n in zip(cells, new, strict=True)]
+            asked = [[Probe(x, cfg.duration_s) for x in n] for n in new]
     searches = [_search(c, cfg) for c in cells]
     pending: dict[int, list[Probe]] = {}
     results: dict[int, CellResult] = {}

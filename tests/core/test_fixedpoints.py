@@ -157,6 +157,9 @@ def test_a_thin_basin_missed_by_the_spread_starts_is_found_from_a_neighbour() ->
     assert [r.role for r in seeded[1].runs if r.attractor is not None and
             round(seeded[1].attractors[r.attractor].d31, 1) == 4.7] == ["seed"]  # fmt: skip
     assert len(calls) == len(set(calls))  # a probe asked twice is run once
+    # and on to the next beta, which only the seeded neighbour found it from
+    chain = find([*cells, Cell(0.62)], cfg, map_runner(step))
+    assert {round(a.d31, 1) for a in chain[2].attractors} == {2.6, 4.7}
 
 
 def test_a_bisection_run_on_a_known_third_state_adds_no_second_copy() -> None:
