@@ -107,7 +107,11 @@ def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
     print(f"beta {spec.beta:.3f}  d31_init {spec.d31_init:.3f} rad  duration {spec.duration_s} s")
     print(f"Delta31 at leg-1 touchdowns ({len(d31)}): " + " ".join(f"{x:.2f}" for x in d31[-12:]))
     final = "n/a" if s["d31_final"] is None else f"{s['d31_final']:.3f} rad"
-    print(f"final Delta31 {final}  gait {s['gait']}")
+    print(f"final Delta31 {final} (mean of the last quarter)  gait {s['gait']}")
+    if s["drift_per_cycle"] is not None:
+        verdict = "settled" if s["settled"] else f"not settled: {s['settled_why']}"
+        print(f"drift {1e3 * s['drift_per_cycle']:+.3f} mrad per cycle over the last quarter: "
+              f"{verdict}")  # fmt: skip
     if s["speed_cm_s"] is not None:
         print(f"speed {s['speed_cm_s']:.2f} cm/s (eq. 2: {v_nom:.2f})")
     if s["duty_factor_measured"] is not None:

@@ -180,8 +180,10 @@ class Simulation:
 
     @property
     def gait(self) -> str:
+        """The gait walked now (`gait.window_gait` of the last few touchdowns): a live label,
+        not a claim that the run has settled."""
         d31 = np.array(self._runner.d31_v[0][-4:])
-        return gait.final_d31(d31)[1]
+        return gait.window_gait(d31)
 
     def _push_history(self, r: BatchRunner) -> None:
         """The run loop's hook: after every control period, what the short history keeps."""

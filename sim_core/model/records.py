@@ -80,6 +80,7 @@ def assemble_result(
     st = _copy(stance, (0, 6), np.bool_)
     pos = _copy(body_pos_m, (0, 3))
     d31_arr = np.array(d31)
+    settle = gait.settling(d31_arr)
     d31_final, name = gait.final_d31(d31_arr)
     speed = gait.forward_speed(times, pos)
     tds = tuple(np.array(t) for t in touchdowns)
@@ -106,6 +107,9 @@ def assemble_result(
         liftoffs=tuple(np.array(t) for t in liftoffs),
         d31_final=d31_final,
         gait=name,
+        settled=settle.settled,
+        drift_per_cycle=settle.drift,
+        settled_why=settle.why,
         speed_cm_s=None if speed is None else speed * 100.0,
         duty_factor_measured=duty,
         slip_fraction=float(np.median(slips)) if slips else None,

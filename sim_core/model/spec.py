@@ -254,6 +254,8 @@ class RunResult:
     touchdowns: tuple[np.ndarray, ...]  # per leg: touchdown times (s)
     touchdown_phases: tuple[np.ndarray, ...]  # per leg: phase at touchdown, before resetting
     liftoffs: tuple[np.ndarray, ...]  # per leg: lift-off times (s)
+    # where the run ends (circular mean of its last quarter) and, if it has settled by THE rule
+    # (`gait.settling`: drift per cycle over the last quarter), its gait; else "not settled"
     d31_final: float | None
     gait: str | None
     speed_cm_s: float | None
@@ -265,6 +267,9 @@ class RunResult:
     # ~0.1-0.4 on the defaults, > 2 where a coarse step makes the contact chatter
     retouches_per_stance: float | None = None
     failure: RunFailure | None = None
+    settled: bool = False  # `gait.settling` of d31
+    drift_per_cycle: float | None = None  # over the last quarter, rad per leg-1 touchdown
+    settled_why: str = ""  # why not settled, in words ("" if settled)
     # what the numbers say about themselves (`gait.run_warnings`): a duty factor off beta,
     # feet landing far from the AEP, a step coarser than the converged default
     warnings: tuple[str, ...] = ()
@@ -285,6 +290,9 @@ class RunResult:
             "d31": [float(x) for x in self.d31],
             "d31_final": self.d31_final,
             "gait": self.gait,
+            "settled": self.settled,
+            "drift_per_cycle": self.drift_per_cycle,
+            "settled_why": self.settled_why,
             "speed_cm_s": self.speed_cm_s,
             "duty_factor_measured": self.duty_factor_measured,
             "slip_fraction": self.slip_fraction,

@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff, final_d31, settled_mean
+from sim_core.model.gait import angle_diff, final_d31, window_d31
 from sim_core.model.params import ModelParams, nominal_speed
 from sim_core.model.probes import open_loop_drift
 from sim_core.model.runner import simulate_batch
@@ -97,7 +97,7 @@ def evaluate(
             diverged += 1
             finals[spec.beta].append(None)
             continue
-        finals[spec.beta].append(settled_mean(res.d31))
+        finals[spec.beta].append(window_d31(res.d31))  # a screen of short runs
         v = nominal_speed(spec.beta, params.stroke, params.swing_duration) * 100
         if res.speed_cm_s is not None:
             speed_err = max(speed_err, abs(res.speed_cm_s - v) / v)
