@@ -25,6 +25,7 @@ from sim_core.model.cost import (
 from sim_core.model.gait import (
     NOT_SETTLED,
     TAIL_DRIFT_SETTLED,
+    TWO_PI,
     Settling,
     circular_mean,
     classify_gait,
@@ -103,6 +104,7 @@ __all__ = [
     "SLIDE_BACK_SPEED_M_S",
     "SLIDE_WINDOW_S",
     "TAIL_DRIFT_SETTLED",
+    "TWO_PI",
     "AtlasAxis",
     "AtlasOutput",
     "Cell",

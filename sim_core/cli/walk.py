@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from pathlib import Path
 from typing import Any
@@ -12,6 +11,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE
+from sim_core.model.gait import TWO_PI
 from sim_core.model.params import INTEGRATORS
 from sim_core.model.spec import RunSpec, cost_problem, numerics_problem
 
@@ -26,7 +26,7 @@ def _add_run(sub: Any) -> None:
     )
     p.add_argument("--beta", type=float, required=True, default=argparse.SUPPRESS,
                    help="duty factor, 0.5 < beta < 1")  # fmt: skip
-    p.add_argument("--d31-init", type=float, default=2.0 * math.pi / 3.0,
+    p.add_argument("--d31-init", type=float, default=TWO_PI / 3.0,
                    help="initial Delta31 (phi3 - phi1), rad, 0..2 pi")  # fmt: skip
     p.add_argument("--duration-s", type=float, default=5.0, help="simulated time, s, (0, 600]")
     p.add_argument("--body-mass-g", type=float, default=3.0, help="body mass, g, 0.5..30")

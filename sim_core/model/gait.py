@@ -15,7 +15,7 @@ import numpy as np
 
 TWO_PI = 2.0 * math.pi
 TRIPOD = math.pi
-METACHRONAL = 2.0 * math.pi / 3.0
+METACHRONAL = TWO_PI / 3.0
 # Half-widths of the classification windows (rad). Tripod covers [2.542, 3.742] (the paper's
 # tripod branch 2.9 inside), metachronal [1.644, 2.544] (branch 1.9 inside): they overlap by
 # 0.003 rad at 2.542..2.544, where `classify_gait` says tripod (it asks first). Everything

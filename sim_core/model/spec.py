@@ -6,7 +6,6 @@ viewer fill in; inside the core everything is SI.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass
 from typing import Any, Literal, get_args
@@ -15,9 +14,8 @@ import numpy as np
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 from sim_core.model.cost import MAX_JOB_BYTES, MAX_STEPS_PER_RUN, MIN_DT_S, gib, run_cost
+from sim_core.model.gait import TWO_PI
 from sim_core.model.params import Integrator, ModelParams, step_problem
-
-TWO_PI = 2.0 * math.pi
 
 # Body mass: the legs are position-servoed and carry any load, so the model "walks" at ~3.0
 # cm/s from 1 ug to 30 g (measured 2026-11-25, 1 s runs at beta 0.66): the mass does not stop
@@ -40,7 +38,7 @@ class RunSpec(BaseModel):
 
     beta: float = Field(0.66, gt=0.5, lt=1.0, description="duty factor (0.5, 1)")
     d31_init: float = Field(
-        2.0 * math.pi / 3.0, ge=0.0, le=TWO_PI, description="initial Delta31, rad in [0, 2 pi]"
+        TWO_PI / 3.0, ge=0.0, le=TWO_PI, description="initial Delta31, rad in [0, 2 pi]"
     )
     duration_s: float = Field(5.0, gt=0.0, le=600.0, description="simulated time, s (0, 600]")
     body_mass_g: float = Field(
