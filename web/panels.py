@@ -75,7 +75,7 @@ class Readouts:
 
     beta: float
     time_s: float
-    speed_cm_s: float | None  # along the body's heading (web/heading.py)
+    speed_cm_s: float | None  # along the body's heading (`Simulation.speed_cm_s`)
     duty_factor: float | None
     gait: str
     d31_now: float

@@ -7,6 +7,7 @@ mass and slope change between control periods without a restart. It keeps only a
 
 from __future__ import annotations
 
+import itertools
 from collections import deque
 
 import mujoco
@@ -41,7 +42,7 @@ class Simulation:
         self._data = mujoco.MjData(self._render_model)
         nkeep = int(self._history_s / self._runner.control_dt) + 1
         self._hist_t: deque[float] = deque(maxlen=nkeep)
-        self._hist_x: deque[float] = deque(maxlen=nkeep)
+        self._hist_pose: deque[np.ndarray] = deque(maxlen=nkeep)  # body x, y, z, w, x, y, z
         self._hist_stance: deque[np.ndarray] = deque(maxlen=nkeep)
         self._events: list[tuple[float, float]] = []  # grows with the run; never rebuilt
         self._push_history(self._runner)
@@ -164,19 +165,29 @@ class Simulation:
             k -= 1
         return k
 
+    def _heading_speed(self) -> tuple[float | None, float | None]:
+        m = len(self._hist_t) - self._recent()  # the last second, read from the end
+        t = np.fromiter(itertools.islice(reversed(self._hist_t), m), dtype=float)[::-1]
+        pose = np.array(list(itertools.islice(reversed(self._hist_pose), m))[::-1]).reshape(-1, 7)
+        return gait.heading_speed(t, pose[:, :3], pose[:, 3:])
+
     @property
     def speed_cm_s(self) -> float | None:
-        k = self._recent()
-        if len(self._hist_t) < 2 or self._hist_t[-1] - self._hist_t[k] <= 0:
-            return None
-        return 100.0 * (self._hist_x[-1] - self._hist_x[k]) / (self._hist_t[-1] - self._hist_t[k])
+        """Speed along the body's heading over the last second (`gait.heading_speed`), cm/s."""
+        v = self._heading_speed()[0]
+        return None if v is None else 100.0 * v
+
+    @property
+    def heading_rad(self) -> float | None:
+        """The body's mean heading over the last second (rad from world +x towards +y)."""
+        return self._heading_speed()[1]
 
     @property
     def duty_factor(self) -> float | None:
-        k = self._recent()
-        if len(self._hist_t) - k < 4:
-            return None
-        return float(np.array(list(self._hist_stance)[k:]).mean())
+        """All legs' stance fraction over the last second (`gait.duty_factor` of that window)."""
+        m = len(self._hist_t) - self._recent()
+        recent = list(itertools.islice(reversed(self._hist_stance), m))
+        return gait.duty_factor(np.array(recent, dtype=bool).reshape(-1, 6), fraction=1.0)
 
     @property
     def gait(self) -> str:
@@ -191,5 +202,5 @@ class Simulation:
         for k in range(len(self._events), len(v)):
             self._events.append((t[k], v[k]))
         self._hist_t.append(r.time)
-        self._hist_x.append(float(r.qpos[0, 0]))
+        self._hist_pose.append(np.array(r.qpos[0, :7], dtype=float))
         self._hist_stance.append(r.stance[0] != 0)

@@ -82,7 +82,8 @@ def assemble_result(
     d31_arr = np.array(d31)
     settle = gait.settling(d31_arr)
     d31_final, name = gait.final_d31(d31_arr)
-    speed = gait.forward_speed(times, pos)
+    quat = _copy(body_quat, (0, 4))
+    speed = gait.forward_speed(times, pos, quat)
     tds = tuple(np.array(t) for t in touchdowns)
     tdp = tuple(np.array(t) for t in touchdown_phases)
     ntd = sum(t.size for t in tds)
@@ -101,7 +102,7 @@ def assemble_result(
         stance=st,
         body_pos_m=pos,
         body_vel_m_s=_copy(body_vel_m_s, (0, 3)),
-        body_quat=_copy(body_quat, (0, 4)),
+        body_quat=quat,
         touchdowns=tds,
         touchdown_phases=tdp,
         liftoffs=tuple(np.array(t) for t in liftoffs),

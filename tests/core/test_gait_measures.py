@@ -1,9 +1,11 @@
-"""THE settled rule (`gait.settling`, which every result reports) against the window label
-(`gait.window_gait`, the gait a run walks now): only the first sees a slow slide."""
+"""The gait measures defined once in `sim_core.model.gait`: THE settled rule (`settling`, which
+every result reports) against the window label (`window_gait`, the gait walked now), and the
+speed along the heading."""
 
 import math
 
 import numpy as np
+import pytest
 
 from sim_core.model.gait import (
     NOT_SETTLED,
@@ -37,3 +39,25 @@ def test_an_attractor_across_the_wrap_has_no_drift_and_its_gait() -> None:
     assert w.final is not None and min(w.final, 2 * math.pi - w.final) < 0.1
     assert settling([1.0] * 7).final is None and final_d31([1.0] * 7) == (None, NOT_SETTLED)
     assert window_gait([1.0, 4.0, 2.0]) == "other"  # a window that moves names no gait
+
+
+def test_speed_is_measured_along_the_heading_not_world_x() -> None:
+    from sim_core.model.gait import forward_speed, heading_speed, yaw_of
+
+    def quat(yaw: float) -> np.ndarray:
+        return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
+
+    assert float(yaw_of(quat(0.7))) == pytest.approx(0.7)
+    t = 0.1 * np.arange(11)
+    # turned 90 degrees, walking forwards (along +y) at 2 cm/s: world-x speed would read 0
+    pos = np.stack([np.zeros(11), 0.02 * t, np.zeros(11)], axis=1)
+    v, heading = heading_speed(t, pos, np.tile(quat(math.pi / 2), (11, 1)))
+    assert v == pytest.approx(0.02) and heading == pytest.approx(math.pi / 2)
+    # turned 180 degrees, wobbling across +-pi, walking forwards (towards -x): positive
+    pos = np.stack([-0.02 * t, np.zeros(11), np.zeros(11)], axis=1)
+    q = np.array([quat(math.pi + 0.01 * (-1) ** k) for k in range(11)])
+    assert heading_speed(t, pos, q)[0] == pytest.approx(0.02, rel=1e-3)
+    # sliding backwards reads negative; too short a record reads nothing
+    back = np.stack([-0.01 * t, np.zeros(11), np.zeros(11)], axis=1)
+    assert forward_speed(t, back, np.tile(quat(0.0), (11, 1))) == pytest.approx(-0.01)
+    assert heading_speed(t[:1], pos[:1], q[:1]) == (None, None)
