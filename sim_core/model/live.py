@@ -35,8 +35,8 @@ class Simulation:
         self._build()
 
     def _build(self) -> None:
-        self._runner = BatchRunner([self._spec], self._params, nthread=1, record=False)
-        self._runner.duration[:] = np.inf
+        self._runner = BatchRunner([self._spec], self._params, nthread=1, record=False,
+                                   open_ended=True)  # fmt: skip
         # drawing needs the visual geoms the physics leaves out; same bodies and joints
         self._render_model = build_model(self._runner.params, visual=True)
         self._data = mujoco.MjData(self._render_model)

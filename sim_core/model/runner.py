@@ -94,6 +94,9 @@ class BatchRunner:
     All simulations share the integrator, timestep and control period (a batch steps them in
     lock-step); beta, body mass, slope and the phase-reset switch are per simulation and may
     change between control periods (`set_beta`, `set_body_mass_g`, `set_slope_deg`).
+
+    Each simulation runs for its spec's `duration_s`, or without end when `open_ended` (the
+    live `Simulation`, which steps on demand and records nothing: a record needs an end).
     """
 
     def __init__(
@@ -103,9 +106,12 @@ class BatchRunner:
         nthread: int = 0,
         record_dt: float = RECORD_DT_S,
         record: bool = True,
+        open_ended: bool = False,
     ) -> None:
         if not specs:
             raise ValueError("no simulations to run")
+        if open_ended and record:
+            raise ValueError("an open-ended batch cannot record: its record has no end")
         base = params or ModelParams()
         for s in specs:  # validate before allocating: a 1e-12 s step once asked for 67 GiB
             problem = cost_problem(s.duration_s, s.integrator, s.dt_s, s.control_dt_s)
@@ -132,7 +138,9 @@ class BatchRunner:
         self.reset_on = np.ones(n, dtype=np.bool_)
         self.body_mass_g = np.full(n, p.body_mass * 1e3)
         self.slope_deg = np.zeros(n)
-        self.duration = np.array([s.duration_s for s in specs])
+        self.duration = (
+            np.full(n, np.inf) if open_ended else np.array([s.duration_s for s in specs])
+        )
         self._first_end = float(self.duration.min()) - 1e-12  # no run ends before this time
         self.phi = np.zeros((n, 6))
         self.phi_next = np.zeros((n, 6))
