@@ -58,6 +58,7 @@ from sim_core.model.spec import (
     RunFailure,
     RunResult,
     RunSpec,
+    check_field,
     cost_problem,
     resolve_numerics,
 )
@@ -215,15 +216,13 @@ class BatchRunner:
         return self.nblock * self.control_dt
 
     def set_beta(self, i: int, beta: float) -> None:
-        if not 0.5 < beta < 1.0:
-            raise ValueError(f"beta must be in (0.5, 1), got {beta}")
+        check_field("beta", beta)
         self.beta[i] = beta
         self.omega[i] = omega(beta, self.params.swing_duration)
         self.phi_aep[i] = phi_aep(beta)
 
     def set_body_mass_g(self, i: int, mass_g: float) -> None:
-        if not mass_g > 0:
-            raise ValueError(f"body mass must be > 0 g, got {mass_g}")
+        check_field("body_mass_g", mass_g)
         mass = self.batch.expand("body_mass")
         inertia = self.batch.expand("body_inertia")
         mass[i, TORSO] = mass_g * 1e-3
@@ -232,8 +231,7 @@ class BatchRunner:
         self.batch.set_const(np.array([i]))
 
     def set_slope_deg(self, i: int, slope_deg: float) -> None:
-        if not -90.0 < slope_deg < 90.0:
-            raise ValueError(f"slope must be in (-90, 90) degrees, got {slope_deg}")
+        check_field("slope_deg", slope_deg)
         self.batch.expand("opt.gravity")[i] = gravity_vector(slope_deg)
         self.slope_deg[i] = slope_deg
 

@@ -11,7 +11,7 @@ from dataclasses import asdict, dataclass
 from typing import Any, Literal, get_args
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from sim_core.model.cost import MAX_JOB_BYTES, MAX_STEPS_PER_RUN, MIN_DT_S, gib, run_cost
 from sim_core.model.gait import TWO_PI
@@ -60,6 +60,15 @@ class RunSpec(BaseModel):
             if self.control_dt_s < self.dt_s * (1 - 1e-9):
                 raise ValueError("control_dt_s must be >= dt_s")
         return self
+
+
+def check_field(name: str, value: float) -> None:
+    """A value changed mid-run (a ramp, the viewer's sliders) checked against RunSpec's own
+    bounds for that field, so every range is written once; ValueError with pydantic's words."""
+    try:
+        RunSpec.model_validate({name: value})
+    except ValidationError as e:
+        raise ValueError(f"{name} = {value:g}: {e.errors()[0]['msg']}") from None
 
 
 def spec_grid(betas: Iterable[float], d31_inits: Iterable[float], **fields: Any) -> list[RunSpec]:
