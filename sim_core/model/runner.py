@@ -97,7 +97,8 @@ class BatchRunner:
     change between control periods (`set_beta`, `set_body_mass_g`, `set_slope_deg`).
 
     Each simulation runs for its spec's `duration_s`, or without end when `open_ended` (the
-    live `Simulation`, which steps on demand and records nothing: a record needs an end).
+    live `Simulation`, which steps on demand and keeps only its last `history_s` seconds, a
+    ring record, every `record_dt`: 0 records every control period).
     """
 
     def __init__(
@@ -108,11 +109,12 @@ class BatchRunner:
         record_dt: float = RECORD_DT_S,
         record: bool = True,
         open_ended: bool = False,
+        history_s: float | None = None,
     ) -> None:
         if not specs:
             raise ValueError("no simulations to run")
-        if open_ended and record:
-            raise ValueError("an open-ended batch cannot record: its record has no end")
+        if open_ended and record and history_s is None:
+            raise ValueError("an open-ended batch records only a bounded history (history_s)")
         base = params or ModelParams()
         for s in specs:  # validate before allocating: a 1e-12 s step once asked for 67 GiB
             problem = cost_problem(s.duration_s, s.integrator, s.dt_s, s.control_dt_s)
@@ -186,8 +188,12 @@ class BatchRunner:
         self.recorder: Recorder | None = None
         if record:
             every = max(1, round(record_dt / self.control_dt))
-            nrec = math.ceil(self.duration.max() / (every * self.control_dt)) + 2
-            self.recorder = Recorder(n, nrec, every)
+            if history_s is not None:  # the last history_s seconds only, as a ring
+                nrec = math.ceil(history_s / (every * self.control_dt)) + 1
+                self.recorder = Recorder(n, nrec, every, ring=True)
+            else:
+                nrec = math.ceil(self.duration.max() / (every * self.control_dt)) + 2
+                self.recorder = Recorder(n, nrec, every)
 
         self.batch.reset()
         for i, spec in enumerate(specs):
