@@ -281,6 +281,14 @@ class ModelParams(BaseModel):
     impratio: float = _ours(
         10.0, "elliptic-cone impedance ratio: stops the tiny feet creeping in stance", ge=1
     )
+    noslip_iterations: int = Field(
+        0,
+        description="[invented] MuJoCo's no-slip solver passes after the main solver "
+        "(constraint ground): > 0 removes the soft contact's tangential creep, a candidate "
+        "cause of the body turning on slopes (issue 30); 0 = off, the calibrated default",
+        ge=0,
+        le=100,
+    )
     touch_depth: float = _ours(
         1e-7,
         "foot pressed this far into the ground, m, counts as touch: ~3% of a leg's static "
