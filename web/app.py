@@ -120,7 +120,7 @@ class ViewerApp:
         self.scene = HexapodScene(self.server, self.sim.model)
         self.panels = Panels(self.server, self.requests)
         if api_url != DEFAULT_API_URL:
-            self.panels.api_url.value = api_url
+            self.panels.api_url.value = api_url  # type: ignore[misc]  # viser types the setter on a subclass
         sim = self.sim
         start = {"beta": sim.beta, "body_mass_g": sim.body_mass_g, "slope_deg": sim.slope_deg}
         self.panels.sync_controls(True, None, start)

@@ -123,8 +123,6 @@ class HexapodScene:
         server.initial_camera.look_at = (0.0, 0.0, 0.0)
         server.initial_camera.near = CAMERA_NEAR
         server.initial_camera.far = CAMERA_FAR
-        server.initial_camera.min_orbit_distance = MIN_ORBIT
-        server.initial_camera.max_orbit_distance = MAX_ORBIT
 
         @server.on_client_connect
         def _(client: viser.ClientHandle) -> None:
