@@ -140,6 +140,7 @@ def register(sub: Any) -> None:
     _add_sensitivity(sub)
     _add_diagnose(sub)
     _add_slope_heading(sub)
+    _add_timing_lines(sub)
 
 
 def _add_slope_heading(sub: Any) -> None:
@@ -173,4 +174,85 @@ def _cmd_slope_heading(args: argparse.Namespace) -> int:
     runs = headings(settings, args.slopes, duration_s=args.duration_s, at_s=at)
     print("\n".join(table(runs, at)))
     print(f"\n{time.perf_counter() - t0:.0f} s wall")
+    return 0
+
+
+def _add_timing_lines(sub: Any) -> None:
+    p = sub.add_parser(
+        "timing-lines",
+        help="issue 31 step 1: test the two-timing-lines hypothesis (open-loop jumps per leg "
+        "pair, the middle lift-off -> hind touchdown lag, the reduced model's branch)",
+    )
+    p.add_argument("--betas", type=float, nargs="+", default=[0.62, 0.645, 0.70],
+                   help="duty factors (default %(default)s)")  # fmt: skip
+    p.add_argument("--d-step", type=float, default=0.05,
+                   help="step of the held D over 1.4-3.2 rad (default %(default)s)")  # fmt: skip
+    p.add_argument("--grounds", nargs="+", choices=["constraint", "penalty"],
+                   default=["constraint", "penalty"], help="(default %(default)s)")  # fmt: skip
+    p.add_argument(
+        "--out",
+        type=Path,
+        default=Path("out/timing_lines"),
+        help="folder for timing_lines.{json,md,png} (default %(default)s)",
+    )
+    p.add_argument("--skip", nargs="*", choices=["open-loop", "chain", "reduced"], default=[],
+                   help="tests to leave out")  # fmt: skip
+    p.set_defaults(func=_cmd_timing_lines)
+
+
+def _cmd_timing_lines(args: argparse.Namespace) -> int:
+    import time
+    from dataclasses import asdict
+
+    import numpy as np
+
+    from sim_core.model.params import ModelParams
+    from sim_core.studies import timing_lines as tl
+
+    if not 0.0 < args.d_step <= 0.5 or not all(0.5 < b < 1.0 for b in args.betas):
+        print("insect-gait timing-lines: error: --d-step in (0, 0.5], betas in (0.5, 1)",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_USAGE
+    args.out.mkdir(parents=True, exist_ok=True)
+    d31s = np.arange(1.4, 3.2 + 1e-9, args.d_step)
+    record: dict[str, Any] = {"betas": args.betas, "d31s": d31s.tolist()}
+    lines: list[str] = []
+    for ground in args.grounds:
+        p = ModelParams(ground=ground)
+        if "open-loop" not in args.skip:
+            t0 = time.perf_counter()
+            ol = tl.open_loop_legs(p, args.betas, d31s.tolist())
+            feats = tl.features(ol)
+            record.setdefault("open_loop", []).append(
+                {"ground": ground, "fore": ol.fore.tolist(), "middle": ol.middle.tolist(),
+                 "hind": ol.hind.tolist(), "spread": ol.spread.tolist(),
+                 "features": [asdict(f) for f in feats],
+                 "wall_s": time.perf_counter() - t0})  # fmt: skip
+            record.setdefault("_loops", []).append(ol)
+            lines += [f"open loop, {ground} ground ({time.perf_counter() - t0:.0f} s):", "",
+                      *tl.features_table(feats), ""]  # fmt: skip
+            print("\n".join(lines[-len(feats) - 4 :]), flush=True)
+        if "chain" not in args.skip:
+            t0 = time.perf_counter()
+            runs = [(b, x) for b in args.betas for x in (1.9, 2.3)]
+            chain = tl.chain_lags(p, runs)
+            record.setdefault("chain", []).extend(
+                asdict(c) | {"lags": None} for c in chain)  # fmt: skip
+            lines += [f"chain, {ground} ground ({time.perf_counter() - t0:.0f} s):", "",
+                      *tl.chain_table(chain), ""]  # fmt: skip
+            print("\n".join(lines[-len(chain) - 4 :]), flush=True)
+    if "reduced" not in args.skip:
+        t0 = time.perf_counter()
+        red = tl.reduced_branches(np.round(np.arange(0.60, 0.7001, 0.01), 3).tolist(),
+                                  [3.0, 1.0, 0.1])  # fmt: skip
+        record["reduced"] = [asdict(r) for r in red]
+        lines += [f"reduced model, equal legs ({time.perf_counter() - t0:.0f} s):", "",
+                  *tl.reduced_table(red), ""]  # fmt: skip
+        print("\n".join(lines[-len(red) - 4 :]), flush=True)
+    loops = record.pop("_loops", [])
+    if loops:
+        tl.plot_open_loop(loops, str(args.out / "timing_lines.png"))
+    (args.out / "timing_lines.json").write_text(json.dumps(record, indent=1))
+    (args.out / "timing_lines.md").write_text("\n".join(lines))
+    print(f"wrote {args.out}/timing_lines.{{json,md,png}}")
     return 0
