@@ -10,11 +10,10 @@ Units are SI inside the core (m, kg, s, rad, N); edge-facing names carry units i
 
 from __future__ import annotations
 
+import math
 from typing import Any, Literal
 
 from pydantic import BaseModel, ConfigDict, Field
-
-from sim_core.model.gait import TWO_PI
 
 Integrator = Literal["euler", "implicit", "implicitfast", "rk4", "discrete"]
 INTEGRATORS: tuple[Integrator, ...] = ("euler", "implicit", "implicitfast", "rk4", "discrete")
@@ -335,7 +334,7 @@ class ModelParams(BaseModel):
 
 def phi_aep(beta: float) -> float:
     """Oscillator phase at the AEP, 2 pi (1 - beta) (Sec. II B 2)."""
-    return TWO_PI * (1.0 - beta)
+    return math.tau * (1.0 - beta)  # math.tau: params imports no sibling module
 
 
 def omega(beta: float, swing_duration: float) -> float:
