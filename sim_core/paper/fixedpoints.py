@@ -79,6 +79,10 @@ KICK_ROOM = 0.5
 # Kick rounds per condition: states a kick finds are kicked in the next round; left over after
 # this many (none seen), a state is reported as confirmed from "neither" side.
 MAX_KICK_ROUNDS = 3
+# Rounds of neighbour seeding along the beta grid (each lends the states the last round found,
+# then searches the cells that learnt something again): a state then travels at most this many
+# grid steps from where the cell's own runs reached it.
+MAX_SEED_ROUNDS = 4
 LAG = 4  # the paper's return map: Delta31(n) -> Delta31(n + 4)
 
 
@@ -107,9 +111,10 @@ class FinderConfig:
     # (2.88-2.95 at 0.62 is 0.07 wide; closer saddles shrink the kick, KICK_ROOM). 0: no
     # kicks; every state is then reported as "not checked" (the atlas, to stay in budget).
     kick_rad: float = 0.03
-    # Neighbouring betas (same mass and slope) lend their settled finals as extra starts:
-    # a state with a thin basin that this beta's spread starts miss (4.58 at 0.655, found at
-    # 0.645 and 0.66) is then looked for where it should be.
+    # Neighbouring betas (same mass and slope) lend the states they found and this beta did
+    # not, as extra starts: the state itself and the starts that reached it there. A state with
+    # a thin basin that this beta's spread starts miss (4.58 at 0.655, reached at 0.65 from a
+    # bisection start 0.59 and at 0.66 from 5.89) is then looked for where it should be.
     neighbour_seeds: bool = True
 
     @classmethod
@@ -226,7 +231,17 @@ class CellResult(_Model):
 
     @property
     def unsettled(self) -> list[RunOutcome]:
-        return [r for r in self.runs if not r.settled and r.failure is None]
+        """Runs that did not settle and were not re-run longer from the same start (a 20 s
+        bisection or kick run that is re-run at 40 s is a screen, not a finding)."""
+        longest: dict[tuple[float, str], float] = {}
+        for r in self.runs:
+            key = (r.d31_init, r.role)
+            longest[key] = max(longest.get(key, 0.0), r.duration_s)
+        return [
+            r
+            for r in self.runs
+            if not r.settled and r.failure is None and r.duration_s >= longest[(r.d31_init, r.role)]
+        ]
 
     def stable(self, gait: str | None = None) -> list[Attractor]:
         """The stable states (`Attractor.stable`), of one gait if given."""
@@ -614,8 +629,11 @@ def _narrow(br: list[Any], r: _Run, clusters: list[_Cluster]) -> None:
     elif r.label == br[1].side:
         br[1] = r
     else:  # a third state between the two: say so and stop this border
-        clusters.append(_Cluster([r.settle.final]))
-        r.label = len(clusters) - 1
+        if r.label is None:  # a state no start reached (else it is one the starts found)
+            clusters.append(_Cluster([r.settle.final]))
+            r.label = len(clusters) - 1
+        else:
+            clusters[r.label].finals.append(r.settle.final)
         br[3] = f"a run from {r.probe.d31_init:.3f} settles on a third state, {r.settle.final:.3f}"
 
 
@@ -643,9 +661,12 @@ RunFn = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
 def find(cells: Sequence[Cell], cfg: FinderConfig, run: RunFn) -> list[CellResult]:
     """The finder over many conditions: each round, every search's probes in one `run` call
     (one batch for the backend). `run` takes (cell, probe) pairs and returns one result dict
-    per pair with the task result's keys (`d31`, `error`). With `cfg.neighbour_seeds`, a first
-    round of the spread starts at every condition lends each condition the states its
-    neighbours along beta settled on (`neighbour_seeds`); a probe asked twice is run once."""
+    per pair with the task result's keys (`d31`, `error`); a probe asked twice is run once.
+
+    With `cfg.neighbour_seeds`, each condition then learns from its neighbours along beta
+    (`neighbour_seeds`): a state a neighbour found that it lacks is looked for from that state
+    and from the starts that reached it there, and the condition is searched again (its old
+    runs are read back, not re-run), round by round until none learns anything new."""
     cells = list(cells)
     memo: dict[tuple[int, Probe], dict[str, Any]] = {}
 
@@ -655,21 +676,29 @@ def find(cells: Sequence[Cell], cfg: FinderConfig, run: RunFn) -> list[CellResul
             memo.update(zip(new, run([(cells[k], p) for k, p in new]), strict=True))
         return [memo[q] for q in asked]
 
-    if cfg.neighbour_seeds and len(cells) > 1:
-        spread = [Probe(float(x), cfg.duration_s) for x in initial_values(cfg.starts)]
-        outs = batch([(k, p) for k in range(len(cells)) for p in spread])
-        finals: list[list[float]] = []
-        for k in range(len(cells)):
-            mine = outs[k * len(spread) : (k + 1) * len(spread)]
-            ends = [settling(r["d31"]) for r in mine if not r.get("error")]
-            finals.append([s.final for s in ends if s.settled and s.final is not None])
-        cells = [replace(c, seeds=c.seeds + neighbour_seeds(cells, finals, k))
-                 for k, c in enumerate(cells)]  # fmt: skip
-    searches = [_search(c, cfg) for c in cells]
-    pending: dict[int, list[Probe]] = {}
-    results: dict[int, CellResult] = {}
-    for k, s in enumerate(searches):
-        pending[k] = next(s)
+    results = _run_searches(cells, range(len(cells)), cfg, batch, {})
+    for _ in range(MAX_SEED_ROUNDS if cfg.neighbour_seeds and len(cells) > 1 else 0):
+        new = [neighbour_seeds(cells, results, k, cfg) for k in range(len(cells))]
+        todo = [k for k, n in enumerate(new) if n]
+        if not todo:
+            break
+        for k in todo:
+            cells[k] = replace(cells[k], seeds=cells[k].seeds + new[k])
+        results = _run_searches(cells, todo, cfg, batch, results)
+    return results
+
+
+def _run_searches(
+    cells: list[Cell],
+    which: Sequence[int],
+    cfg: FinderConfig,
+    batch: Callable[[list[tuple[int, Probe]]], list[dict[str, Any]]],
+    done: dict[int, CellResult] | list[CellResult],
+) -> list[CellResult]:
+    """The searches of `which` cells, round by round (one batch each); the others as `done`."""
+    results = dict(enumerate(done)) if isinstance(done, list) else dict(done)
+    searches = {k: _search(cells[k], cfg) for k in which}
+    pending = {k: next(s) for k, s in searches.items()}
     while pending:
         outs = batch([(k, p) for k, ps in pending.items() for p in ps])
         i = 0
@@ -685,27 +714,31 @@ def find(cells: Sequence[Cell], cfg: FinderConfig, run: RunFn) -> list[CellResul
 
 
 def neighbour_seeds(
-    cells: Sequence[Cell], finals: Sequence[list[float]], k: int
+    cells: Sequence[Cell], found: Sequence[CellResult], k: int, cfg: FinderConfig
 ) -> tuple[float, ...]:
-    """The states (clustered settled finals) that cell k's nearest betas below and above, at
-    its mass and slope, settled on and that neither its own finals nor seeds come near."""
+    """New starts for cell k: each state that its nearest betas below and above (at its mass
+    and slope) found and it did not (none of its states within CLUSTER_TOL), as the state's
+    own value and the starts that reached it there; none it has run already."""
     c = cells[k]
-    same = [
-        j
-        for j, o in enumerate(cells)
-        if (o.body_mass_g, o.slope_deg) == (c.body_mass_g, c.slope_deg)
-    ]
+    same = [j for j, o in enumerate(cells)
+            if (o.body_mass_g, o.slope_deg) == (c.body_mass_g, c.slope_deg)]  # fmt: skip
     below = [j for j in same if cells[j].beta < c.beta]
     above = [j for j in same if cells[j].beta > c.beta]
     near = [max(below, key=lambda j: cells[j].beta)] if below else []
     near += [min(above, key=lambda j: cells[j].beta)] if above else []
-    own = [*finals[k], *c.seeds]
+    mine = [a.d31 for a in found[k].attractors]
+    tried = {round(r.d31_init, 9) for r in found[k].runs}
+    tried |= {round(float(x), 9) for x in (*initial_values(cfg.starts), *c.seeds)}
     out: list[float] = []
     for j in near:
-        for cl in _clusters(finals[j]):
-            x = cl.value
-            if all(abs(float(angle_diff(x, o))) > CLUSTER_TOL for o in [*own, *out]):
-                out.append(x)
+        for i, a in enumerate(found[j].attractors):
+            if any(abs(float(angle_diff(a.d31, m))) <= CLUSTER_TOL for m in mine):
+                continue
+            reached = [r.d31_init for r in found[j].runs if r.attractor == i]
+            for x in (a.d31, *reached):
+                x = float(wrap(x))
+                if round(x, 9) not in tried and round(x, 9) not in {round(o, 9) for o in out}:
+                    out.append(x)
     return tuple(out)
 
 

@@ -157,3 +157,41 @@ def test_a_thin_basin_missed_by_the_spread_starts_is_found_from_a_neighbour() ->
     assert [r.role for r in seeded[1].runs if r.attractor is not None and
             round(seeded[1].attractors[r.attractor].d31, 1) == 4.7] == ["seed"]  # fmt: skip
     assert len(calls) == len(set(calls))  # a probe asked twice is run once
+    # and on to the next beta, which only the seeded neighbour found it from
+    chain = find([*cells, Cell(0.62)], cfg, map_runner(step))
+    assert {round(a.d31, 1) for a in chain[2].attractors} == {2.6, 4.7}
+
+
+def test_a_bisection_run_on_a_known_third_state_adds_no_second_copy() -> None:
+    # 1.9 (metachronal) below 2.3, 2.9 (tripod) above 2.4, and a sliver 2.3-2.4 that jumps to
+    # 4.6, a state the start 4.32 reaches too: the border 1.96 | 2.75 runs into it
+    def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
+        out: list[dict[str, Any]] = []
+        for _, p in batch:
+            x = p.d31_init
+            if 2.3 <= x < 2.4 or 3.6 <= x < 5.6:
+                end = 4.6
+            else:
+                end = 1.9 if x < 2.3 or x >= 5.6 else 2.9
+            out.append({"d31": [x] + [end] * 399, "error": None})
+        return out
+
+    (c,) = find([Cell(0.66)], FinderConfig(kick_rad=0.0), run)
+    places = sorted(round(a.d31, 2) for a in c.attractors)
+    assert places == [1.9, 2.9, 4.6], places
+    assert any("third state" in b.note for b in c.borders)
+
+
+def test_a_short_run_re_run_longer_is_not_listed_as_unsettled() -> None:
+    from sim_core.paper.fixedpoints import CellResult, RunOutcome
+
+    def out(x: float, dur: float, settled: bool) -> RunOutcome:
+        why = "" if settled else "drifting"
+        return RunOutcome(d31_init=x, duration_s=dur, final=2.0, drift=0.0, settled=settled,
+                          why=why, attractor=None, role="kick")  # fmt: skip
+
+    c = CellResult(beta=0.66, body_mass_g=3.0, slope_deg=0.0, attractors=[], borders=[],
+                   ghosts=[], sim_s=0.0,
+                   runs=[out(2.0, 20.0, False), out(2.0, 40.0, True), out(2.5, 20.0, False),
+                         out(2.5, 40.0, False)])  # fmt: skip
+    assert [(r.d31_init, r.duration_s) for r in c.unsettled] == [(2.5, 40.0)]
