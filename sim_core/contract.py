@@ -23,13 +23,16 @@ from sim_core.model.cost import (
     run_cost,
 )
 from sim_core.model.gait import (
+    NOT_SETTLED,
     TAIL_DRIFT_SETTLED,
+    TWO_PI,
+    Settling,
     circular_mean,
     classify_gait,
     final_d31,
     mean_after,
-    settled_gait,
-    tail_drift,
+    settling,
+    window_gait,
 )
 from sim_core.model.params import (
     INTEGRATORS,
@@ -92,6 +95,7 @@ __all__ = [
     "MAX_STABLE_DT_S",
     "MAX_STEPS_PER_RUN",
     "MIN_DT_S",
+    "NOT_SETTLED",
     "NO_FOOTHOLD_S",
     "RAMP_PARAMS",
     "RECORD_DT_S",
@@ -100,6 +104,7 @@ __all__ = [
     "SLIDE_BACK_SPEED_M_S",
     "SLIDE_WINDOW_S",
     "TAIL_DRIFT_SETTLED",
+    "TWO_PI",
     "AtlasAxis",
     "AtlasOutput",
     "Cell",
@@ -116,6 +121,7 @@ __all__ = [
     "RunCost",
     "RunFailure",
     "RunSpec",
+    "Settling",
     "circular_mean",
     "classify_gait",
     "cost_problem",
@@ -128,7 +134,7 @@ __all__ = [
     "resolve_numerics",
     "return_map_from_series",
     "run_cost",
-    "settled_gait",
+    "settling",
     "step_problem",
-    "tail_drift",
+    "window_gait",
 ]

@@ -41,7 +41,6 @@ from sim_core.contract import (
 from web import controls, export
 from web.bifurcation import WatchedFile, finder_points
 from web.footfall import D31Trace, FootfallBuffer, StanceLog
-from web.heading import HeadingSpeed
 from web.pacing import RateMeter, SimClock
 from web.panels import Panels, Readouts
 from web.paths import ATLAS_AXES, DEFAULT_API_URL, DEFAULT_BIFURCATION, atlas_path
@@ -121,7 +120,7 @@ class ViewerApp:
         self.scene = HexapodScene(self.server, self.sim.model)
         self.panels = Panels(self.server, self.requests)
         if api_url != DEFAULT_API_URL:
-            self.panels.api_url.value = api_url
+            self.panels.api_url.value = api_url  # type: ignore[misc]  # viser types the setter on a subclass
         sim = self.sim
         start = {"beta": sim.beta, "body_mass_g": sim.body_mass_g, "slope_deg": sim.slope_deg}
         self.panels.sync_controls(True, None, start)
@@ -130,7 +129,6 @@ class ViewerApp:
         self.footfall_window_s = controls.FOOTFALL_WINDOW_S.initial
         self.d31 = D31Trace()
         self.d31_window_s: float | None = None  # None: the whole run
-        self.heading = HeadingSpeed()
         self.bifurcation_path = bifurcation_path
         self.bifurcation = WatchedFile(bifurcation_path, FinderOutput, "finder results")
         self.atlases = {
@@ -212,7 +210,6 @@ class ViewerApp:
                 self.footfall.clear()
                 self.stance_log.clear()
                 self.d31.clear()
-                self.heading.clear()
                 self._clock.reset()
                 self.error = None
                 self.playing = True
@@ -327,8 +324,7 @@ class ViewerApp:
             rtf.add(now, sim_total)
             step_rtf.add(step_wall_total, sim_total)
             data = self.sim.data  # kinematics computed once per frame, for all readers
-            self.heading.add(self.sim.time_s, data.qpos[0:3], data.qpos[3:7])
-            self.scene.update(data, self.sim.stance, self.sim.slope_deg, self.heading.heading_rad)
+            self.scene.update(data, self.sim.stance, self.sim.slope_deg, self.sim.heading_rad)
             frames += 1
             fps.add(now, frames)
             if now >= next_panel:
@@ -401,12 +397,12 @@ class ViewerApp:
             self.playing, None if self.ramp is None else self.ramp.param, write
         )
         gait = sim.gait
-        heading = self.heading.heading_rad
+        heading = sim.heading_rad
         self.panels.show_readouts(
             Readouts(
                 beta=sim.beta,
                 time_s=sim.time_s,
-                speed_cm_s=self.heading.speed_cm_s,
+                speed_cm_s=sim.speed_cm_s,
                 duty_factor=sim.duty_factor,
                 gait=gait,
                 d31_now=sim.d31_now,

@@ -9,14 +9,13 @@ naming the first validation error, instead of a drawing.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Generic, TypeVar
 
 from pydantic import BaseModel, ValidationError
 
-from sim_core.contract import FinderOutput
+from sim_core.contract import TWO_PI, FinderOutput
 
 M = TypeVar("M", bound=BaseModel)
 
@@ -86,12 +85,12 @@ class FinderPoints:
 def finder_points(out: FinderOutput) -> FinderPoints:
     pts = FinderPoints()
     for c in out.cells:
-        pts.stable.extend((c.beta, a.d31 % (2 * math.pi), a.gait) for a in c.stable())
-        pts.one_sided.extend((c.beta, a.d31 % (2 * math.pi)) for a in c.one_sided())
-        pts.unstable.extend((c.beta, b.d31 % (2 * math.pi)) for b in c.borders if b.d31 is not None)
-        pts.ghosts.extend((c.beta, g.d31 % (2 * math.pi)) for g in c.ghosts)
+        pts.stable.extend((c.beta, a.d31 % (TWO_PI), a.gait) for a in c.stable())
+        pts.one_sided.extend((c.beta, a.d31 % (TWO_PI)) for a in c.one_sided())
+        pts.unstable.extend((c.beta, b.d31 % (TWO_PI)) for b in c.borders if b.d31 is not None)
+        pts.ghosts.extend((c.beta, g.d31 % (TWO_PI)) for g in c.ghosts)
         pts.unsettled.extend(
-            (c.beta, r.final % (2 * math.pi))
+            (c.beta, r.final % (TWO_PI))
             for r in c.runs
             if not r.settled and r.failure is None and r.final is not None
         )

@@ -16,7 +16,7 @@ from sim_core.cli import EXIT_USAGE, port_number, port_taken
 from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, RESULTS_ENV
 
 
-def register(subparsers: argparse._SubParsersAction) -> None:  # type: ignore[type-arg]
+def register(subparsers: argparse._SubParsersAction) -> None:
     p = subparsers.add_parser(
         "viewer",
         help="live 3D viewer in the browser (viser): sliders for beta, mass, slope",

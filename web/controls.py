@@ -10,11 +10,10 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from sim_core.contract import Ramp
+from sim_core.contract import TWO_PI, Ramp
 
-TWO_PI = 2.0 * math.pi
 TRIPOD = math.pi
-METACHRONAL = 2.0 * math.pi / 3.0
+METACHRONAL = TWO_PI / 3.0
 
 
 @dataclass(frozen=True)

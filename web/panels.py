@@ -75,7 +75,7 @@ class Readouts:
 
     beta: float
     time_s: float
-    speed_cm_s: float | None  # along the body's heading (web/heading.py)
+    speed_cm_s: float | None  # along the body's heading (`Simulation.speed_cm_s`)
     duty_factor: float | None
     gait: str
     d31_now: float
@@ -327,14 +327,14 @@ class Panels:
         if param is None or self._ramping:
             return  # a running ramp keeps its parameter
         self.ramp_param_name = param
-        self.ramp_which.value = controls.RAMP_LABELS[param]
+        self.ramp_which.value = controls.RAMP_LABELS[param]  # type: ignore[misc]  # viser types the setter on a subclass
         rng = controls.RAMP_SLIDERS[param]
         start, turn = controls.RAMP_DEFAULTS[param]
         for box, value in ((self.ramp_start, start), (self.ramp_turn, turn)):
             box.step = rng.step
             box.min = rng.lo
             box.max = rng.hi
-            box.value = value
+            box.value = value  # type: ignore[misc]  # viser types the setter on a subclass
 
     def _on_d31_window(self, event: viser.GuiEvent) -> None:
         if event.client is None:
@@ -387,7 +387,7 @@ class Panels:
         for key, value in (write or {}).items():
             slider = self.sliders.get(key)
             if slider is not None and abs(slider.value - value) > 1e-9 and not self.editing(key):
-                slider.value = value
+                slider.value = value  # type: ignore[misc]  # viser types the setter on a subclass
         if ramping != self._disabled:
             if self._disabled is not None:
                 self.sliders[self._disabled].disabled = False
@@ -409,7 +409,7 @@ class Panels:
                 if label == "status":
                     self.status.content = status_html(text)
                 else:
-                    self.readouts[label].value = text
+                    self.readouts[label].value = text  # type: ignore[misc]  # viser types the setter on a subclass
 
     def shown(self, label: str) -> str:
         """The text a readout shows now (for the benchmark; a str is replaced atomically)."""

@@ -14,8 +14,8 @@ vertical. The same frame's pose implements the follow camera: moving the world u
 camera keeps orbiting and zooming with the user, where moving each browser's camera would fight
 their mouse. "follow" translates the world so the body stays at the origin; "follow + turn"
 also turns it about the vertical so the body keeps facing +x (the
-heading is a one-second circular mean, web/heading.py, so the view does not shake with each
-step).
+heading is a one-second circular mean, `Simulation.heading_rad`, so the view does not shake
+with each step).
 """
 
 from __future__ import annotations
@@ -123,8 +123,6 @@ class HexapodScene:
         server.initial_camera.look_at = (0.0, 0.0, 0.0)
         server.initial_camera.near = CAMERA_NEAR
         server.initial_camera.far = CAMERA_FAR
-        server.initial_camera.min_orbit_distance = MIN_ORBIT
-        server.initial_camera.max_orbit_distance = MAX_ORBIT
 
         @server.on_client_connect
         def _(client: viser.ClientHandle) -> None:

@@ -14,7 +14,7 @@ import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from sim_core.contract import LEG_NAMES, AtlasOutput
+from sim_core.contract import LEG_NAMES, TWO_PI, AtlasOutput
 from web.bifurcation import FinderPoints
 from web.footfall import D31Event
 
@@ -27,7 +27,6 @@ PAIR_COLOURS = ("#d62728", "#1f77b4", "#2ca02c")
 PAIR_NAMES = ("fore", "middle", "hind")
 LEFT_TINTS = ("#f1a3a4", "#9cc7e8", "#9fdc9f")
 LEG_COLOURS = tuple(PAIR_COLOURS[i // 2] if i % 2 == 0 else LEFT_TINTS[i // 2] for i in range(6))
-TWO_PI = 2.0 * math.pi
 
 W, H = 300, 150  # viewBox; the panel scales it to its width
 LEFT, RIGHT, TOP, BOTTOM = 34, 14, 16, 20

@@ -18,7 +18,7 @@ from server.kinds.finder import (
     finder_rows,
     finder_runner,
 )
-from sim_core.contract import Cell, FinderConfig, FinderOutput, find
+from sim_core.contract import TWO_PI, Cell, FinderConfig, FinderOutput, find
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -62,7 +62,7 @@ class BifurcationJob(Finder):
 
     def bisect_steps(self) -> int:
         """Bisection runs one border may take: from the starts' spacing to border_tol_rad."""
-        return max(1, math.ceil(math.log2(2 * math.pi / self.starts / self.border_tol_rad)))
+        return max(1, math.ceil(math.log2(TWO_PI / self.starts / self.border_tol_rad)))
 
     def kick_runs(self) -> int:
         """Kick runs per beta, estimated: two per state, about 3 states per beta measured."""

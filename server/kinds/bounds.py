@@ -18,10 +18,10 @@ from sim_core.contract import (
     DEFAULT_INTEGRATOR,
     MAX_STABLE_DT_S,
     MIN_DT_S,
+    TWO_PI,
     RunSpec,
 )
 
-TWO_PI = 2.0 * math.pi
 MAX_LIST = 1000  # hard cap on list lengths; the per-deployment cap is Settings.max_runs_per_job
 
 

@@ -25,7 +25,8 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 # Columns of a run's summary row (`summary_row`): the run and sweep kinds' records.
-SUMMARY_COLUMNS = ("d31_init", "beta", "d31_final", "gait", "speed_cm_s", "duty_factor_measured",
+SUMMARY_COLUMNS = ("d31_init", "beta", "d31_final", "gait", "settled", "drift_per_cycle",
+                   "settled_why", "speed_cm_s", "duty_factor_measured",
                    "slip_fraction", "landing_swing_share", "retouches_per_stance",
                    "n_touchdowns")  # fmt: skip
 SUMMARY_ONLY = ("d31", "error", "diverged", "failure", "warnings")  # not columns of a row

@@ -139,7 +139,42 @@ def register(sub: Any) -> None:
     _add_calibrate(sub)
     _add_sensitivity(sub)
     _add_diagnose(sub)
+    _add_slope_heading(sub)
     _add_timing_lines(sub)
+
+
+def _add_slope_heading(sub: Any) -> None:
+    p = sub.add_parser(
+        "slope-heading",
+        help="issue 30 point 5: does the body keep its heading on a slope? (per ground and "
+        "no-slip setting)",
+    )
+    p.add_argument("--slopes", type=float, nargs="+", default=[-20.0, 20.0])
+    p.add_argument("--duration-s", type=float, default=60.0)
+    p.add_argument("--noslip", type=int, nargs="+", default=[0, 10],
+                   help="no-slip passes, constraint ground (default %(default)s)")  # fmt: skip
+    p.add_argument("--penalty", action="store_true", help="also the paper's ground")
+    p.set_defaults(func=_cmd_slope_heading)
+
+
+def _cmd_slope_heading(args: argparse.Namespace) -> int:
+    import time
+
+    from sim_core.model.params import ModelParams
+    from sim_core.studies.slope_heading import headings, table
+
+    if not 0 < args.duration_s <= 600:
+        print("insect-gait slope-heading: error: --duration-s in (0, 600]", file=sys.stderr)
+        return EXIT_USAGE
+    settings = [(f"constraint, noslip {n}", ModelParams(noslip_iterations=n)) for n in args.noslip]
+    if args.penalty:
+        settings.append(("paper's ground", ModelParams(ground="penalty")))
+    at = [t for t in (10.0, 20.0, 30.0, 40.0, 50.0, 60.0) if t <= args.duration_s]
+    t0 = time.perf_counter()
+    runs = headings(settings, args.slopes, duration_s=args.duration_s, at_s=at)
+    print("\n".join(table(runs, at)))
+    print(f"\n{time.perf_counter() - t0:.0f} s wall")
+    return 0
 
 
 def _add_timing_lines(sub: Any) -> None:

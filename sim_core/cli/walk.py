@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import math
 import sys
 from pathlib import Path
 from typing import Any
@@ -12,6 +11,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE
+from sim_core.model.gait import TWO_PI
 from sim_core.model.params import INTEGRATORS
 from sim_core.model.spec import RunSpec, cost_problem, numerics_problem
 
@@ -26,7 +26,7 @@ def _add_run(sub: Any) -> None:
     )
     p.add_argument("--beta", type=float, required=True, default=argparse.SUPPRESS,
                    help="duty factor, 0.5 < beta < 1")  # fmt: skip
-    p.add_argument("--d31-init", type=float, default=2.0 * math.pi / 3.0,
+    p.add_argument("--d31-init", type=float, default=TWO_PI / 3.0,
                    help="initial Delta31 (phi3 - phi1), rad, 0..2 pi")  # fmt: skip
     p.add_argument("--duration-s", type=float, default=5.0, help="simulated time, s, (0, 600]")
     p.add_argument("--body-mass-g", type=float, default=3.0, help="body mass, g, 0.5..30")
@@ -107,7 +107,11 @@ def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
     print(f"beta {spec.beta:.3f}  d31_init {spec.d31_init:.3f} rad  duration {spec.duration_s} s")
     print(f"Delta31 at leg-1 touchdowns ({len(d31)}): " + " ".join(f"{x:.2f}" for x in d31[-12:]))
     final = "n/a" if s["d31_final"] is None else f"{s['d31_final']:.3f} rad"
-    print(f"final Delta31 {final}  gait {s['gait']}")
+    print(f"final Delta31 {final} (mean of the last quarter)  gait {s['gait']}")
+    if s["drift_per_cycle"] is not None:
+        verdict = "settled" if s["settled"] else f"not settled: {s['settled_why']}"
+        print(f"drift {1e3 * s['drift_per_cycle']:+.3f} mrad per cycle over the last quarter: "
+              f"{verdict}")  # fmt: skip
     if s["speed_cm_s"] is not None:
         print(f"speed {s['speed_cm_s']:.2f} cm/s (eq. 2: {v_nom:.2f})")
     if s["duty_factor_measured"] is not None:

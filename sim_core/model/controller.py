@@ -30,9 +30,8 @@ import numpy as np
 from numba import njit
 
 from sim_core.model.cpg import advance_phases, reset_phase
+from sim_core.model.gait import TWO_PI
 from sim_core.model.legs import G_AEP, G_LPZ, inverse_kinematics, stance_point, swing_point
-
-TWO_PI = 2.0 * math.pi
 
 
 class LegState(NamedTuple):

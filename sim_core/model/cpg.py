@@ -22,6 +22,8 @@ import math
 import numpy as np
 from numba import njit
 
+from sim_core.model.gait import TWO_PI
+
 # paper leg index (1-based) -> array index: leg i is index i - 1
 CONTRALATERAL = ((0, 1), (2, 3), (4, 5))
 
@@ -113,4 +115,4 @@ def initial_phases(d31: float, phi1: float = 0.0) -> np.ndarray:
     p3 = p1 + d31
     p5 = p3 + d31  # Delta53 = Delta31 (eq. 6)
     phi = np.array([p1, p1 + math.pi, p3, p3 + math.pi, p5, p5 + math.pi])
-    return np.mod(phi, 2.0 * math.pi)
+    return np.mod(phi, TWO_PI)

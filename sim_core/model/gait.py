@@ -15,20 +15,26 @@ import numpy as np
 
 TWO_PI = 2.0 * math.pi
 TRIPOD = math.pi
-METACHRONAL = 2.0 * math.pi / 3.0
+METACHRONAL = TWO_PI / 3.0
 # Half-widths of the classification windows (rad). Tripod covers [2.542, 3.742] (the paper's
 # tripod branch 2.9 inside), metachronal [1.644, 2.544] (branch 1.9 inside): they overlap by
 # 0.003 rad at 2.542..2.544, where `classify_gait` says tripod (it asks first). Everything
 # outside both windows is "other".
 TRIPOD_HALF_WIDTH = 0.6
 METACHRONAL_HALF_WIDTH = 0.45
-# THE settled rule, used everywhere (RunResult.d31_final, the reproduction's finals, the
-# calibration objectives): the last SETTLED_LAST leg-1 touchdowns (about 8 gait cycles) spread
-# less than SETTLED_STD (circular std, rad).
-SETTLED_STD = 0.15
-SETTLED_LAST = 8
-# The settled test of long runs (the fixed-point finder, the gait studies): the least-squares
-# drift per gait cycle over the last quarter of a run, below this (rad per leg-1 touchdown).
+# The gait a result reports for a run that has not settled by `settling` (its d31_final is
+# still where it ended): neither gait is claimed for a run that is still moving.
+NOT_SETTLED = "not settled"
+# The gait a run walks *now* (the viewer's live label, a ramp's gait at a moment, short
+# screening runs): the last WINDOW_LAST leg-1 touchdowns (about 8 gait cycles) spread less than
+# WINDOW_STD (circular std, rad). Blind to the 0.2-20 mrad per cycle drift of this model's
+# ghosts, so never a claim that a run has settled: that is `settling`.
+WINDOW_STD = 0.15
+WINDOW_LAST = 8
+# THE settled rule (`settling`), used everywhere a run's end is reported (RunResult.d31_final
+# and gait, the API's run and sweep, the fixed-point finder, the reproduction's finals): the
+# least-squares drift per gait cycle over the last quarter of a run, below this (rad per leg-1
+# touchdown).
 # Measured 2026-11-26 (40 s runs, beta 0.62-0.70, 8 starts each): true attractors drift
 # <= 0.1 mrad per cycle over 30-40 s, while a tripod start at beta 0.655 still slides off its
 # ghost at 0.4-0.8 mrad per cycle after 30-40 s (and at 2.8 mrad later): the old 5 mrad rule
@@ -85,35 +91,28 @@ def classify_gait(d31: float | None) -> str:
     return "other"
 
 
-def is_settled(tail: np.ndarray) -> bool:
-    """THE settled rule on the last SETTLED_LAST samples: they spread less than SETTLED_STD."""
-    return circular_std(tail) <= SETTLED_STD
+def window_d31(d31: np.ndarray | Sequence[float]) -> float | None:
+    """Where the last WINDOW_LAST Delta31 samples sit, if they spread less than WINDOW_STD;
+    None while the run moves (or with fewer than 3 samples). The gait a run walks now, for live
+    labels, a ramp's moments and short screening runs: not whether it has settled."""
+    d = np.asarray(d31, dtype=float)
+    if d.size < 3:
+        return None
+    tail = d[-WINDOW_LAST:]
+    return circular_mean(tail) if circular_std(tail) <= WINDOW_STD else None
+
+
+def window_gait(d31: np.ndarray | Sequence[float]) -> str:
+    """`classify_gait` of `window_d31`: 'other' while the run moves."""
+    return classify_gait(window_d31(d31))
 
 
 def final_d31(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:
-    """Circular mean of the last SETTLED_LAST Delta31 samples and the gait; the gait is
-    'other' if those samples have not settled, and the mean is None with fewer than 3
-    samples. The one definition of where a run ends."""
-    d = np.asarray(d31, dtype=float)
-    if d.size < 3:
-        return None, "other"
-    tail = d[-SETTLED_LAST:]
-    mean = circular_mean(tail)
-    return mean, classify_gait(mean) if is_settled(tail) else "other"
-
-
-def settled_mean(d31: np.ndarray | Sequence[float]) -> float | None:
-    """Where a run has settled (`final_d31`'s mean), or None if it has not."""
-    d = np.asarray(d31, dtype=float)
-    if d.size < 3 or not is_settled(d[-SETTLED_LAST:]):
-        return None
-    return circular_mean(d[-SETTLED_LAST:])
-
-
-def settled_gait(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:
-    """(settled mean or None, gait; 'other' if not settled)."""
-    mean = settled_mean(d31)
-    return mean, classify_gait(mean)
+    """Where a run ends (`settling`'s final: the circular mean of its last quarter; None with
+    too few touchdowns) and its gait: `classify_gait` of that final if the run has settled,
+    NOT_SETTLED otherwise. The one definition of a run's end that results report."""
+    s = settling(d31)
+    return s.final, classify_gait(s.final) if s.settled else NOT_SETTLED
 
 
 def mean_after(
@@ -124,18 +123,6 @@ def mean_after(
     t = np.asarray(times_s, dtype=float)
     d = np.asarray(d31, dtype=float)[t >= after_s]
     return (circular_mean(d) if d.size else None), int(d.size)
-
-
-def tail_drift(d31: np.ndarray | Sequence[float]) -> tuple[float, float] | None:
-    """(circular mean, drift per gait cycle) of the last quarter of a run's Delta31 samples (at
-    least 4): the drift is the least-squares slope of the unwrapped quarter per leg-1 touchdown,
-    which tells a slow slide from an attractor where the spread of `is_settled` cannot. None
-    with fewer than 8 samples."""
-    d = np.asarray(d31, dtype=float)
-    if d.size < 8:
-        return None
-    tail = np.unwrap(d[-max(4, d.size // 4) :])
-    return circular_mean(tail), float(np.polyfit(np.arange(tail.size), tail, 1)[0])
 
 
 @dataclass(frozen=True)
@@ -205,15 +192,39 @@ def duty_factor(stance: np.ndarray, fraction: float = 0.5) -> float | None:
     return float(tail.mean())
 
 
-def forward_speed(times: np.ndarray, pos: np.ndarray, fraction: float = 0.5) -> float | None:
-    """Mean speed along x (m/s) over the last `fraction` of the record."""
+def yaw_of(wxyz: np.ndarray | Sequence[float]) -> np.ndarray:
+    """Heading (rad, from world +x towards +y) of the body's x axis (the model's forward axis)
+    for unit quaternions wxyz, (4,) or (T, 4). The floor is the world's z = 0 plane at every
+    slope (the model tilts gravity, not the floor), so the heading lives in the xy plane."""
+    q = np.asarray(wxyz, dtype=float)
+    w, x, y, z = q[..., 0], q[..., 1], q[..., 2], q[..., 3]
+    return np.arctan2(2.0 * (x * y + w * z), 1.0 - 2.0 * (y * y + z * z))
+
+
+def heading_speed(
+    times: np.ndarray, pos: np.ndarray, quat: np.ndarray
+) -> tuple[float | None, float | None]:
+    """(speed m/s, heading rad) over a stretch of record: the body's displacement from its
+    first to its last sample projected on its mean heading (a circular mean), per second.
+    Negative is backwards. Along world x instead, a body that has turned reads nonsense (after
+    a slope the viewer said -0.26 cm/s for minutes while the insect walked forwards)."""
+    if times.shape[0] < 2 or times[-1] - times[0] <= 0:
+        return None, None
+    yaw = yaw_of(quat)
+    heading = math.atan2(float(np.sin(yaw).mean()), float(np.cos(yaw).mean()))
+    dx, dy = pos[-1, 0] - pos[0, 0], pos[-1, 1] - pos[0, 1]
+    along = dx * math.cos(heading) + dy * math.sin(heading)
+    return float(along / (times[-1] - times[0])), heading
+
+
+def forward_speed(
+    times: np.ndarray, pos: np.ndarray, quat: np.ndarray, fraction: float = 0.5
+) -> float | None:
+    """A run's speed (m/s): `heading_speed` over the last `fraction` of its record."""
     if times.shape[0] < 4:
         return None
     i0 = int(times.shape[0] * (1.0 - fraction))
-    dt = times[-1] - times[i0]
-    if dt <= 0:
-        return None
-    return float((pos[-1, 0] - pos[i0, 0]) / dt)
+    return heading_speed(times[i0:], pos[i0:], quat[i0:])[0]
 
 
 def landing_share(

@@ -21,9 +21,8 @@ import numpy as np
 from numba import njit
 
 from sim_core.model.anatomy import LEG_SIDE, attachment_points, stance_line
+from sim_core.model.gait import TWO_PI
 from sim_core.model.params import ModelParams
-
-TWO_PI = 2.0 * math.pi
 
 # layout of the packed geometry array
 G_AEP = 0  # (6, 3) AEP in body frame, flattened: 18 values

@@ -1,13 +1,13 @@
 """A live, steppable simulation: the viewer's engine, and a notebook's.
 
 It is a batch of one (`BatchRunner`), so what it shows is what `simulate` computes; beta, body
-mass and slope change between control periods without a restart. It keeps only a short history
-(footfall, Delta31, body x) so that it can run forever. Not thread-safe: one thread owns it.
+mass and slope change between control periods without a restart. Its history is the runner's
+own record in ring mode (`records.Recorder`: stance and body pose every control period, the
+last `history_s` seconds), so that it can run forever; the Delta31 events grow with the run.
+Not thread-safe: one thread owns it.
 """
 
 from __future__ import annotations
-
-from collections import deque
 
 import mujoco
 import numpy as np
@@ -34,17 +34,14 @@ class Simulation:
         self._build()
 
     def _build(self) -> None:
-        self._runner = BatchRunner([self._spec], self._params, nthread=1, record=False)
-        self._runner.duration[:] = np.inf
+        self._runner = BatchRunner([self._spec], self._params, nthread=1, record_dt=0.0,
+                                   open_ended=True, history_s=self._history_s)  # fmt: skip
+        assert self._runner.recorder is not None
+        self._record = self._runner.recorder
         # drawing needs the visual geoms the physics leaves out; same bodies and joints
         self._render_model = build_model(self._runner.params, visual=True)
         self._data = mujoco.MjData(self._render_model)
-        nkeep = int(self._history_s / self._runner.control_dt) + 1
-        self._hist_t: deque[float] = deque(maxlen=nkeep)
-        self._hist_x: deque[float] = deque(maxlen=nkeep)
-        self._hist_stance: deque[np.ndarray] = deque(maxlen=nkeep)
         self._events: list[tuple[float, float]] = []  # grows with the run; never rebuilt
-        self._push_history(self._runner)
 
     # --- controls -----------------------------------------------------------------------------
     def advance(self, sim_seconds: float) -> None:
@@ -52,7 +49,7 @@ class Simulation:
         r = self._runner
         if r.failures[0] is None:
             nblocks = max(1, round(sim_seconds / r.control_dt))
-            r.run(hook=self._push_history, max_blocks=nblocks)
+            r.run(hook=self._push_events, max_blocks=nblocks)
         if r.failures[0] is not None:
             raise SimulationDiverged(r.failures[0])
 
@@ -141,53 +138,49 @@ class Simulation:
     @property
     def footfall(self) -> tuple[np.ndarray, np.ndarray]:
         """(times (T,), stance (T, 6) bool) over the kept history."""
-        return np.array(self._hist_t), np.array(self._hist_stance).reshape(-1, 6)
+        return self.footfall_since(None)
 
     def footfall_since(self, after_s: float | None) -> tuple[np.ndarray, np.ndarray]:
         """(times (T,), stance (T, 6) bool) of the kept history later than `after_s` (all of it
         for None): what a caller keeping its own rolling window has not seen yet, at every
-        control period (the viewer's footfall diagram)."""
-        times: list[float] = []
-        stance: list[np.ndarray] = []
-        for t, s in zip(reversed(self._hist_t), reversed(self._hist_stance), strict=True):
-            if after_s is not None and t <= after_s:
-                break
-            times.append(t)
-            stance.append(s)
-        return np.array(times[::-1]), np.array(stance[::-1], dtype=bool).reshape(-1, 6)
+        control period (the viewer's footfall diagram). Copies."""
+        s = self._record.since(0, after_s)
+        assert s.times_s is not None and s.stance is not None
+        return np.array(s.times_s), np.array(s.stance, dtype=bool).reshape(-1, 6)
 
-    def _recent(self, window_s: float = 1.0) -> int:
-        t = self._hist_t
-        n = len(t)
-        k = n - 1
-        while k > 0 and t[-1] - t[k] < window_s:
-            k -= 1
-        return k
+    def _last_second(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        s = self._record.since(0, self.time_s - 1.0)
+        assert s.times_s is not None and s.stance is not None
+        assert s.body_pos_m is not None and s.body_quat is not None
+        return s.times_s, s.stance, s.body_pos_m, s.body_quat
 
     @property
     def speed_cm_s(self) -> float | None:
-        k = self._recent()
-        if len(self._hist_t) < 2 or self._hist_t[-1] - self._hist_t[k] <= 0:
-            return None
-        return 100.0 * (self._hist_x[-1] - self._hist_x[k]) / (self._hist_t[-1] - self._hist_t[k])
+        """Speed along the body's heading over the last second (`gait.heading_speed`), cm/s."""
+        t, _, pos, quat = self._last_second()
+        v = gait.heading_speed(t, pos, quat)[0]
+        return None if v is None else 100.0 * v
+
+    @property
+    def heading_rad(self) -> float | None:
+        """The body's mean heading over the last second (rad from world +x towards +y)."""
+        t, _, pos, quat = self._last_second()
+        return gait.heading_speed(t, pos, quat)[1]
 
     @property
     def duty_factor(self) -> float | None:
-        k = self._recent()
-        if len(self._hist_t) - k < 4:
-            return None
-        return float(np.array(list(self._hist_stance)[k:]).mean())
+        """All legs' stance fraction over the last second (`gait.duty_factor` of that window)."""
+        return gait.duty_factor(self._last_second()[1], fraction=1.0)
 
     @property
     def gait(self) -> str:
+        """The gait walked now (`gait.window_gait` of the last few touchdowns): a live label,
+        not a claim that the run has settled."""
         d31 = np.array(self._runner.d31_v[0][-4:])
-        return gait.final_d31(d31)[1]
+        return gait.window_gait(d31)
 
-    def _push_history(self, r: BatchRunner) -> None:
-        """The run loop's hook: after every control period, what the short history keeps."""
+    def _push_events(self, r: BatchRunner) -> None:
+        """The run loop's hook: after every control period, the new Delta31 events."""
         t, v = r.d31_t[0], r.d31_v[0]
         for k in range(len(self._events), len(v)):
             self._events.append((t[k], v[k]))
-        self._hist_t.append(r.time)
-        self._hist_x.append(float(r.qpos[0, 0]))
-        self._hist_stance.append(r.stance[0] != 0)

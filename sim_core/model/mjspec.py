@@ -76,6 +76,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
     opt.integrator = integrator_enum(p.integrator)
     opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
     opt.impratio = p.impratio
+    opt.noslip_iterations = p.noslip_iterations
     opt.tolerance = p.solver_tolerance
     opt.gravity = gravity_vector(slope_deg)
     # The hexapod is one constraint island whenever a foot touches, so MuJoCo's island

@@ -280,6 +280,14 @@ class ModelParams(BaseModel):
     impratio: float = _ours(
         10.0, "elliptic-cone impedance ratio: stops the tiny feet creeping in stance", ge=1
     )
+    noslip_iterations: int = Field(
+        0,
+        description="[invented] MuJoCo's no-slip solver passes after the main solver "
+        "(constraint ground): > 0 removes the soft contact's tangential creep, a candidate "
+        "cause of the body turning on slopes (issue 30); 0 = off, the calibrated default",
+        ge=0,
+        le=100,
+    )
     touch_depth: float = _ours(
         1e-7,
         "foot pressed this far into the ground, m, counts as touch: ~3% of a leg's static "
@@ -326,7 +334,7 @@ class ModelParams(BaseModel):
 
 def phi_aep(beta: float) -> float:
     """Oscillator phase at the AEP, 2 pi (1 - beta) (Sec. II B 2)."""
-    return 2.0 * math.pi * (1.0 - beta)
+    return math.tau * (1.0 - beta)  # math.tau: params imports no sibling module
 
 
 def omega(beta: float, swing_duration: float) -> float:

@@ -80,8 +80,10 @@ def assemble_result(
     st = _copy(stance, (0, 6), np.bool_)
     pos = _copy(body_pos_m, (0, 3))
     d31_arr = np.array(d31)
+    settle = gait.settling(d31_arr)
     d31_final, name = gait.final_d31(d31_arr)
-    speed = gait.forward_speed(times, pos)
+    quat = _copy(body_quat, (0, 4))
+    speed = gait.forward_speed(times, pos, quat)
     tds = tuple(np.array(t) for t in touchdowns)
     tdp = tuple(np.array(t) for t in touchdown_phases)
     ntd = sum(t.size for t in tds)
@@ -100,12 +102,15 @@ def assemble_result(
         stance=st,
         body_pos_m=pos,
         body_vel_m_s=_copy(body_vel_m_s, (0, 3)),
-        body_quat=_copy(body_quat, (0, 4)),
+        body_quat=quat,
         touchdowns=tds,
         touchdown_phases=tdp,
         liftoffs=tuple(np.array(t) for t in liftoffs),
         d31_final=d31_final,
         gait=name,
+        settled=settle.settled,
+        drift_per_cycle=settle.drift,
+        settled_why=settle.why,
         speed_cm_s=None if speed is None else speed * 100.0,
         duty_factor_measured=duty,
         slip_fraction=float(np.median(slips)) if slips else None,
@@ -130,11 +135,17 @@ NOT_RECORDED = Series(None, None, None, None, None)
 
 class Recorder:
     """The time series a batch keeps (body pose and velocity, stance), one row every `every`
-    control periods; preallocated for the longest run, so recording never allocates."""
+    control periods; preallocated for the longest run, so recording never allocates.
 
-    def __init__(self, n: int, nrec: int, every: int) -> None:
+    With `ring`, a batch of one keeps only its last `nrec` rows, overwriting the oldest: the
+    bounded history a live simulation that runs forever reads (`Simulation`)."""
+
+    def __init__(self, n: int, nrec: int, every: int, ring: bool = False) -> None:
+        if ring and n != 1:
+            raise ValueError("a ring record keeps one simulation's history")
         self.every = every
-        self.n_rows = 0
+        self.ring = ring
+        self.n_rows = 0  # rows taken so far (in a ring, more than it holds)
         self.t = np.zeros(nrec)
         self.stance = np.zeros((n, nrec, 6), dtype=np.bool_)
         self.pos = np.zeros((n, nrec, 3))
@@ -152,21 +163,39 @@ class Recorder:
     ) -> None:
         """One row for the simulations `live`, from the batch's (n, ...) state arrays."""
         k = self.n_rows
-        if k >= self.t.shape[0]:
-            return
+        cap = self.t.shape[0]
+        if k >= cap:
+            if not self.ring:
+                return
+            k %= cap
         self.t[k] = time_s
         self.stance[live, k] = stance[live] != 0
         self.pos[live, k] = qpos[live, 0:3]
         self.vel[live, k] = qvel[live, 0:3]
         self.quat[live, k] = qpos[live, 3:7]
         self.length[live] = k + 1
-        self.n_rows = k + 1
+        self.n_rows += 1
 
     def series(self, i: int) -> Series:
-        """Simulation i's rows (views, not copies)."""
+        """Simulation i's rows in time order (views, not copies, until a ring has wrapped)."""
+        if self.ring and self.n_rows > self.t.shape[0]:
+            return self.since(i, None)
         n = int(self.length[i])
         return Series(self.t[:n], self.stance[i, :n], self.pos[i, :n], self.vel[i, :n],
                       self.quat[i, :n])  # fmt: skip
+
+    def since(self, i: int, after_s: float | None) -> Series:
+        """Simulation i's rows later than `after_s` (all of them for None), in time order;
+        copies only the rows asked for (a live viewer asks every frame)."""
+        cap = self.t.shape[0]
+        if self.ring and self.n_rows > cap:
+            order = (self.n_rows + np.arange(cap)) % cap
+        else:
+            order = np.arange(int(self.length[i]))
+        if after_s is not None:
+            order = order[int(np.searchsorted(self.t[order], after_s, side="right")) :]
+        return Series(self.t[order], self.stance[i, order], self.pos[i, order],
+                      self.vel[i, order], self.quat[i, order])  # fmt: skip
 
 
 class EventJournal:

@@ -58,6 +58,7 @@ from sim_core.model.spec import (
     RunFailure,
     RunResult,
     RunSpec,
+    check_field,
     cost_problem,
     resolve_numerics,
 )
@@ -94,6 +95,10 @@ class BatchRunner:
     All simulations share the integrator, timestep and control period (a batch steps them in
     lock-step); beta, body mass, slope and the phase-reset switch are per simulation and may
     change between control periods (`set_beta`, `set_body_mass_g`, `set_slope_deg`).
+
+    Each simulation runs for its spec's `duration_s`, or without end when `open_ended` (the
+    live `Simulation`, which steps on demand and keeps only its last `history_s` seconds, a
+    ring record, every `record_dt`: 0 records every control period).
     """
 
     def __init__(
@@ -103,9 +108,13 @@ class BatchRunner:
         nthread: int = 0,
         record_dt: float = RECORD_DT_S,
         record: bool = True,
+        open_ended: bool = False,
+        history_s: float | None = None,
     ) -> None:
         if not specs:
             raise ValueError("no simulations to run")
+        if open_ended and record and history_s is None:
+            raise ValueError("an open-ended batch records only a bounded history (history_s)")
         base = params or ModelParams()
         for s in specs:  # validate before allocating: a 1e-12 s step once asked for 67 GiB
             problem = cost_problem(s.duration_s, s.integrator, s.dt_s, s.control_dt_s)
@@ -132,7 +141,9 @@ class BatchRunner:
         self.reset_on = np.ones(n, dtype=np.bool_)
         self.body_mass_g = np.full(n, p.body_mass * 1e3)
         self.slope_deg = np.zeros(n)
-        self.duration = np.array([s.duration_s for s in specs])
+        self.duration = (
+            np.full(n, np.inf) if open_ended else np.array([s.duration_s for s in specs])
+        )
         self._first_end = float(self.duration.min()) - 1e-12  # no run ends before this time
         self.phi = np.zeros((n, 6))
         self.phi_next = np.zeros((n, 6))
@@ -177,8 +188,12 @@ class BatchRunner:
         self.recorder: Recorder | None = None
         if record:
             every = max(1, round(record_dt / self.control_dt))
-            nrec = math.ceil(self.duration.max() / (every * self.control_dt)) + 2
-            self.recorder = Recorder(n, nrec, every)
+            if history_s is not None:  # the last history_s seconds only, as a ring
+                nrec = math.ceil(history_s / (every * self.control_dt)) + 1
+                self.recorder = Recorder(n, nrec, every, ring=True)
+            else:
+                nrec = math.ceil(self.duration.max() / (every * self.control_dt)) + 2
+                self.recorder = Recorder(n, nrec, every)
 
         self.batch.reset()
         for i, spec in enumerate(specs):
@@ -207,15 +222,13 @@ class BatchRunner:
         return self.nblock * self.control_dt
 
     def set_beta(self, i: int, beta: float) -> None:
-        if not 0.5 < beta < 1.0:
-            raise ValueError(f"beta must be in (0.5, 1), got {beta}")
+        check_field("beta", beta)
         self.beta[i] = beta
         self.omega[i] = omega(beta, self.params.swing_duration)
         self.phi_aep[i] = phi_aep(beta)
 
     def set_body_mass_g(self, i: int, mass_g: float) -> None:
-        if not mass_g > 0:
-            raise ValueError(f"body mass must be > 0 g, got {mass_g}")
+        check_field("body_mass_g", mass_g)
         mass = self.batch.expand("body_mass")
         inertia = self.batch.expand("body_inertia")
         mass[i, TORSO] = mass_g * 1e-3
@@ -224,8 +237,7 @@ class BatchRunner:
         self.batch.set_const(np.array([i]))
 
     def set_slope_deg(self, i: int, slope_deg: float) -> None:
-        if not -90.0 < slope_deg < 90.0:
-            raise ValueError(f"slope must be in (-90, 90) degrees, got {slope_deg}")
+        check_field("slope_deg", slope_deg)
         self.batch.expand("opt.gravity")[i] = gravity_vector(slope_deg)
         self.slope_deg[i] = slope_deg
 

@@ -6,18 +6,16 @@ viewer fill in; inside the core everything is SI.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Iterable
 from dataclasses import asdict, dataclass
 from typing import Any, Literal, get_args
 
 import numpy as np
-from pydantic import BaseModel, ConfigDict, Field, model_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationError, model_validator
 
 from sim_core.model.cost import MAX_JOB_BYTES, MAX_STEPS_PER_RUN, MIN_DT_S, gib, run_cost
+from sim_core.model.gait import TWO_PI
 from sim_core.model.params import Integrator, ModelParams, step_problem
-
-TWO_PI = 2.0 * math.pi
 
 # Body mass: the legs are position-servoed and carry any load, so the model "walks" at ~3.0
 # cm/s from 1 ug to 30 g (measured 2026-11-25, 1 s runs at beta 0.66): the mass does not stop
@@ -40,7 +38,7 @@ class RunSpec(BaseModel):
 
     beta: float = Field(0.66, gt=0.5, lt=1.0, description="duty factor (0.5, 1)")
     d31_init: float = Field(
-        2.0 * math.pi / 3.0, ge=0.0, le=TWO_PI, description="initial Delta31, rad in [0, 2 pi]"
+        TWO_PI / 3.0, ge=0.0, le=TWO_PI, description="initial Delta31, rad in [0, 2 pi]"
     )
     duration_s: float = Field(5.0, gt=0.0, le=600.0, description="simulated time, s (0, 600]")
     body_mass_g: float = Field(
@@ -62,6 +60,15 @@ class RunSpec(BaseModel):
             if self.control_dt_s < self.dt_s * (1 - 1e-9):
                 raise ValueError("control_dt_s must be >= dt_s")
         return self
+
+
+def check_field(name: str, value: float) -> None:
+    """A value changed mid-run (a ramp, the viewer's sliders) checked against RunSpec's own
+    bounds for that field, so every range is written once; ValueError with pydantic's words."""
+    try:
+        RunSpec.model_validate({name: value})
+    except ValidationError as e:
+        raise ValueError(f"{name} = {value:g}: {e.errors()[0]['msg']}") from None
 
 
 def spec_grid(betas: Iterable[float], d31_inits: Iterable[float], **fields: Any) -> list[RunSpec]:
@@ -254,6 +261,8 @@ class RunResult:
     touchdowns: tuple[np.ndarray, ...]  # per leg: touchdown times (s)
     touchdown_phases: tuple[np.ndarray, ...]  # per leg: phase at touchdown, before resetting
     liftoffs: tuple[np.ndarray, ...]  # per leg: lift-off times (s)
+    # where the run ends (circular mean of its last quarter) and, if it has settled by THE rule
+    # (`gait.settling`: drift per cycle over the last quarter), its gait; else "not settled"
     d31_final: float | None
     gait: str | None
     speed_cm_s: float | None
@@ -265,6 +274,9 @@ class RunResult:
     # ~0.1-0.4 on the defaults, > 2 where a coarse step makes the contact chatter
     retouches_per_stance: float | None = None
     failure: RunFailure | None = None
+    settled: bool = False  # `gait.settling` of d31
+    drift_per_cycle: float | None = None  # over the last quarter, rad per leg-1 touchdown
+    settled_why: str = ""  # why not settled, in words ("" if settled)
     # what the numbers say about themselves (`gait.run_warnings`): a duty factor off beta,
     # feet landing far from the AEP, a step coarser than the converged default
     warnings: tuple[str, ...] = ()
@@ -285,6 +297,9 @@ class RunResult:
             "d31": [float(x) for x in self.d31],
             "d31_final": self.d31_final,
             "gait": self.gait,
+            "settled": self.settled,
+            "drift_per_cycle": self.drift_per_cycle,
+            "settled_why": self.settled_why,
             "speed_cm_s": self.speed_cm_s,
             "duty_factor_measured": self.duty_factor_measured,
             "slip_fraction": self.slip_fraction,

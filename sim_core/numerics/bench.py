@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 
+from sim_core.model.gait import TWO_PI
 from sim_core.model.params import ModelParams
 from sim_core.model.runner import BatchRunner
 from sim_core.model.spec import RunSpec
@@ -34,7 +35,7 @@ def _single(spec: RunSpec, params: ModelParams | None = None) -> tuple[float, fl
 def _batch(spec: RunSpec, nsim: int, params: ModelParams | None = None) -> float:
     specs = [
         spec.model_copy(update={"d31_init": float(x)})
-        for x in np.linspace(0, 2 * np.pi, nsim, endpoint=False)
+        for x in np.linspace(0, TWO_PI, nsim, endpoint=False)
     ]
     runner = BatchRunner(specs, params, nthread=0)
     runner.run(max_blocks=1)

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff, classify_gait
+from sim_core.model.gait import TWO_PI, angle_diff, classify_gait
 from sim_core.model.params import Integrator, ModelParams
 from sim_core.model.probes import open_loop_drift
 from sim_core.model.runner import simulate_batch
@@ -107,7 +107,7 @@ def convergence_check(
     params: ModelParams | None = None,
     *,
     betas: Sequence[float] = (0.62, 0.655, 0.70),
-    inits: Sequence[float] = tuple(np.linspace(0, 2 * math.pi, 8, endpoint=False) + math.pi / 8),
+    inits: Sequence[float] = tuple(np.linspace(0, TWO_PI, 8, endpoint=False) + math.pi / 8),
     duration_s: float = 6.0,
     dt_s: float | None = None,
     integrator: Integrator | None = None,

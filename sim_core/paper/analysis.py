@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff, classify_gait, settled_gait
+from sim_core.model.gait import angle_diff, classify_gait, window_gait
 
 # The band of Delta31 the paper's return maps and bifurcation diagram are about (branches 1.9
 # and 2.9 rad, with margin). A continuous map of the circle crosses its diagonal an even number
@@ -168,9 +168,9 @@ def sweep_summary(
         "second_leg": legs["second"],
         "width": width,
         "loop": loop,
-        "gait_at_start": settled_gait(d[t < hold_s])[1],
-        "gait_at_turn": settled_gait(d[t < turn_t])[1],
-        "gait_at_end": settled_gait(d)[1],
+        "gait_at_start": window_gait(d[t < hold_s]),
+        "gait_at_turn": window_gait(d[t < turn_t]),
+        "gait_at_end": window_gait(d),
     }
 
 

@@ -8,7 +8,6 @@ Matplotlib with the Agg backend: files only, no display.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable
 from pathlib import Path
 from typing import Any
@@ -19,9 +18,9 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from sim_core.model.gait import TWO_PI
 from sim_core.paper.values import METACHRONAL_BRANCH, TRIPOD_BRANCH, PaperValues
 
-TWO_PI = 2 * math.pi
 PAPER_STYLE: dict[str, Any] = {"color": "0.55", "lw": 0.9}
 # leg colours of the paper's Fig. 4: fore red, middle blue, hind green
 LEG_COLOURS = {0: "tab:red", 1: "tab:red", 2: "tab:blue", 3: "tab:blue", 4: "tab:green",

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff
+from sim_core.model.gait import TWO_PI, angle_diff
 
 # touchdowns dropped at the start of every series: the start's own transient (the first
 # stance after the initial condition is not a gait cycle yet)
@@ -30,7 +30,7 @@ class ReturnMap:
 
     def drift_per_cycle(self, bins: int = 24) -> tuple[np.ndarray, np.ndarray]:
         """Mean (y - x) / lag in bins of x over the circle: > 0 pushes Delta31 up."""
-        edges = np.linspace(0, 2 * math.pi, bins + 1)
+        edges = np.linspace(0, TWO_PI, bins + 1)
         d = angle_diff(self.y, self.x) / self.lag
         idx = np.clip(np.digitize(self.x, edges) - 1, 0, bins - 1)
         centers = 0.5 * (edges[1:] + edges[:-1])
@@ -40,7 +40,7 @@ class ReturnMap:
 
 def initial_values(n: int) -> np.ndarray:
     """n initial Delta31 spread evenly over the circle (offset off the symmetric points)."""
-    return np.linspace(0.0, 2 * math.pi, n, endpoint=False) + math.pi / n
+    return np.linspace(0.0, TWO_PI, n, endpoint=False) + math.pi / n
 
 
 def return_map_from_series(

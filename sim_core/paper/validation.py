@@ -21,7 +21,7 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from sim_core.model.gait import angle_diff, settling
+from sim_core.model.gait import TWO_PI, angle_diff, settling
 from sim_core.model.params import ModelParams
 from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe, find
 from sim_core.paper.returnmap import initial_values
@@ -82,10 +82,10 @@ def validate(
     for c, res in zip(cells, found, strict=True):
         for a in res.stable():
             for sign in (-1.0, 1.0):
-                x0 = (a.d31 + sign * NUDGE) % (2 * math.pi)
+                x0 = (a.d31 + sign * NUDGE) % (TWO_PI)
                 probes.append((c, Probe(x0, CHECK_DURATION_S), "r", a.d31))
         for x in initial_values(starts):
-            x0 = float((x + offset) % (2 * math.pi))
+            x0 = float((x + offset) % (TWO_PI))
             probes.append((c, Probe(x0, CHECK_DURATION_S), "i", x0))
     tasks = [probe_task(c, p, params) for c, p, _, _ in probes]
     results, st = run_tasks(tasks, cache, backend, 8, progress)

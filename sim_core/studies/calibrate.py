@@ -13,12 +13,12 @@ swing curve or the ground, and gait selection must follow from phase resetting a
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from typing import Any
 
 import numpy as np
 
+from sim_core.model.gait import TWO_PI
 from sim_core.model.params import ModelParams, phi_aep
 from sim_core.paper.values import BETA_BISTABLE, BETA_FAST, BETA_SLOW
 from sim_core.studies.objectives import (
@@ -42,7 +42,7 @@ def reachable(params: ModelParams, beta: float = BETA_FAST, samples: int = 64) -
     tip = np.empty(3)
     q = np.empty(3)
     for leg in range(6):
-        for phi in np.linspace(0, 2 * math.pi, samples):
+        for phi in np.linspace(0, TWO_PI, samples):
             swing_point(geo, leg, float(phi), aep, tip)
             if not inverse_kinematics(geo, leg, tip, q):
                 return False

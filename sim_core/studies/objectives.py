@@ -30,7 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff, final_d31, settled_mean
+from sim_core.model.gait import TWO_PI, angle_diff, final_d31, window_d31
 from sim_core.model.params import ModelParams, nominal_speed
 from sim_core.model.probes import open_loop_drift
 from sim_core.model.runner import simulate_batch
@@ -71,7 +71,7 @@ class Evaluation:
             total += min(abs(float(angle_diff(f, TRIPOD_BRANCH))) for f in bis)
             total += min(abs(float(angle_diff(f, METACHRONAL_BRANCH))) for f in bis)
         else:
-            total += 2 * math.pi
+            total += TWO_PI
         total += WALK_PENALTY * max(0.0, self.speed_error - 0.10)
         total += WALK_PENALTY * max(0.0, self.max_slip - 0.10)
         return total
@@ -97,7 +97,7 @@ def evaluate(
             diverged += 1
             finals[spec.beta].append(None)
             continue
-        finals[spec.beta].append(settled_mean(res.d31))
+        finals[spec.beta].append(window_d31(res.d31))  # a screen of short runs
         v = nominal_speed(spec.beta, params.stroke, params.swing_duration) * 100
         if res.speed_cm_s is not None:
             speed_err = max(speed_err, abs(res.speed_cm_s - v) / v)
@@ -124,7 +124,7 @@ def outcome_gap(a: Evaluation, b: Evaluation) -> float:
     return gap
 
 
-DRIFT_GRID = np.linspace(0.0, 2 * math.pi, 18, endpoint=False) + math.pi / 18
+DRIFT_GRID = np.linspace(0.0, TWO_PI, 18, endpoint=False) + math.pi / 18
 DRIFT_SCALE = 0.01  # rad per cycle: a drift this size counts as a clear push (tanh ~ 0.76)
 
 

@@ -26,10 +26,10 @@ import numpy as np
 from numba import njit
 
 from sim_core.model.cpg import advance_phases
+from sim_core.model.gait import TWO_PI
 from sim_core.model.params import phi_aep
 from sim_core.paper.protocols import initial_values
 
-TWO_PI = 2.0 * math.pi
 MAX_EVENTS = 4000
 
 

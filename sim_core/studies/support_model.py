@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sim_core.model.gait import drift_per_cycle
+from sim_core.model.gait import TWO_PI, drift_per_cycle
 
 
 @dataclass(frozen=True)
@@ -42,7 +42,7 @@ class SupportGeometry:
 
 def leg_offsets(d31: float) -> np.ndarray:
     """Phase lead of each leg over leg 1 in cycles, with eqs. 5-7 satisfied exactly."""
-    a = d31 / (2 * math.pi)
+    a = d31 / (TWO_PI)
     return np.array([0.0, 0.5, a, a + 0.5, 2 * a, 2 * a + 0.5]) % 1.0
 
 

@@ -9,7 +9,7 @@ this test says the documentation is out of date.
 
 import pytest
 
-from sim_core.model.gait import TAIL_DRIFT_SETTLED, angle_diff, tail_drift
+from sim_core.model.gait import TAIL_DRIFT_SETTLED, angle_diff, settling
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import RunResult, RunSpec
 from sim_core.paper.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
@@ -27,9 +27,9 @@ def finals() -> dict[tuple[float, float], RunResult]:
 
 def _tail(r: RunResult) -> tuple[float, float]:
     assert not r.diverged, r.error
-    tail = tail_drift(r.d31)
-    assert tail is not None, "too few touchdowns"
-    return tail
+    s = settling(r.d31)
+    assert s.final is not None and s.drift is not None, "too few touchdowns"
+    return s.final, s.drift
 
 
 def _settled(r: RunResult) -> float:

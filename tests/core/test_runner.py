@@ -105,6 +105,41 @@ def test_live_simulation_matches_batch_and_acts_on_changes() -> None:
     assert sim.time_s == 0 and sim.beta == 0.62
 
 
+def test_the_live_history_is_a_bounded_ring_in_time_order() -> None:
+    sim = Simulation(RunSpec(beta=0.66, d31_init=2.9), history_s=0.25)
+    sim.advance(0.6)  # past the ring's length: it has wrapped
+    t, st = sim.footfall
+    assert st.shape == (t.size, 6) and np.all(np.diff(t) > 0)
+    assert t[-1] == pytest.approx(sim.time_s) and 0.24 <= t[-1] - t[0] <= 0.26
+    later, _ = sim.footfall_since(float(t[-10]))
+    assert later.tolist() == t[-9:].tolist()
+    assert sim.speed_cm_s is not None and sim.speed_cm_s > 0  # walking forwards
+    assert sim.heading_rad is not None and abs(sim.heading_rad) < 0.2
+    assert sim.duty_factor is not None and 0.4 < sim.duty_factor < 0.9
+
+
+def test_a_ring_record_keeps_the_last_rows() -> None:
+    from sim_core.model.records import Recorder
+
+    rec = Recorder(1, 4, 1, ring=True)
+    live = np.array([0])
+    for k in range(6):
+        q = np.zeros((1, 7))
+        q[0, 0] = k
+        rec.take(float(k), live, np.zeros((1, 6)), q, np.zeros((1, 6)))
+    s = rec.series(0)
+    assert s.times_s is not None and s.body_pos_m is not None
+    assert s.times_s.tolist() == [2.0, 3.0, 4.0, 5.0] and s.body_pos_m[:, 0].tolist() == [
+        2,
+        3,
+        4,
+        5,
+    ]
+    assert rec.since(0, 3.5).times_s.tolist() == [4.0, 5.0]  # type: ignore[union-attr]
+    with pytest.raises(ValueError, match="one simulation"):
+        Recorder(2, 4, 1, ring=True)
+
+
 def test_landing_share_reads_where_in_the_swing_feet_land() -> None:
     from sim_core.model.gait import landing_share
 

@@ -121,6 +121,11 @@ def test_sweep_jobs_cover_their_grid(
             rows = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]["records"]
             grid = {(round(r["beta"], 3), r["d31_init"]) for r in rows}
             assert grid == {(0.62, 2.0), (0.62, 3.0), (0.7, 2.0), (0.7, 3.0)}
+            # the core's one settled rule: 0.5 s cannot show a settled drift, so no gait is
+            # claimed (issue 30: a 5 s sweep said "tripod" where 40 s slides away)
+            assert all(not r["settled"] and r["gait"] == "not settled" for r in rows), rows
+            assert all("run longer" in r["settled_why"] or "too few" in r["settled_why"]
+                       for r in rows)  # fmt: skip
             csv = c.get(f"/v1/jobs/{job['id']}/result", params={"format": "csv"})
             assert csv.status_code == 200 and csv.text.count("\n") >= 5
             png = c.get(f"/v1/jobs/{job['id']}/figure.png")

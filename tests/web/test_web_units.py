@@ -155,33 +155,6 @@ def test_a_typed_keystroke_outside_the_range_is_not_a_value_yet() -> None:
     assert controls.BODY_MASS_G.typed(10.0) == 10.0 and controls.BODY_MASS_G.typed(45) is None
 
 
-def test_speed_is_measured_along_the_heading_not_world_x() -> None:
-    from web.heading import HeadingSpeed, yaw_of
-
-    def quat(yaw: float) -> np.ndarray:
-        return np.array([math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2)])
-
-    assert yaw_of(quat(0.7)) == pytest.approx(0.7)
-    # turned 90 degrees, walking forwards (along +y) at 2 cm/s: world-x speed would read 0
-    m = HeadingSpeed(window_s=1.0)
-    for k in range(11):
-        t = 0.1 * k
-        m.add(t, np.array([0.0, 0.02 * t, 0.0]), quat(math.pi / 2))
-    assert m.speed_cm_s == pytest.approx(2.0)
-    assert m.heading_rad == pytest.approx(math.pi / 2)
-    # turned 180 degrees and walking forwards (towards -x): positive, not -2
-    m.clear()
-    for k in range(11):
-        t = 0.1 * k
-        m.add(t, np.array([-0.02 * t, 0.0, 0.0]), quat(math.pi + 0.01 * (-1) ** k))
-    assert m.speed_cm_s == pytest.approx(2.0, rel=1e-3)
-    # sliding backwards reads negative; a reset (time going back) starts over
-    m.add(0.0, np.zeros(3), quat(0.0))
-    assert m.speed_cm_s is None
-    m.add(1.0, np.array([-0.01, 0.0, 0.0]), quat(0.0))
-    assert m.speed_cm_s == pytest.approx(-1.0)
-
-
 def test_the_follow_camera_can_turn_the_world_so_the_body_faces_x() -> None:
     import viser.transforms as vtf
 
