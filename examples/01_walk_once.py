@@ -18,7 +18,8 @@ if result.error:
     raise SystemExit(f"the run failed: {result.error}")
 summary = result.summary()
 print(f"Delta31 at leg-1 touchdowns: {[round(x, 2) for x in summary['d31'][:12]]} ...")
-print(f"ends at {summary['d31_final']:.3f} rad: {summary['gait']}")
+end = "n/a" if summary["d31_final"] is None else f"{summary['d31_final']:.3f} rad"
+print(f"ends at {end}: {summary['gait']} ({summary['settled_why'] or 'settled'})")
 v_eq2 = nominal_speed(args.beta, 2e-3, 34e-3) * 100  # D = 2 mm, T_sw = 34 ms
 print(f"speed {summary['speed_cm_s']:.2f} cm/s (eq. 2: {v_eq2:.2f})")
 print(f"feet land at {result.landing_swing_share:.2f} of the swing (1 = at the AEP)")

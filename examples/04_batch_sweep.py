@@ -5,7 +5,7 @@ python examples/04_batch_sweep.py --betas 0.62 0.66 0.70 --starts 6 --duration-s
 
 import argparse
 
-from sim_core import simulate_batch, spec_grid
+from sim_core import RunResult, simulate_batch, spec_grid
 from sim_core.paper.protocols import initial_values
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -18,5 +18,11 @@ specs = spec_grid(args.betas, initial_values(args.starts), duration_s=args.durat
 results = simulate_batch(specs)  # one mujoco.batch per numerics, every core
 for beta in args.betas:
     ends = [r for r in results if r.spec.beta == beta]
-    shown = ", ".join("fail" if r.error else f"{r.d31_final:.2f} {r.gait[:4]}" for r in ends)
+
+    def word(r: RunResult) -> str:
+        if r.error or r.d31_final is None:
+            return "fail" if r.error else "n/a"
+        return f"{r.d31_final:.2f}{'' if r.settled else '~'}"  # ~: not settled by the rule
+
+    shown = ", ".join(word(r) for r in ends)
     print(f"beta {beta:.3f}: {shown}")

@@ -108,11 +108,15 @@ def window_gait(d31: np.ndarray | Sequence[float]) -> str:
 
 
 def final_d31(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:
-    """Where a run ends (`settling`'s final: the circular mean of its last quarter; None with
-    too few touchdowns) and its gait: `classify_gait` of that final if the run has settled,
-    NOT_SETTLED otherwise. The one definition of a run's end that results report."""
+    """Where a run ends and its gait. The end is `settling`'s final (the circular mean of the
+    last quarter); a run too short for a quarter of 4 touchdowns ends at the mean of its last
+    WINDOW_LAST samples (None below 3). The gait is `classify_gait` of the end if the run has
+    settled by `settling`, NOT_SETTLED otherwise. The one definition results report."""
     s = settling(d31)
-    return s.final, classify_gait(s.final) if s.settled else NOT_SETTLED
+    if s.final is not None:
+        return s.final, classify_gait(s.final) if s.settled else NOT_SETTLED
+    d = np.asarray(d31, dtype=float)
+    return (circular_mean(d[-WINDOW_LAST:]) if d.size >= 3 else None), NOT_SETTLED
 
 
 def mean_after(

@@ -37,7 +37,8 @@ def test_an_attractor_across_the_wrap_has_no_drift_and_its_gait() -> None:
     wrapped = (6.25 + 0.01 * rng.standard_normal(80)) % (2 * math.pi)  # straddles 0 = 2 pi
     w = settling(wrapped)
     assert w.final is not None and min(w.final, 2 * math.pi - w.final) < 0.1
-    assert settling([1.0] * 7).final is None and final_d31([1.0] * 7) == (None, NOT_SETTLED)
+    assert settling([1.0] * 7).final is None and final_d31([1.0] * 7) == (1.0, NOT_SETTLED)
+    assert final_d31([1.0, 1.0]) == (None, NOT_SETTLED)  # too short to say where it ends
     assert window_gait([1.0, 4.0, 2.0]) == "other"  # a window that moves names no gait
 
 
