@@ -142,7 +142,8 @@ def format_readouts(r: Readouts) -> dict[str, str]:
         "speed along heading (cm/s)": _f(r.speed_cm_s, "{:.2f}")
         + ("" if r.heading_deg is None else f"  (heading {round(r.heading_deg)}°)"),
         "duty factor (measured)": _f(r.duty_factor, "{:.3f}"),
-        "gait": f"{r.gait}  (Δ31 now {r.d31_now:.2f} rad)",
+        # the gait walked over the last touchdowns (`Simulation.gait`), not a settled verdict
+        "gait now": f"{r.gait}  (Δ31 now {r.d31_now:.2f} rad)",
         "real-time factor": rtf + f"  (stepping alone {_f(r.stepping_rtf, '{:.1f}x')})",
         "stream rate (Hz)": _f(r.frame_hz, "{:.0f}"),
         "ramp": r.ramp or "off",

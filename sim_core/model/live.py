@@ -9,6 +9,8 @@ Not thread-safe: one thread owns it.
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import mujoco
 import numpy as np
 
@@ -17,6 +19,15 @@ from sim_core.model.mjspec import build_model
 from sim_core.model.params import ModelParams
 from sim_core.model.runner import BatchRunner
 from sim_core.model.spec import RunFailure, RunSpec, SimulationDiverged
+
+
+class _Window(NamedTuple):
+    """What `Simulation` reads off its record's last second, keyed by the rows recorded."""
+
+    rows: int
+    stance: np.ndarray
+    speed_m_s: float | None
+    heading_rad: float | None
 
 
 class Simulation:
@@ -42,6 +53,7 @@ class Simulation:
         self._render_model = build_model(self._runner.params, visual=True)
         self._data = mujoco.MjData(self._render_model)
         self._events: list[tuple[float, float]] = []  # grows with the run; never rebuilt
+        self._window: _Window | None = None
 
     # --- controls -----------------------------------------------------------------------------
     def advance(self, sim_seconds: float) -> None:
@@ -148,29 +160,32 @@ class Simulation:
         assert s.times_s is not None and s.stance is not None
         return np.array(s.times_s), np.array(s.stance, dtype=bool).reshape(-1, 6)
 
-    def _last_second(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        s = self._record.since(0, self.time_s - 1.0)
-        assert s.times_s is not None and s.stance is not None
-        assert s.body_pos_m is not None and s.body_quat is not None
-        return s.times_s, s.stance, s.body_pos_m, s.body_quat
+    def _last_second(self) -> _Window:
+        """The record's last second and the heading speed over it, computed once per recorded
+        row (the viewer reads speed, heading and duty factor every frame)."""
+        if self._window is None or self._window.rows != self._record.n_rows:
+            s = self._record.since(0, self.time_s - 1.0)
+            assert s.times_s is not None and s.stance is not None
+            assert s.body_pos_m is not None and s.body_quat is not None
+            speed, heading = gait.heading_speed(s.times_s, s.body_pos_m, s.body_quat)
+            self._window = _Window(self._record.n_rows, s.stance, speed, heading)
+        return self._window
 
     @property
     def speed_cm_s(self) -> float | None:
         """Speed along the body's heading over the last second (`gait.heading_speed`), cm/s."""
-        t, _, pos, quat = self._last_second()
-        v = gait.heading_speed(t, pos, quat)[0]
+        v = self._last_second().speed_m_s
         return None if v is None else 100.0 * v
 
     @property
     def heading_rad(self) -> float | None:
         """The body's mean heading over the last second (rad from world +x towards +y)."""
-        t, _, pos, quat = self._last_second()
-        return gait.heading_speed(t, pos, quat)[1]
+        return self._last_second().heading_rad
 
     @property
     def duty_factor(self) -> float | None:
         """All legs' stance fraction over the last second (`gait.duty_factor` of that window)."""
-        return gait.duty_factor(self._last_second()[1], fraction=1.0)
+        return gait.duty_factor(self._last_second().stance, fraction=1.0)
 
     @property
     def gait(self) -> str:
