@@ -23,8 +23,10 @@ from sim_core.model.cost import (
     run_cost,
 )
 from sim_core.model.gait import (
+    METACHRONAL,
     NOT_SETTLED,
     TAIL_DRIFT_SETTLED,
+    TRIPOD,
     TWO_PI,
     Settling,
     circular_mean,
@@ -94,6 +96,7 @@ __all__ = [
     "MAX_JOB_BYTES",
     "MAX_STABLE_DT_S",
     "MAX_STEPS_PER_RUN",
+    "METACHRONAL",
     "MIN_DT_S",
     "NOT_SETTLED",
     "NO_FOOTHOLD_S",
@@ -104,6 +107,7 @@ __all__ = [
     "SLIDE_BACK_SPEED_M_S",
     "SLIDE_WINDOW_S",
     "TAIL_DRIFT_SETTLED",
+    "TRIPOD",
     "TWO_PI",
     "AtlasAxis",
     "AtlasOutput",

@@ -10,10 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
-from sim_core.contract import TWO_PI, Ramp
-
-TRIPOD = math.pi
-METACHRONAL = TWO_PI / 3.0
+from sim_core.contract import METACHRONAL, TWO_PI, Ramp
 
 
 @dataclass(frozen=True)

@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import viser
 
-from sim_core.contract import Ramp
+from sim_core.contract import METACHRONAL, TRIPOD, Ramp
 from web import controls
 from web.caption import CAPTION
 from web.paths import DEFAULT_API_URL
@@ -205,9 +205,9 @@ class Panels:
             self.play.on_click(self._on_play)
             self._playing = True
             self.tripod = gui.add_button(PRESET_TRIPOD)
-            self.tripod.on_click(self._queue(lambda: Reset(controls.TRIPOD)))
+            self.tripod.on_click(self._queue(lambda: Reset(TRIPOD)))
             self.metachronal = gui.add_button(PRESET_METACHRONAL)
-            self.metachronal.on_click(self._queue(lambda: Reset(controls.METACHRONAL)))
+            self.metachronal.on_click(self._queue(lambda: Reset(METACHRONAL)))
             self.window = self._slider("footfall", controls.FOOTFALL_WINDOW_S, SetFootfallWindow)
             self.d31_window = gui.add_number(D31_WINDOW_LABEL, 0.0, min=0.0, max=3600.0, step=1.0)
             self.d31_window.on_update(self._on_d31_window)

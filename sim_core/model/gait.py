@@ -2,7 +2,11 @@
 
 The paper reads the gait from one number, Delta31 = phi3 - phi1 at leg-1 touchdown: pi for the
 tripod, 2 pi / 3 for the metachronal gait (Sec. II B 5), with the model's branches at 2.9 and
-1.9 rad (Fig. 5). The classifier's windows sit around those ideal values and meet nowhere.
+1.9 rad (Fig. 5). A gait is a footfall pattern, though: which legs swing together and in which
+order. `footfall_gait` names it from the legs' lift-off phases and the swing's length, so the
+same Delta31 can be a tripod at a low duty factor and a wave at a high one; `classify_gait`
+applies it to the pattern a Delta31 implies (eq. 7's antiphase sides, Delta53 = Delta31), and
+a finished run's label reads its own measured footfall (`measured_footfall`).
 """
 
 from __future__ import annotations
@@ -16,12 +20,22 @@ import numpy as np
 TWO_PI = 2.0 * math.pi
 TRIPOD = math.pi
 METACHRONAL = TWO_PI / 3.0
-# Half-widths of the classification windows (rad). Tripod covers [2.542, 3.742] (the paper's
-# tripod branch 2.9 inside), metachronal [1.644, 2.544] (branch 1.9 inside): they overlap by
-# 0.003 rad at 2.542..2.544, where `classify_gait` says tripod (it asks first). Everything
-# outside both windows is "other".
-TRIPOD_HALF_WIDTH = 0.6
-METACHRONAL_HALF_WIDTH = 0.45
+# The footfall rules (`footfall_gait`; issue 30, point 2: the old Delta31 windows cut through
+# the model's own branches at beta 0.56 and >= 0.75 and on downhill slopes).
+# tripod: each tripod's three legs are in the air together for at least this share of the time
+# any of them is (the "tripod coordination strength" of Wosnitza et al., J. Exp. Biol. 216,
+# 480 (2013)): half, the midpoint between a lock-step tripod (1) and three legs that never all
+# swing at once (0). For the ideal pattern: Delta31 within pi (1 - beta) / 3 of pi.
+TRIPOD_TCS_MIN = 0.5
+# metachronal: on each side the legs lift off hind -> middle -> fore (each leg leads its front
+# neighbour by less than half a cycle), and no two neighbours on a side share more than this
+# share of a swing in the air (more, and a side stands on one leg for most of a swing: the
+# reduced model's 0.8-1.2 rad states). For the ideal pattern: Delta31 above pi (1 - beta).
+NEIGHBOUR_SWING_SHARE_MAX = 0.5
+# paper leg order (anatomy.LEG_NAMES: R1 L1 R2 L2 R3 L3): the two tripods and, per side, the
+# neighbours (front leg, the leg behind it)
+TRIPODS = ((0, 3, 4), (1, 2, 5))
+NEIGHBOURS = ((0, 2), (2, 4), (1, 3), (3, 5))
 # The gait a result reports for a run that has not settled by `settling` (its d31_final is
 # still where it ended): neither gait is claimed for a run that is still moving.
 NOT_SETTLED = "not settled"
@@ -80,15 +94,101 @@ def circular_std(angles: np.ndarray | list[float]) -> float:
     return math.sqrt(max(0.0, -2.0 * math.log(max(r, 1e-300))))
 
 
-def classify_gait(d31: float | None) -> str:
-    """'tripod', 'metachronal' or 'other' from a settled Delta31 (rad)."""
-    if d31 is None or not math.isfinite(d31):
+def _spread(starts: np.ndarray) -> float:
+    """The shortest arc of the circle that holds every angle of `starts` (rad)."""
+    a = np.sort(wrap(starts))
+    gaps = np.diff(np.concatenate([a, a[:1] + TWO_PI]))
+    return float(TWO_PI - gaps.max())
+
+
+def tripod_strength(lift: np.ndarray, swing: float) -> float:
+    """The weaker tripod's coordination strength: the time its three legs swing together over
+    the time any of them swings (swings of length `swing` rad starting at `lift`, (6,) lift-off
+    phases, any origin). 1 for a lock-step tripod, 0 when the three never all swing at once."""
+    out = 1.0
+    for group in TRIPODS:
+        w = _spread(lift[list(group)])
+        out = min(out, max(0.0, swing - w) / min(TWO_PI, swing + w))
+    return out
+
+
+def neighbour_swing_share(lift: np.ndarray, swing: float) -> float:
+    """The most any two neighbours on a side are in the air together, as a share of a swing."""
+    worst = 0.0
+    for front, back in NEIGHBOURS:
+        gap = abs(float(angle_diff(lift[front], lift[back])))
+        both = max(0.0, swing - gap) + max(0.0, swing - (TWO_PI - gap))
+        worst = max(worst, both / swing)
+    return worst
+
+
+def back_to_front(lift: np.ndarray) -> bool:
+    """On both sides each leg lifts off before its front neighbour, by less than half a cycle:
+    the wave runs hind -> middle -> fore."""
+    lead = [float(angle_diff(lift[front], lift[back])) for front, back in NEIGHBOURS]
+    return all(0.0 < x < math.pi for x in lead)
+
+
+def footfall_gait(lift: np.ndarray, swing: float) -> str:
+    """'tripod', 'metachronal' or 'other' from a footfall pattern: `lift` (6,) the legs'
+    lift-off phases in one gait cycle (rad, paper leg order, any origin), `swing` the swing's
+    length (rad; 2 pi (1 - beta) as commanded). Tripod: each tripod swings as one
+    (TRIPOD_TCS_MIN); metachronal: a hind -> middle -> fore wave on both sides whose neighbours
+    share little swing (NEIGHBOUR_SWING_SHARE_MAX); anything else is 'other'."""
+    lift = np.asarray(lift, dtype=float)
+    if not (np.all(np.isfinite(lift)) and 0.0 < swing < TWO_PI):
         return "other"
-    if abs(float(angle_diff(d31, TRIPOD))) <= TRIPOD_HALF_WIDTH:
+    if tripod_strength(lift, swing) >= TRIPOD_TCS_MIN:
         return "tripod"
-    if abs(float(angle_diff(d31, METACHRONAL))) <= METACHRONAL_HALF_WIDTH:
+    if back_to_front(lift) and neighbour_swing_share(lift, swing) <= NEIGHBOUR_SWING_SHARE_MAX:
         return "metachronal"
     return "other"
+
+
+def ideal_lifts(d31: float) -> np.ndarray:
+    """(6,) lift-off phases of the pattern a Delta31 implies: each middle leg ahead of its fore
+    neighbour and each hind leg ahead of its middle neighbour by Delta31 (Delta53 = Delta31,
+    which eq. 7's middle coupling locks), the sides half a cycle apart. A leg lifts when its
+    phase reaches 2 pi, so a phase ahead by D lifts D earlier."""
+    side = np.array([0.0, math.pi, 0.0, math.pi, 0.0, math.pi])
+    rank = np.array([0.0, 0.0, 1.0, 1.0, 2.0, 2.0])  # fore, middle, hind
+    return wrap(side - rank * d31)
+
+
+def classify_gait(d31: float | None, beta: float) -> str:
+    """`footfall_gait` of the pattern a settled Delta31 (rad) implies at duty factor beta."""
+    if d31 is None or not math.isfinite(d31):
+        return "other"
+    return footfall_gait(ideal_lifts(float(d31)), TWO_PI * (1.0 - beta))
+
+
+def measured_footfall(
+    touchdowns: Sequence[np.ndarray], liftoffs: Sequence[np.ndarray], t0: float, t1: float
+) -> tuple[np.ndarray, float] | None:
+    """(lift-off phases (6,), swing length) walked in [t0, t1], rad: each leg's lift-offs
+    placed in leg 1's cycles (circular mean), each swing's length over its cycle's period
+    (mean over legs). None when leg 1 completes fewer than 2 cycles or a leg never lifts."""
+    lo1 = np.asarray(liftoffs[0], dtype=float)
+    lo1 = lo1[(lo1 >= t0) & (lo1 <= t1)]
+    if lo1.size < 3:
+        return None
+    lift = np.zeros(6)
+    swings: list[float] = []
+    for leg in range(6):
+        lo = np.asarray(liftoffs[leg], dtype=float)
+        lo = lo[(lo >= lo1[0]) & (lo < lo1[-1])]
+        if lo.size == 0:
+            return None
+        k = np.searchsorted(lo1, lo, side="right") - 1
+        period = lo1[k + 1] - lo1[k]
+        lift[leg] = circular_mean(TWO_PI * (lo - lo1[k]) / period)
+        td = np.asarray(touchdowns[leg], dtype=float)
+        nxt = np.searchsorted(td, lo, side="right")
+        ok = nxt < td.size
+        swings.extend((TWO_PI * (td[nxt[ok]] - lo[ok]) / period[ok]).tolist())
+    if not swings:
+        return None
+    return lift, float(np.mean(swings))
 
 
 def window_d31(d31: np.ndarray | Sequence[float]) -> float | None:
@@ -102,21 +202,29 @@ def window_d31(d31: np.ndarray | Sequence[float]) -> float | None:
     return circular_mean(tail) if circular_std(tail) <= WINDOW_STD else None
 
 
-def window_gait(d31: np.ndarray | Sequence[float]) -> str:
-    """`classify_gait` of `window_d31`: 'other' while the run moves."""
-    return classify_gait(window_d31(d31))
+def window_gait(d31: np.ndarray | Sequence[float], beta: float) -> str:
+    """`classify_gait` of `window_d31` at duty factor beta: 'other' while the run moves."""
+    return classify_gait(window_d31(d31), beta)
 
 
-def final_d31(d31: np.ndarray | Sequence[float]) -> tuple[float | None, str]:
-    """Where a run ends and its gait. The end is `settling`'s final (the circular mean of the
-    last quarter); a run too short for a quarter of 4 touchdowns ends at the mean of its last
-    WINDOW_LAST samples (None below 3). The gait is `classify_gait` of the end if the run has
-    settled by `settling`, NOT_SETTLED otherwise. The one definition results report."""
+def final_d31(d31: np.ndarray | Sequence[float]) -> float | None:
+    """Where a run ends: `settling`'s final (the circular mean of the last quarter); a run too
+    short for a quarter of 4 touchdowns ends at the mean of its last WINDOW_LAST samples (None
+    below 3). Its gait is named only if it has settled (`run_gait`)."""
     s = settling(d31)
     if s.final is not None:
-        return s.final, classify_gait(s.final) if s.settled else NOT_SETTLED
+        return s.final
     d = np.asarray(d31, dtype=float)
-    return (circular_mean(d[-WINDOW_LAST:]) if d.size >= 3 else None), NOT_SETTLED
+    return circular_mean(d[-WINDOW_LAST:]) if d.size >= 3 else None
+
+
+def run_gait(settle: Settling, footfall: tuple[np.ndarray, float] | None) -> str:
+    """The gait a finished run reports: `footfall_gait` of its last quarter's measured footfall
+    if it has settled by `settling`, NOT_SETTLED otherwise (no gait is claimed for a run that
+    is still moving). The one definition results report."""
+    if not settle.settled:
+        return NOT_SETTLED
+    return "other" if footfall is None else footfall_gait(*footfall)
 
 
 def mean_after(

@@ -192,7 +192,7 @@ class Simulation:
         """The gait walked now (`gait.window_gait` of the last few touchdowns): a live label,
         not a claim that the run has settled."""
         d31 = np.array(self._runner.d31_v[0][-4:])
-        return gait.window_gait(d31)
+        return gait.window_gait(d31, self.beta)
 
     def _push_events(self, r: BatchRunner) -> None:
         """The run loop's hook: after every control period, the new Delta31 events."""

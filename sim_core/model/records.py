@@ -80,12 +80,17 @@ def assemble_result(
     st = _copy(stance, (0, 6), np.bool_)
     pos = _copy(body_pos_m, (0, 3))
     d31_arr = np.array(d31)
+    d31_t = np.array(d31_times_s)
     settle = gait.settling(d31_arr)
-    d31_final, name = gait.final_d31(d31_arr)
+    d31_final = gait.final_d31(d31_arr)
     quat = _copy(body_quat, (0, 4))
     speed = gait.forward_speed(times, pos, quat)
     tds = tuple(np.array(t) for t in touchdowns)
     tdp = tuple(np.array(t) for t in touchdown_phases)
+    los = tuple(np.array(t) for t in liftoffs)
+    # the footfall walked over the settled quarter names the gait
+    quarter = (d31_t[-settle.tail], d31_t[-1]) if settle.tail else (0.0, 0.0)
+    name = gait.run_gait(settle, gait.measured_footfall(tds, los, *quarter))
     ntd = sum(t.size for t in tds)
     duty = gait.duty_factor(st)
     landing = gait.landing_share(tds, tdp, phi_aep, after_s=duration_s / 3)
@@ -97,7 +102,7 @@ def assemble_result(
     return RunResult(
         **base,
         d31=d31_arr,
-        d31_times_s=np.array(d31_times_s),
+        d31_times_s=d31_t,
         times_s=times,
         stance=st,
         body_pos_m=pos,
@@ -105,7 +110,7 @@ def assemble_result(
         body_quat=quat,
         touchdowns=tds,
         touchdown_phases=tdp,
-        liftoffs=tuple(np.array(t) for t in liftoffs),
+        liftoffs=los,
         d31_final=d31_final,
         gait=name,
         settled=settle.settled,

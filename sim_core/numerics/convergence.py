@@ -296,8 +296,9 @@ def grid_study(
                     drift_err = None if math.isnan(drift_err) else drift_err
                 retouch = max(r.retouches_per_stance or 0.0 for r in runs)
                 chatter = "contact chatter" if retouch > ref_retouch + CHATTER_MARGIN else None
+                betas_run = [r.spec.beta for r in runs]
                 point = GridPoint(integ, dt, wall, worst_error(finals, own_ref),
-                                  same_gaits(finals, own_ref), chatter, label, thr,
+                                  same_gaits(finals, own_ref, betas_run), chatter, label, thr,
                                   max(slips) if slips else None, tuple(finals),
                                   drift_err, retouch)  # fmt: skip
             out.append(point)
@@ -318,15 +319,18 @@ def grid_study(
 
 
 def same_gaits(
-    finals: Sequence[float | None], ref: Sequence[float | None], tol: float = TOLERANCE_RAD
+    finals: Sequence[float | None],
+    ref: Sequence[float | None],
+    betas: Sequence[float],
+    tol: float = TOLERANCE_RAD,
 ) -> bool:
     """Every run ends in the reference's gait; two outcomes within `tol` of each other count as
     the same gait even when they straddle the classifier's boundary (2.543 vs 2.526 is one
     state, not two gaits)."""
-    for f, r in zip(finals, ref, strict=True):
+    for f, r, b in zip(finals, ref, betas, strict=True):
         if f is None or r is None:
             return False
-        if classify_gait(f) != classify_gait(r) and abs(float(angle_diff(f, r))) > tol:
+        if classify_gait(f, b) != classify_gait(r, b) and abs(float(angle_diff(f, r))) > tol:
             return False
     return True
 

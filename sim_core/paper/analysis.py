@@ -42,13 +42,16 @@ class Transition:
     after: str
 
 
-def detect_transitions(values: np.ndarray, d31: np.ndarray, persist: int = 4) -> list[Transition]:
-    """Where the classified gait switches and then stays switched for `persist` samples.
+def detect_transitions(
+    values: np.ndarray, d31: np.ndarray, betas: np.ndarray, persist: int = 4
+) -> list[Transition]:
+    """Where the classified gait (`classify_gait` at each sample's beta) switches and then
+    stays switched for `persist` samples.
 
     'other' samples (in between the branches) never start or end a gait; the switch is placed
     at the first sample of the new gait.
     """
-    gaits = [classify_gait(float(x)) for x in d31]
+    gaits = [classify_gait(float(x), float(b)) for x, b in zip(d31, betas, strict=True)]
     out: list[Transition] = []
     current: str | None = None
     k = 0
@@ -72,7 +75,10 @@ def stable_ranges(
     betas: Sequence[float], fixed: Sequence[Sequence[FixedPoint]], gait: str
 ) -> list[tuple[float, float]]:
     """Contiguous runs of grid betas with a stable fixed point of `gait` (classify_gait)."""
-    has = [any(f.stable and classify_gait(f.d31) == gait for f in fps) for fps in fixed]
+    has = [
+        any(f.stable and classify_gait(f.d31, b) == gait for f in fps)
+        for b, fps in zip(betas, fixed, strict=True)
+    ]
     out: list[tuple[float, float]] = []
     start: float | None = None
     for k, (b, h) in enumerate(zip(betas, has, strict=True)):
@@ -134,6 +140,7 @@ def sweep_summary(
     turn: float,
     hold_s: float,
     ramp_s: float,
+    beta: Sequence[float] | float,
     persist: int = PERSIST,
 ) -> dict[str, Any]:
     """Transitions on each leg of a triangle sweep start -> turn -> start, and the loop.
@@ -142,12 +149,14 @@ def sweep_summary(
     in) and assigned to a leg by time; switches during the first hold are settling, not
     transitions. `loop` is True when the first leg's switch lies beyond the second leg's in
     the first leg's direction: the system stayed on its branch both ways (hysteresis).
+    `beta`: the duty factor at each sample (the values, when beta is swept) or a constant.
     """
     t = np.asarray(times_s, dtype=float)
     v = np.asarray(values, dtype=float)
     d = np.asarray(d31, dtype=float)
     turn_t = hold_s + ramp_s
-    found = detect_transitions(v, d, persist) if d.size else []
+    b = np.broadcast_to(np.asarray(beta, dtype=float), d.shape)
+    found = detect_transitions(v, d, b, persist) if d.size else []
     legs: dict[str, list[dict[str, Any]]] = {"first": [], "second": []}
     for tr in found:
         item = _transition_dict(tr, t)
@@ -168,10 +177,16 @@ def sweep_summary(
         "second_leg": legs["second"],
         "width": width,
         "loop": loop,
-        "gait_at_start": window_gait(d[t < hold_s]),
-        "gait_at_turn": window_gait(d[t < turn_t]),
-        "gait_at_end": window_gait(d),
+        "gait_at_start": _gait_until(d, b, t < hold_s),
+        "gait_at_turn": _gait_until(d, b, t < turn_t),
+        "gait_at_end": _gait_until(d, b, np.ones(d.shape, dtype=bool)),
     }
+
+
+def _gait_until(d31: np.ndarray, beta: np.ndarray, upto: np.ndarray) -> str:
+    """`window_gait` of the samples in `upto` (a leading stretch), at its last beta."""
+    d = d31[upto]
+    return window_gait(d, float(beta[upto][-1])) if d.size else "other"
 
 
 def stance_intervals(

@@ -110,7 +110,7 @@ class Variant:
     metachronal: list[tuple[float, float | None]]  # (beta, ... from METACHRONAL_START)
 
     def tripod_lives(self) -> list[bool]:
-        return [e is not None and classify_gait(e) == "tripod" for _, e in self.tripod]
+        return [e is not None and classify_gait(e, b) == "tripod" for b, e in self.tripod]
 
     def fold(self) -> str:
         """The tripod's fold bracket along FOLD_BETAS, as text."""

@@ -176,7 +176,7 @@ def _fig5(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
             if r["error"] is None:  # THE settled rule (drift over a resolved last quarter)
                 st = settling(r["d31"])
                 final = st.final if st.settled else None
-                gait = classify_gait(final) if st.settled else "not settled"
+                gait = classify_gait(final, beta) if st.settled else "not settled"
             else:
                 final, gait = None, "diverged"
             finals.append(final)
@@ -201,9 +201,10 @@ def _series_rows(tag: str, r: dict[str, Any]) -> list[list[Any]]:
     return [[tag, t, v, d] for t, v, d in zip(r["d31_times_s"], r["value"], r["d31"], strict=True)]
 
 
-def _sweep(r: Ramp, res: dict[str, Any]) -> dict[str, Any]:
+def _sweep(r: Ramp, res: dict[str, Any], cfg: Config) -> dict[str, Any]:
+    beta = res["value"] if r.param == "beta" else cfg.sweep_beta  # as `_ramp_task` runs it
     s = sweep_summary(res["d31_times_s"], res["value"], res["d31"], r.start, r.turn, r.hold_s,
-                      r.ramp_s)  # fmt: skip
+                      r.ramp_s, beta)  # fmt: skip
     return s | {"param": r.param, "ramp_s": r.ramp_s, "hold_s": r.hold_s, "error": res["error"]}
 
 
@@ -220,8 +221,8 @@ def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     ups = {"full": beta_ramp(cfg, up=True), "half_rate": beta_ramp(cfg, slower=True, up=True)}
     res = {k: get(_ramp_task(r, cfg, p)) for k, r in ramps.items()}
     res_up = {k: get(_ramp_task(r, cfg, p)) for k, r in ups.items()}
-    sweeps = {k: _sweep(r, res[k]) for k, r in ramps.items()}
-    sweeps_up = {k: _sweep(r, res_up[k]) for k, r in ups.items()}
+    sweeps = {k: _sweep(r, res[k], cfg) for k, r in ramps.items()}
+    sweeps_up = {k: _sweep(r, res_up[k], cfg) for k, r in ups.items()}
     # the switch to the tripod as beta falls (first protocol's first leg) and back to the
     # metachronal as it rises (second protocol's first leg); keyed as the legs of a loop
     legs = {"first_leg": (sweeps, "tripod"), "second_leg": (sweeps_up, "metachronal")}
@@ -310,7 +311,7 @@ def _points(cell: CellResult) -> list[dict[str, Any]]:
     by Delta31; states that kicks confirmed from one side only are in `_one_sided`."""
     pts = [{"d31": a.d31, "stable": True, "gait": a.gait, "slope": a.slope} for a in cell.stable()]
     pts += [
-        {"d31": b.d31, "stable": False, "gait": classify_gait(b.d31), "slope": b.slope}
+        {"d31": b.d31, "stable": False, "gait": classify_gait(b.d31, cell.beta), "slope": b.slope}
         for b in cell.borders
         if b.d31 is not None
     ]
@@ -355,7 +356,7 @@ def _fig8(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[Figure
     out = {gait: branch_ranges(cells, gait) for gait in ("tripod", "metachronal")}
     r = beta_ramp(cfg)
     res = get(_ramp_task(r, cfg, p))
-    sweep = _sweep(r, res)
+    sweep = _sweep(r, res, cfg)
     r_up = beta_ramp(cfg, up=True)
     res_up = get(_ramp_task(r_up, cfg, p))
     points: list[dict[str, Any]] = [
@@ -385,7 +386,7 @@ def _fig9(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     figs = []
     for name, r in sweep_ramps(cfg).items():
         res = get(_ramp_task(r, cfg, p))
-        sweep = _sweep(r, res)
+        sweep = _sweep(r, res, cfg)
         data = {"sweep": sweep, "series": {k: res[k] for k in ("d31_times_s", "value", "d31")},
                 "beta": cfg.sweep_beta}  # fmt: skip
         header = ["ramp", "time_s", r.param, "d31_rad"]

@@ -433,7 +433,7 @@ def _search(
             r.label = _label(r.settle.final, clusters)
 
     # borders: neighbouring starts (on the circle) that end on attractors of different gaits
-    gait = [classify_gait(c.value) for c in clusters]
+    gait = [classify_gait(c.value, cell.beta) for c in clusters]
     cand: list[tuple[_Run, _Run]] = []
     n = len(runs)
     for i in range(n):
@@ -528,7 +528,7 @@ def _search(
         how, kicked = confirmed.get(k, ("not checked" if cfg.kick_rad == 0 else "neither", None))
         attractors.append(Attractor(
             d31=c.value, lo=float(wrap(xs.min())), hi=float(wrap(xs.max())),
-            gait=classify_gait(c.value),
+            gait=classify_gait(c.value, cell.beta),
             starts=sum(1 for r in mine if r.role == "start"), runs=len(mine), slope=slope,
             slope_pairs=pairs, max_drift=max(abs(r.settle.drift or 0.0) for r in mine),
             confirmed=how, kicks=kicked,

@@ -21,7 +21,6 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.docsections import markers, replace_section
-from sim_core.model.gait import classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.figures import (
@@ -288,7 +287,7 @@ def _fig7_rows(s: dict[str, Any] | None) -> list[Row]:
             ours += f"; {len(unsettled)} run(s) not settled (at {ends})"
         ok = m["window_pattern"] == pat
         if ok and gait is not None:
-            ok = all(classify_gait(f["d31"]) == gait for f in fps if f["stable"])
+            ok = all(f["gait"] == gait for f in fps if f["stable"])
         rows.append((label, paper, ours, _verdict(ok)))
     for beta, g in PAPER.ghosts_rad:
         label = f"Fig. 7: ghost at β = {beta}"

@@ -78,7 +78,14 @@ def sweep(
     ramp = Ramp(param=parameter, start=begin, turn=turn, hold_s=hold_s, ramp_s=ramp_s)
     (res,) = execute_chunk([ramp_task(ramp, start, params)], progress)
     summary = sweep_summary(
-        res["d31_times_s"], res["value"], res["d31"], begin, turn, hold_s, ramp_s
+        res["d31_times_s"],
+        res["value"],
+        res["d31"],
+        begin,
+        turn,
+        hold_s,
+        ramp_s,
+        res["value"] if parameter == "beta" else start.beta,
     )
     return SweepResult(
         parameter=parameter,

@@ -233,7 +233,7 @@ def evaluate_pull(
         if res.diverged or res.d31.size < 4:
             finals[b].append(None)
             continue
-        finals[b].append(final_d31(res.d31)[0])  # where it ends, settled or not
+        finals[b].append(final_d31(res.d31))  # where it ends, settled or not
         share[b].append(res.landing_swing_share)
         slip[b].append(res.slip_fraction)
         v = nominal_speed(b, params.stroke, params.swing_duration) * 100

@@ -34,7 +34,7 @@ class Outcome:
 
     def branch(self, name: str) -> tuple[int, float | None]:
         """(how many runs settled in the gait `name`, their circular-mean Delta31)."""
-        hits = [f for f in self.finals if f is not None and classify_gait(f) == name]
+        hits = [f for f in self.finals if f is not None and classify_gait(f, self.beta) == name]
         return len(hits), (circular_mean(hits) if hits else None)
 
 

@@ -11,7 +11,12 @@ from sim_core.model.gait import (
     NOT_SETTLED,
     TAIL_DRIFT_SETTLED,
     WINDOW_LAST,
+    classify_gait,
     final_d31,
+    footfall_gait,
+    ideal_lifts,
+    measured_footfall,
+    run_gait,
     settling,
     window_d31,
     window_gait,
@@ -25,7 +30,7 @@ def test_a_slide_through_a_ghost_is_not_settled_though_its_window_is_tight() -> 
     assert s.final is not None and abs(s.final - (2.9 - 0.003 * 174.5)) < 1e-6  # the quarter
     assert not s.settled and abs(s.drift) > TAIL_DRIFT_SETTLED  # the drift rule sees it ...
     assert window_d31(slide[-WINDOW_LAST:]) is not None  # ... where a window does not
-    assert final_d31(slide) == (s.final, NOT_SETTLED)  # and results report the drift rule
+    assert final_d31(slide) == s.final and run_gait(s, None) == NOT_SETTLED  # results: the rule
 
 
 def test_an_attractor_across_the_wrap_has_no_drift_and_its_gait() -> None:
@@ -33,13 +38,13 @@ def test_an_attractor_across_the_wrap_has_no_drift_and_its_gait() -> None:
     fixed = (3.0 + 0.002 * rng.standard_normal(200)) % (2 * math.pi)
     s = settling(fixed)
     assert s.settled and s.drift is not None and abs(s.drift) < 1e-4
-    assert final_d31(fixed) == (s.final, "tripod") and window_gait(fixed) == "tripod"
+    assert final_d31(fixed) == s.final and window_gait(fixed, 0.62) == "tripod"
     wrapped = (6.25 + 0.01 * rng.standard_normal(80)) % (2 * math.pi)  # straddles 0 = 2 pi
     w = settling(wrapped)
     assert w.final is not None and min(w.final, 2 * math.pi - w.final) < 0.1
-    assert settling([1.0] * 7).final is None and final_d31([1.0] * 7) == (1.0, NOT_SETTLED)
-    assert final_d31([1.0, 1.0]) == (None, NOT_SETTLED)  # too short to say where it ends
-    assert window_gait([1.0, 4.0, 2.0]) == "other"  # a window that moves names no gait
+    assert settling([1.0] * 7).final is None and final_d31([1.0] * 7) == 1.0
+    assert final_d31([1.0, 1.0]) is None  # too short to say where it ends
+    assert window_gait([1.0, 4.0, 2.0], 0.62) == "other"  # a window that moves names no gait
 
 
 def test_speed_is_measured_along_the_heading_not_world_x() -> None:
@@ -62,3 +67,57 @@ def test_speed_is_measured_along_the_heading_not_world_x() -> None:
     back = np.stack([-0.01 * t, np.zeros(11), np.zeros(11)], axis=1)
     assert forward_speed(t, back, np.tile(quat(0.0), (11, 1))) == pytest.approx(-0.01)
     assert heading_speed(t[:1], pos[:1], q[:1]) == (None, None)
+
+
+# the model's settled branches (30-40 s runs, 2026-11-26/27: docs/REPRODUCTION.md; issue 30,
+# point 2), which the old Delta31 windows named wrongly at 0.56, >= 0.75 and downhill
+BRANCHES = [
+    (0.56, 2.62, "metachronal"),  # the old tripod window [2.54, 3.74] called it tripod
+    (0.56, 2.94, "tripod"),
+    (0.62, 2.95, "tripod"),
+    (0.62, 2.12, "metachronal"),
+    (0.62, 1.77, "metachronal"),
+    (0.70, 1.685, "metachronal"),
+    (0.75, 1.60, "metachronal"),  # old windows: "other"
+    (0.80, 1.60, "metachronal"),
+    (0.66, 1.56, "metachronal"),  # downhill -20 deg; old windows: "other"
+    (0.66, 3.06, "tripod"),  # the tripod on a slope
+]
+
+
+@pytest.mark.parametrize(("beta", "d31", "gait"), BRANCHES)
+def test_the_model_branches_read_as_their_footfall(beta: float, d31: float, gait: str) -> None:
+    assert classify_gait(d31, beta) == gait
+
+
+def test_footfall_rules_are_about_swings_not_one_band_of_delta31() -> None:
+    # one Delta31, two gaits: at a low duty factor the tripods' long swings overlap enough
+    assert classify_gait(2.75, 0.56) == "tripod" and classify_gait(2.75, 0.70) == "metachronal"
+    # a front-to-back wave, and fore and middle legs in the air together most of a swing
+    assert classify_gait(4.2, 0.62) == "other" and classify_gait(0.9, 0.62) == "other"
+    assert classify_gait(float("nan"), 0.62) == "other" and classify_gait(None, 0.62) == "other"
+    # the pattern, not the legs' labels: a tripod whose right side is shifted is no tripod
+    lift = ideal_lifts(math.pi)
+    assert footfall_gait(lift, 2.4) == "tripod"
+    lift[[1, 3, 5]] += 1.5
+    assert footfall_gait(lift, 2.4) != "tripod"
+
+
+def test_measured_footfall_reads_the_pattern_back_from_events() -> None:
+    beta, d31, period = 0.66, 1.8, 0.2
+    lifts = ideal_lifts(d31)
+    cycles = np.arange(40.0)
+    lo = [period * (cycles + a / (2 * math.pi)) for a in lifts]
+    td = [t + period * (1 - beta) for t in lo]
+    ff = measured_footfall(td, lo, 1.0, 7.0)
+    assert ff is not None
+    got, swing = ff
+    assert np.allclose(np.asarray(angle_diff_all(got, lifts)), 0.0, atol=1e-9)
+    assert swing == pytest.approx(2 * math.pi * (1 - beta))
+    assert footfall_gait(*ff) == classify_gait(d31, beta) == "metachronal"
+    assert measured_footfall(td, lo, 1.0, 1.3) is None  # under two cycles of leg 1
+
+
+def angle_diff_all(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Each leg's phase relative to leg 1, compared: a pattern has no absolute origin."""
+    return np.mod((a - a[0]) - (b - b[0]) + math.pi, 2 * math.pi) - math.pi

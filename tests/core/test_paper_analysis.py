@@ -18,14 +18,15 @@ def test_transitions_and_hysteresis_on_a_synthetic_loop() -> None:
     d31_down = np.where(down > 0.645, 1.9, 2.9)
     up = down[::-1]
     d31_up = np.where(up < 0.67, 2.9, 1.9)
-    t_down = detect_transitions(down, d31_down)
-    t_up = detect_transitions(up, d31_up)
+    t_down = detect_transitions(down, d31_down, down)
+    t_up = detect_transitions(up, d31_up, up)
     assert len(t_down) == 1 and t_down[0].before == "metachronal" and t_down[0].after == "tripod"
     assert t_down[0].value == pytest.approx(0.645, abs=0.002)
     assert t_up[0].value == pytest.approx(0.67, abs=0.002)
     loop = sweep_summary(
         np.arange(160.0), np.concatenate([down, up]), np.concatenate([d31_down, d31_up]),
-        start=0.70, turn=0.62, hold_s=0.0, ramp_s=80.0, persist=4,
+        start=0.70, turn=0.62, hold_s=0.0, ramp_s=80.0, beta=np.concatenate([down, up]),
+        persist=4,
     )  # fmt: skip
     assert loop["width"] == pytest.approx(0.025, abs=0.003) and loop["loop"] is True
 
@@ -33,7 +34,7 @@ def test_transitions_and_hysteresis_on_a_synthetic_loop() -> None:
 def test_isolated_blips_are_not_transitions() -> None:
     d31 = np.full(40, 1.9)
     d31[10] = 2.9
-    assert detect_transitions(np.arange(40.0), d31) == []
+    assert detect_transitions(np.arange(40.0), d31, np.full(40, 0.66)) == []
 
 
 def test_triangle_schedule() -> None:

@@ -58,7 +58,7 @@ def _triangle_data(start: float, turn: float, down_at: float, up_at: float, hold
 
 def test_sweep_transitions_and_hysteresis_loop_both_directions() -> None:
     ramp, t, v, d = _triangle_data(0.70, 0.62, 0.645, 0.67)  # Fig. 6a: beta down, then up
-    s = sweep_summary(t, v, d, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s)
+    s = sweep_summary(t, v, d, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s, v)
     (a,) = s["first_leg"]
     (b,) = s["second_leg"]
     assert (a["before"], a["after"]) == ("metachronal", "tripod")
@@ -68,16 +68,16 @@ def test_sweep_transitions_and_hysteresis_loop_both_directions() -> None:
     assert s["gait_at_start"] == "metachronal" and s["gait_at_turn"] == "tripod"
     # Fig. 9a-like: the value rises first (light -> heavy) and the gait switches later going up
     ramp, t, v, d = _triangle_data(1.0, 6.0, 4.5, 2.5)
-    s = sweep_summary(t, v, d, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s)
+    s = sweep_summary(t, v, d, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s, 0.66)
     assert s["loop"] is True and s["width"] == pytest.approx(2.0, abs=0.1)
 
 
 def test_switches_in_the_wrong_order_are_not_a_loop_and_no_switch_is_no_width() -> None:
     ramp, t, v, d = _triangle_data(0.70, 0.62, 0.67, 0.645)
-    s = sweep_summary(t, v, d, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s)
+    s = sweep_summary(t, v, d, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s, v)
     assert s["loop"] is False
     flat = np.full(t.size, 1.9)
-    s = sweep_summary(t, v, flat, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s)
+    s = sweep_summary(t, v, flat, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s, v)
     assert s["first_leg"] == [] and s["width"] is None and s["loop"] is None
 
 
@@ -85,7 +85,7 @@ def test_settling_during_the_first_hold_is_not_a_transition() -> None:
     ramp, t, v, d = _triangle_data(0.70, 0.62, 0.645, 0.67)
     d = d.copy()
     d[t < 1.0] = 2.9  # starts tripod, settles to metachronal within the hold
-    s = sweep_summary(t, v, d, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s)
+    s = sweep_summary(t, v, d, ramp.start, ramp.turn, ramp.hold_s, ramp.ramp_s, v)
     assert len(s["first_leg"]) == 1 and s["first_leg"][0]["after"] == "tripod"
 
 

@@ -18,6 +18,7 @@ from viser._messages import ViewerCameraMessage
 from websockets.sync.client import connect
 from websockets.sync.connection import Connection
 
+from sim_core.contract import METACHRONAL, TRIPOD
 from web.app import ViewerApp
 
 
@@ -78,7 +79,7 @@ def test_presets_and_the_ramp_drive_the_running_simulation() -> None:
 
     app = ViewerApp("127.0.0.1", 0)
     try:
-        for preset in (controls.TRIPOD, controls.METACHRONAL):
+        for preset in (TRIPOD, METACHRONAL):
             app.apply(Reset(preset))
             app._step(0.25, time.perf_counter() + 600)
             first = app.d31.events[0].d31
