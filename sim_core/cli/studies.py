@@ -141,6 +141,7 @@ def register(sub: Any) -> None:
     _add_diagnose(sub)
     _add_slope_heading(sub)
     _add_timing_lines(sub)
+    _add_readings(sub)
 
 
 def _add_slope_heading(sub: Any) -> None:
@@ -151,8 +152,16 @@ def _add_slope_heading(sub: Any) -> None:
     )
     p.add_argument("--slopes", type=float, nargs="+", default=[-20.0, 20.0])
     p.add_argument("--duration-s", type=float, default=60.0)
-    p.add_argument("--noslip", type=int, nargs="+", default=[0, 10],
-                   help="no-slip passes, constraint ground (default %(default)s)")  # fmt: skip
+    p.add_argument("--noslip", type=int, nargs="*", default=[0, 10],
+                   help="no-slip passes, constraint ground (default %(default)s; none: skip "
+                   "that ground)")  # fmt: skip
+    p.add_argument(
+        "--friction",
+        type=float,
+        nargs="+",
+        default=[1.0],
+        help="foot friction coefficients, constraint ground (default %(default)s)",
+    )
     p.add_argument("--penalty", action="store_true", help="also the paper's ground")
     p.set_defaults(func=_cmd_slope_heading)
 
@@ -166,7 +175,18 @@ def _cmd_slope_heading(args: argparse.Namespace) -> int:
     if not 0 < args.duration_s <= 600:
         print("insect-gait slope-heading: error: --duration-s in (0, 600]", file=sys.stderr)
         return EXIT_USAGE
-    settings = [(f"constraint, noslip {n}", ModelParams(noslip_iterations=n)) for n in args.noslip]
+    if any(f <= 0 for f in args.friction) or any(n < 0 for n in args.noslip):
+        print("insect-gait slope-heading: error: --friction > 0, --noslip >= 0", file=sys.stderr)
+        return EXIT_USAGE
+    default_mu = ModelParams().friction
+    settings = [
+        (
+            f"constraint, noslip {n}" + ("" if mu == default_mu else f", friction {mu:g}"),
+            ModelParams(noslip_iterations=n, friction=mu),
+        )
+        for n in args.noslip
+        for mu in args.friction
+    ]
     if args.penalty:
         settings.append(("paper's ground", ModelParams(ground="penalty")))
     at = [t for t in (10.0, 20.0, 30.0, 40.0, 50.0, 60.0) if t <= args.duration_s]
@@ -255,4 +275,40 @@ def _cmd_timing_lines(args: argparse.Namespace) -> int:
     (args.out / "timing_lines.json").write_text(json.dumps(record, indent=1))
     (args.out / "timing_lines.md").write_text("\n".join(lines))
     print(f"wrote {args.out}/timing_lines.{{json,md,png}}")
+    return 0
+
+
+def _add_readings(sub: Any) -> None:
+    from sim_core.studies.readings import READINGS
+
+    p = sub.add_parser(
+        "readings",
+        help="issue 31 step 2: screen the other readings of the paper's text (8 starts per "
+        "beta, settled finals and their gaits, per ground)",
+    )
+    p.add_argument("--readings", nargs="+", choices=list(READINGS), default=list(READINGS))
+    p.add_argument("--grounds", nargs="+", choices=["constraint", "penalty"],
+                   default=["constraint", "penalty"], help="(default %(default)s)")  # fmt: skip
+    p.add_argument("--betas", type=float, nargs="+", default=[0.62, 0.70])
+    p.add_argument("--duration-s", type=float, default=40.0)
+    p.set_defaults(func=_cmd_readings)
+
+
+def _cmd_readings(args: argparse.Namespace) -> int:
+    import time
+
+    from sim_core.studies.readings import screen, table
+
+    if not 0 < args.duration_s <= 600 or not all(0.5 < b < 1.0 for b in args.betas):
+        print("insect-gait readings: error: --duration-s in (0, 600], betas in (0.5, 1)",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_USAGE
+    rows = []
+    for reading in args.readings:
+        for ground in args.grounds:
+            t0 = time.perf_counter()
+            got = screen(reading, ground, args.betas, duration_s=args.duration_s)
+            rows += got
+            print("\n".join(table(got)[2:]), f"({time.perf_counter() - t0:.0f} s)", flush=True)
+    print("\n".join(table(rows)))
     return 0

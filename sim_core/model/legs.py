@@ -6,6 +6,9 @@ Phase convention (paper): phi = 0 at the PEP, phi = phi_AEP = 2 pi (1 - beta) at
   s = phi / phi_AEP, x = PEP + D (1 - cos(pi s)) / 2, z = line + h sin(pi s^p).
 - Swing that has not touched down by the AEP: the closed curve continues along its lower side,
   the AEP-PEP line, at the stance speed; reaching the PEP without touchdown starts a new swing.
+  With `late_swing_descent` q > 0 it also keeps descending below the line at q times the
+  curve's final descent speed (h pi p per unit s), reaching for the ground (issue 31's other
+  reading of "until the leg touches the ground").
 - Stance: a straight line from the landing position LP (the commanded tip position at the
   detected touchdown) to the PEP, covered as phi goes from its value at touchdown to 2 pi.
 
@@ -35,7 +38,8 @@ G_LT = 62
 G_HSW = 63
 G_SHAPE = 64
 G_LPZ = 65  # share of the landing height kept by the stance line
-G_SIZE = 66
+G_DESC = 66  # descent below the line past the AEP, m per unit of s = phi / phi_AEP
+G_SIZE = 67
 
 
 def pack_geometry(p: ModelParams) -> np.ndarray:
@@ -51,6 +55,7 @@ def pack_geometry(p: ModelParams) -> np.ndarray:
     g[G_HSW] = p.swing_height
     g[G_SHAPE] = p.swing_shape
     g[G_LPZ] = p.landing_height_kept
+    g[G_DESC] = p.late_swing_descent * p.swing_height * math.pi * p.swing_shape
     return g
 
 
@@ -71,7 +76,7 @@ def swing_point(geo: np.ndarray, leg: int, phi: float, phi_aep: float, out: np.n
         f = (phi - phi_aep) / (TWO_PI - phi_aep)
         out[0] = geo[a] - d * min(f, 1.0)
         out[1] = geo[a + 1]
-        out[2] = geo[a + 2]
+        out[2] = geo[a + 2] - geo[G_DESC] * ((phi - phi_aep) / phi_aep)
 
 
 @njit(cache=True)

@@ -153,6 +153,14 @@ class ModelParams(BaseModel):
         ge=0,
         le=1,
     )
+    late_swing_descent: float = _ours(
+        0.0,
+        "a foot still in the air past the AEP descends below the AEP-PEP line at this share of "
+        "the swing curve's final descent speed: 0 = it follows the line (our reading of 'until "
+        "the leg touches the ground'), 1 = keeps reaching down (the other reading, issue 31)",
+        ge=0,
+        le=2,
+    )
 
     # --- Joint control (PD) the paper leaves open -------------------------------------------------
     kp_yaw: float = _ours(5e-3, "joint 1 stiffness, N m/rad: ~0.01 rad sag under stance load", gt=0)

@@ -398,6 +398,11 @@ def _clusters(finals: list[float]) -> list[_Cluster]:
     return [_Cluster(g) for g in groups]
 
 
+def cluster_finals(finals: Sequence[float]) -> list[tuple[float, int]]:
+    """(circular mean, count) of each group of settled finals (`_clusters`' rule)."""
+    return [(c.value, len(c.finals)) for c in _clusters(list(finals))]
+
+
 def _label(x: float, clusters: list[_Cluster]) -> int | None:
     for k, c in enumerate(clusters):
         if min(abs(float(angle_diff(x, f))) for f in c.finals) <= CLUSTER_TOL:

@@ -44,6 +44,23 @@ def test_swing_curve_runs_pep_to_aep_and_closes_along_the_line(leg: int) -> None
     np.testing.assert_allclose(_swing(leg, 2 * math.pi), PEP[leg], atol=1e-12)
 
 
+def test_the_late_descent_reading_keeps_reaching_down_past_the_aep() -> None:
+    p = ModelParams(late_swing_descent=1.0)
+    geo = pack_geometry(p)
+    before, at, after = np.empty(3), np.empty(3), np.empty(3)
+    eps = 1e-4
+    swing_point(geo, 0, PHI_AEP - eps, PHI_AEP, before)
+    swing_point(geo, 0, PHI_AEP, PHI_AEP, at)
+    swing_point(geo, 0, PHI_AEP + eps, PHI_AEP, after)
+    # the curve's final descent speed carries on below the line, in the same direction
+    rate_in = (at[2] - before[2]) / eps
+    rate_out = (after[2] - at[2]) / eps
+    assert rate_in < 0 and rate_out == pytest.approx(rate_in, rel=1e-3)
+    assert after[0] == pytest.approx(_swing(0, PHI_AEP + eps)[0])  # fore-aft: as before
+    # our reading (the default) stays on the line exactly: no rounding sneaks in
+    assert _swing(0, PHI_AEP + 0.3)[2] == AEP[0, 2]
+
+
 def test_stance_is_a_straight_line_from_landing_point_to_pep() -> None:
     lp = AEP[0] + np.array([-0.3e-3, 0.0, 0.1e-3])
     pts = []

@@ -1,0 +1,100 @@
+"""Issue 31, step 2: the structural audit's other readings of the paper's text, screened.
+
+Every setting tried over three campaigns leaves a metachronal-side state at beta 0.62; the audit
+(docs/REPRODUCTION.md, tenth study) lists where the text permits another reading than ours.
+Each reading that can be built is a `ModelParams` option (default: our reading, bit-identical).
+`screen` runs a reading on a ground from `STARTS` starts spread over the circle at each beta for
+`duration_s`, and reports where the settled runs end (clustered as the fixed-point finder does),
+each state's gait, the runs that did not settle, and the median landing share and slip: does the
+metachronal-side state at 0.62 go (the fold the issue needs) while the tripod stays, and the
+metachronal gait stay at 0.70?
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from sim_core.model.gait import classify_gait, settling
+from sim_core.model.params import ModelParams
+from sim_core.model.runner import simulate_batch
+from sim_core.model.spec import RunSpec
+from sim_core.paper.fixedpoints import cluster_finals
+from sim_core.paper.returnmap import initial_values
+
+# Each built reading: its name and the ModelParams fields that switch it on.
+READINGS: dict[str, dict[str, Any]] = {
+    "ours": {},
+    # "The swing phase ... continues until the leg touches the ground": past the AEP the swing
+    # target keeps reaching down (at the swing curve's final descent speed) instead of
+    # following the AEP-PEP line
+    "late descent": {"late_swing_descent": 1.0},
+}
+STARTS = 8  # the issue's acceptance: "every one of 8 starts over the circle"
+
+
+@dataclass(frozen=True)
+class Census:
+    """Where the runs of one reading, ground and beta ended."""
+
+    reading: str
+    ground: str
+    beta: float
+    states: list[tuple[float, int, str]]  # (settled Delta31, runs, gait)
+    unsettled: list[float | None]  # where the runs that did not settle were last
+    failed: int
+    landing: float | None  # median landing share over the runs
+    slip: float | None  # median slip share of the stroke
+
+
+def screen(
+    reading: str,
+    ground: str,
+    betas: Sequence[float],
+    *,
+    duration_s: float = 40.0,
+    starts: int = STARTS,
+    nthread: int = 0,
+    progress: Callable[[float], None] | None = None,
+) -> list[Census]:
+    """The census of `reading` on `ground` at each beta (see the module docstring)."""
+    if reading not in READINGS:
+        raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
+    p = ModelParams(ground=ground, **READINGS[reading])
+    x0 = [float(x) for x in initial_values(starts)]
+    specs = [RunSpec(beta=b, d31_init=x, duration_s=duration_s) for b in betas for x in x0]
+    done = simulate_batch(specs, p, nthread=nthread, progress=progress)
+    out = []
+    for k, b in enumerate(betas):
+        rs = done[k * starts : (k + 1) * starts]
+        ok = [r for r in rs if r.failure is None]
+        sts = [settling(r.d31) for r in ok]
+        finals = [s.final for s in sts if s.settled and s.final is not None]
+        states = [(v, n, classify_gait(v, b)) for v, n in cluster_finals(finals)]
+        land = [r.landing_swing_share for r in ok if r.landing_swing_share is not None]
+        slip = [r.slip_fraction for r in ok if r.slip_fraction is not None]
+        out.append(Census(reading, ground, b, states,
+                          [s.final for s in sts if not s.settled], len(rs) - len(ok),
+                          float(np.median(land)) if land else None,
+                          float(np.median(slip)) if slip else None))  # fmt: skip
+    return out
+
+
+def table(rows: Sequence[Census]) -> list[str]:
+    """A markdown table of censuses."""
+    out = [
+        "| reading | ground | β | settled states (runs, gait) | not settled (last at) | failed "
+        "| landing | slip |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for c in rows:
+        st = ", ".join(f"{v:.3f} ({n}, {g})" for v, n, g in c.states) or "none"
+        un = ", ".join("–" if u is None else f"{u:.2f}" for u in c.unsettled) or "0"
+        land = "–" if c.landing is None else f"{c.landing:.3f}"
+        slip = "–" if c.slip is None else f"{100 * c.slip:.1f}%"
+        out.append(f"| {c.reading} | {c.ground} | {c.beta:g} | {st} | {un} | {c.failed} | "
+                   f"{land} | {slip} |")  # fmt: skip
+    return out
