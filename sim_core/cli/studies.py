@@ -291,12 +291,18 @@ def _add_readings(sub: Any) -> None:
                    default=["constraint", "penalty"], help="(default %(default)s)")  # fmt: skip
     p.add_argument("--betas", type=float, nargs="+", default=[0.62, 0.70])
     p.add_argument("--duration-s", type=float, default=40.0)
+    p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
+    p.add_argument("--backend", choices=["local", "dask"], default="local")
+    p.add_argument("--workers", type=int, default=None)
     p.set_defaults(func=_cmd_readings)
 
 
 def _cmd_readings(args: argparse.Namespace) -> int:
     import time
+    from pathlib import Path
 
+    from sim_core.runs.backends import get_backend
+    from sim_core.runs.cache import ResultCache
     from sim_core.studies.readings import screen, table
 
     if not 0 < args.duration_s <= 600 or not all(0.5 < b < 1.0 for b in args.betas):
@@ -304,11 +310,18 @@ def _cmd_readings(args: argparse.Namespace) -> int:
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     rows = []
-    for reading in args.readings:
-        for ground in args.grounds:
-            t0 = time.perf_counter()
-            got = screen(reading, ground, args.betas, duration_s=args.duration_s)
-            rows += got
-            print("\n".join(table(got)[2:]), f"({time.perf_counter() - t0:.0f} s)", flush=True)
+    cache = ResultCache(Path(args.cache))
+    backend = get_backend(args.backend, args.workers)
+    try:
+        for reading in args.readings:
+            for ground in args.grounds:
+                t0 = time.perf_counter()
+                got = screen(reading, ground, args.betas, cache, backend,
+                             duration_s=args.duration_s)  # fmt: skip
+                rows += got
+                print("\n".join(table(got)[2:]), f"({time.perf_counter() - t0:.0f} s)",
+                      flush=True)  # fmt: skip
+    finally:
+        backend.close()
     print("\n".join(table(rows)))
     return 0

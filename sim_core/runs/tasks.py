@@ -181,6 +181,7 @@ def execute_chunk(
             "gait": res.gait,
             "speed_cm_s": _finite(res.speed_cm_s),
             "slip_fraction": _finite(res.slip_fraction),
+            "landing_swing_share": _finite(res.landing_swing_share),
             "error": res.error,
             "failure": None if res.failure is None else res.failure.to_dict(),
             "compute_s": share,

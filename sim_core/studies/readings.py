@@ -12,7 +12,7 @@ metachronal gait stay at 0.70?
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -20,10 +20,12 @@ import numpy as np
 
 from sim_core.model.gait import classify_gait, settling
 from sim_core.model.params import ModelParams
-from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import RunSpec
 from sim_core.paper.fixedpoints import cluster_finals
 from sim_core.paper.returnmap import initial_values
+from sim_core.runs.backends import Backend, run_tasks
+from sim_core.runs.cache import ResultCache
+from sim_core.runs.tasks import run_task
 
 # Each built reading: its name and the ModelParams fields that switch it on.
 READINGS: dict[str, dict[str, Any]] = {
@@ -54,28 +56,33 @@ def screen(
     reading: str,
     ground: str,
     betas: Sequence[float],
+    cache: ResultCache,
+    backend: Backend,
     *,
     duration_s: float = 40.0,
     starts: int = STARTS,
-    nthread: int = 0,
-    progress: Callable[[float], None] | None = None,
+    progress: bool = True,
 ) -> list[Census]:
-    """The census of `reading` on `ground` at each beta (see the module docstring)."""
+    """The census of `reading` on `ground` at each beta (see the module docstring); the runs go
+    through the result cache on `backend`, so a repeated screen reads them back."""
     if reading not in READINGS:
         raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
     p = ModelParams(ground=ground, **READINGS[reading])
     x0 = [float(x) for x in initial_values(starts)]
-    specs = [RunSpec(beta=b, d31_init=x, duration_s=duration_s) for b in betas for x in x0]
-    done = simulate_batch(specs, p, nthread=nthread, progress=progress)
+    tasks = [
+        run_task(RunSpec(beta=b, d31_init=x, duration_s=duration_s), p) for b in betas for x in x0
+    ]
+    results, _ = run_tasks(tasks, cache, backend, chunk_size=4, progress=progress)
+    done = [results[t.key] for t in tasks]
     out = []
     for k, b in enumerate(betas):
         rs = done[k * starts : (k + 1) * starts]
-        ok = [r for r in rs if r.failure is None]
-        sts = [settling(r.d31) for r in ok]
+        ok = [r for r in rs if r["error"] is None]
+        sts = [settling(r["d31"]) for r in ok]
         finals = [s.final for s in sts if s.settled and s.final is not None]
         states = [(v, n, classify_gait(v, b)) for v, n in cluster_finals(finals)]
-        land = [r.landing_swing_share for r in ok if r.landing_swing_share is not None]
-        slip = [r.slip_fraction for r in ok if r.slip_fraction is not None]
+        land = [r["landing_swing_share"] for r in ok if r["landing_swing_share"] is not None]
+        slip = [r["slip_fraction"] for r in ok if r["slip_fraction"] is not None]
         out.append(Census(reading, ground, b, states,
                           [s.final for s in sts if not s.settled], len(rs) - len(ok),
                           float(np.median(land)) if land else None,

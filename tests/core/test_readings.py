@@ -1,0 +1,39 @@
+"""Issue 31's readings screen: each reading is an option that changes walking, the screen's
+census counts every run once and reads repeated runs from the cache."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import pytest
+
+from sim_core import ModelParams, RunSpec, simulate
+from sim_core.runs.backends import InlineBackend
+from sim_core.runs.cache import ResultCache
+from sim_core.studies.readings import READINGS, screen, table
+
+
+def test_a_reading_changes_the_walk_and_ours_is_the_default() -> None:
+    assert READINGS["ours"] == {}
+    spec = RunSpec(beta=0.66, d31_init=2.0, duration_s=0.6)
+    base = simulate(spec)
+    late = simulate(spec, ModelParams(**READINGS["late descent"]))
+    assert base.failure is None and late.failure is None
+    assert base.d31.tolist() != late.d31.tolist()  # feet that land late now land sooner
+    assert late.landing_swing_share is not None and base.landing_swing_share is not None
+    assert late.landing_swing_share < base.landing_swing_share
+
+
+def test_the_census_counts_every_start_and_reads_repeats_from_the_cache(tmp_path: Path) -> None:
+    cache = ResultCache(tmp_path)
+    first = screen("ours", "penalty", [0.66], cache, InlineBackend(), duration_s=1.0, starts=2,
+                   progress=False)  # fmt: skip
+    (c,) = first
+    settled = sum(n for _, n, _ in c.states)
+    assert settled + len(c.unsettled) + c.failed == 2
+    assert len(table(first)) == 3
+    again = screen("ours", "penalty", [0.66], cache, InlineBackend(), duration_s=1.0, starts=2,
+                   progress=False)  # fmt: skip
+    assert again == first
+    with pytest.raises(ValueError, match="unknown reading"):
+        screen("nope", "penalty", [0.66], cache, InlineBackend())
