@@ -163,6 +163,11 @@ def _add_slope_heading(sub: Any) -> None:
         help="foot friction coefficients, constraint ground (default %(default)s)",
     )
     p.add_argument("--penalty", action="store_true", help="also the paper's ground")
+    p.add_argument(
+        "--params",
+        default="{}",
+        help="JSON overrides for every setting, e.g. '{\"com_offset_x\": 3e-3}'",
+    )
     p.set_defaults(func=_cmd_slope_heading)
 
 
@@ -178,17 +183,26 @@ def _cmd_slope_heading(args: argparse.Namespace) -> int:
     if any(f <= 0 for f in args.friction) or any(n < 0 for n in args.noslip):
         print("insect-gait slope-heading: error: --friction > 0, --noslip >= 0", file=sys.stderr)
         return EXIT_USAGE
+    from pydantic import ValidationError
+
+    try:
+        over = json.loads(args.params)
+        ModelParams(**over)
+    except (ValueError, TypeError, ValidationError) as exc:
+        print(f"insect-gait slope-heading: error: --params: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    tag = "".join(f", {k} {v:g}" if isinstance(v, float) else f", {k} {v}" for k, v in over.items())
     default_mu = ModelParams().friction
     settings = [
         (
-            f"constraint, noslip {n}" + ("" if mu == default_mu else f", friction {mu:g}"),
-            ModelParams(noslip_iterations=n, friction=mu),
+            f"constraint, noslip {n}" + ("" if mu == default_mu else f", friction {mu:g}") + tag,
+            ModelParams(**{"noslip_iterations": n, "friction": mu, **over}),
         )
         for n in args.noslip
         for mu in args.friction
     ]
     if args.penalty:
-        settings.append(("paper's ground", ModelParams(ground="penalty")))
+        settings.append(("paper's ground" + tag, ModelParams(**{"ground": "penalty", **over})))
     at = [t for t in (10.0, 20.0, 30.0, 40.0, 50.0, 60.0) if t <= args.duration_s]
     t0 = time.perf_counter()
     runs = headings(settings, args.slopes, duration_s=args.duration_s, at_s=at)

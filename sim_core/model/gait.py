@@ -59,6 +59,10 @@ TAIL_DRIFT_SETTLED = 2e-4
 # 0.62-0.70) for its drift to be resolved: with the measured 1-4 mrad scatter of a settled
 # tail, 40 points resolve a slope to ~1e-5 rad per cycle, 20x below the rule.
 SETTLED_MIN_TAIL = 40
+# A slope walk still walks up or down the slope while the body's heading stays within this
+# (deg) of the slope's line (issue 30: 60 s at +-20 deg); the default contact turns 70-110 deg
+# downhill, the paper's ground stays within 1 (docs/MODEL.md, "Slopes").
+HEADING_KEPT_DEG = 15.0
 # What a sound run looks like, for the warnings a result carries (`run_warnings`): at the
 # defaults (beta 0.58-0.75, both gaits, 5 s) the measured duty factor is 0.003-0.008 below the
 # commanded beta and feet land at 1.009-1.018 of their swing (measured 2026-11-25).

@@ -241,10 +241,24 @@ def fig8(data: dict[str, Any], path: Path, paper: PaperValues | None = None) -> 
     _save(fig, path)
 
 
+def _heading_note(sweep: dict[str, Any]) -> str:
+    h = sweep.get("max_heading_deg")
+    return "" if h is None else f"; body turned up to {h:.0f}°"
+
+
 def fig9(data: dict[str, Any], path: Path, xlabel: str, note: str) -> None:
-    fig, ax = plt.subplots(figsize=(7, 4.5))
+    other = data.get("paper_ground")
+    fig, axes = plt.subplots(2 if other else 1, 1, figsize=(7, 9 if other else 4.5), squeeze=False)
+    ax = axes[0, 0]
     _sweep_axes(ax, data["sweep"], data["series"], xlabel)
-    ax.set_title(ax.get_title() + f"; β = {data['beta']}\npaper: {note}", fontsize=9)
+    where = f"{data.get('ground', 'constraint')} ground"
+    ax.set_title(ax.get_title() + f"; β = {data['beta']}, {where}{_heading_note(data['sweep'])}"
+                 f"\npaper: {note}", fontsize=9)  # fmt: skip
+    if other:
+        ax = axes[1, 0]
+        _sweep_axes(ax, other["sweep"], other["series"], xlabel)
+        ax.set_title(ax.get_title() + f"; the paper's ground{_heading_note(other['sweep'])}",
+                     fontsize=9)  # fmt: skip
     _save(fig, path)
 
 

@@ -21,6 +21,7 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.docsections import markers, replace_section
+from sim_core.model.gait import HEADING_KEPT_DEG
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.figures import (
@@ -325,8 +326,18 @@ def _sweep_row(label: str, s: dict[str, Any] | None, paper: str, ends: tuple[str
     if s is None:
         return (label, paper, "not run", "not run")
     lo_name, hi_name = ends  # what the start (lower) and turn (higher) values are called
-    ours = f"{hi_name}: {s['gait_at_turn']}, {lo_name}: {s['gait_at_start']}"
-    ours += f", loop: {s['loop']}" + (f" (width {s['width']:.3g})" if s["width"] else "")
+
+    def said(x: dict[str, Any]) -> str:
+        out = f"{hi_name}: {x['gait_at_turn']}, {lo_name}: {x['gait_at_start']}"
+        out += f", loop: {x['loop']}" + (f" (width {x['width']:.3g})" if x["width"] else "")
+        turned = x.get("max_heading_deg")
+        if turned is not None and turned > HEADING_KEPT_DEG:
+            out += f"; the body turned up to {turned:.0f} deg off the slope's line"
+        return out
+
+    ours = said(s)
+    if s.get("paper_ground") is not None:
+        ours += f". Paper's ground: {said(s['paper_ground'])}"
     right = s["gait_at_turn"] == "tripod" and s["gait_at_start"] == "metachronal"
     v = "yes" if right and s["loop"] else ("partly" if right else "**no**")
     return (label, paper, ours, v)

@@ -25,6 +25,9 @@ from functools import cache
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
+from sim_core.model.gait import yaw_of
 from sim_core.model.params import ModelParams
 from sim_core.model.ramp import RAMP_PARAMS, Ramp, set_ramped
 from sim_core.model.runner import BatchRunner
@@ -188,6 +191,11 @@ def execute_chunk(
         }
         if task.ramp is not None:
             item["value"] = [float(task.ramp.value(float(t))) for t in res.d31_times_s]
+            # the body's heading at each leg-1 touchdown, deg (a slope sweep must still walk up
+            # and down the slope: `gait.HEADING_KEPT_DEG`)
+            k = np.searchsorted(res.times_s, res.d31_times_s).clip(0, max(0, res.times_s.size - 1))
+            yaw = np.degrees(yaw_of(res.body_quat[k])) if res.times_s.size else np.zeros(0)
+            item["heading_deg"] = [float(x) for x in yaw]
             item["touchdowns_s"] = [t.tolist() for t in res.touchdowns]
             item["liftoffs_s"] = [t.tolist() for t in res.liftoffs]
         out.append(item)

@@ -15,12 +15,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sim_core.model.gait import settling, yaw_of
+from sim_core.model.gait import HEADING_KEPT_DEG, settling, yaw_of
 from sim_core.model.params import ModelParams
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import RunSpec
-
-HEADING_OK_DEG = 15.0  # issue 30: 60 s at +-20 deg with the heading within 15 deg
 
 
 @dataclass
@@ -36,7 +34,7 @@ class HeadingRun:
     @property
     def holds(self) -> bool:
         return self.failure is None and all(
-            h is not None and abs(h) <= HEADING_OK_DEG for h in self.headings_deg
+            h is not None and abs(h) <= HEADING_KEPT_DEG for h in self.headings_deg
         )
 
 
@@ -74,7 +72,7 @@ def headings(
 def table(runs: Sequence[HeadingRun], at_s: Sequence[float]) -> list[str]:
     head = " / ".join(f"{a:g}" for a in at_s)
     rows = [f"| setting | slope (deg) | start | heading (deg) at {head} s | final Δ31 | slip "
-            f"| within {HEADING_OK_DEG:g} deg |", "|---|---|---|---|---|---|---|"]  # fmt: skip
+            f"| within {HEADING_KEPT_DEG:g} deg |", "|---|---|---|---|---|---|---|"]  # fmt: skip
     for r in runs:
         hs = " / ".join("–" if h is None else f"{h:.1f}" for h in r.headings_deg)
         fin = "not settled" if r.final is None else f"{r.final:.2f}"

@@ -224,3 +224,14 @@ def test_doc_update_needs_both_markers_and_the_real_doc_has_them() -> None:
     assert update_doc(f"a{DOC_BEGIN}x{DOC_END}b", "T") == f"a{DOC_BEGIN}\nT\n{DOC_END}b"
     text = (REPO / "docs" / "REPRODUCTION.md").read_text()
     assert text.index(DOC_BEGIN) < text.index(DOC_END)
+
+
+def test_a_slope_sweep_that_turned_says_so_and_shows_the_paper_ground_beside_it() -> None:
+    sweep = {"gait_at_turn": "tripod", "gait_at_start": "metachronal", "loop": True,
+             "width": 10.0, "max_heading_deg": 97.0}  # fmt: skip
+    held = sweep | {"gait_at_turn": "metachronal", "loop": None, "width": None,
+                    "max_heading_deg": 0.8}  # fmt: skip
+    rows = {r[0]: r for r in table_rows({"fig9b": sweep | {"paper_ground": held}})}
+    ours = rows["Fig. 9b: slope"][2]
+    assert "turned up to 97 deg" in ours and "Paper's ground: uphill: metachronal" in ours
+    assert ours.count("turned") == 1  # the paper's ground kept its heading (0.8 deg)
