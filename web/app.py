@@ -29,7 +29,7 @@ from pathlib import Path
 
 import viser
 
-from sim_core import RunSpec, Simulation
+from sim_core import ModelParams, RunSpec, Simulation
 from sim_core.contract import (
     AXIS_LABEL,
     RETURN_MAP_SKIP,
@@ -53,6 +53,7 @@ from web.requests import (
     SetD31Window,
     SetFollow,
     SetFootfallWindow,
+    SetGround,
     SetParam,
     SetPlaying,
     SetSpeed,
@@ -116,6 +117,7 @@ class ViewerApp:
         )
         if spec is not None:
             self.d31_init = spec.d31_init
+        self.ground = "constraint"  # `ModelParams.ground` of the running simulation
         self.server = viser.ViserServer(host=host, port=port, label="insect-gait", verbose=False)
         self.scene = HexapodScene(self.server, self.sim.model)
         self.panels = Panels(self.server, self.requests)
@@ -207,12 +209,20 @@ class ViewerApp:
                 self._stop_ramp()
                 self.d31_init = controls.d31_init_value(d)
                 sim.reset(d31_init=self.d31_init)
-                self.footfall.clear()
-                self.stance_log.clear()
-                self.d31.clear()
-                self._clock.reset()
-                self.error = None
-                self.playing = True
+                self._restarted()
+            case SetGround(ground=g):
+                if g not in controls.GROUND_LABEL:
+                    raise ValueError(
+                        f"unknown ground {g!r}; choose from {list(controls.GROUND_LABEL)}"
+                    )
+                if g == self.ground:
+                    return
+                self._stop_ramp()
+                here = {"beta": sim.beta, "body_mass_g": sim.body_mass_g,
+                        "slope_deg": sim.slope_deg, "d31_init": self.d31_init}  # fmt: skip
+                self.sim = Simulation(RunSpec(**here), ModelParams(ground=g))
+                self.ground = g
+                self._restarted()
             case StartRamp(ramp=ramp):
                 self._stop_ramp()
                 self.ramp = ramp
@@ -227,6 +237,15 @@ class ViewerApp:
             case Export(what=what, send=send):
                 name, data = self.export(what)
                 send(name, data)
+
+    def _restarted(self) -> None:
+        """A new walk began (reset or another ground): forget the old one's history."""
+        self.footfall.clear()
+        self.stance_log.clear()
+        self.d31.clear()
+        self._clock.reset()
+        self.error = None
+        self.playing = True
 
     def _set_param(self, name: str, value: float) -> None:
         getattr(self.sim, f"set_{name}")(value)
@@ -257,6 +276,7 @@ class ViewerApp:
             d31_init=self.d31_init,
             speed=self.speed,
             time_s=self.sim.time_s,
+            ground=self.ground,
             ramp=ramp,
             ramp_running=running,
             ramp_started_at_s=self._ramp_t0 if running else None,
@@ -416,6 +436,7 @@ class ViewerApp:
                 body_mass_g=sim.body_mass_g,
                 slope_deg=sim.slope_deg,
                 heading_deg=None if heading is None else math.degrees(heading),
+                ground=self.ground,
             )
         )
         t_now = sim.time_s

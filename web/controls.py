@@ -82,6 +82,10 @@ CAMERA_FIXED = "fixed"
 CAMERA_POSITION = "follow"
 CAMERA_HEADING = "follow + turn"
 CAMERA_MODES = (CAMERA_POSITION, CAMERA_HEADING, CAMERA_FIXED)
+# The grounds a person may walk on (`ModelParams.ground`), by button label: today's contact is
+# the default; the paper's ground keeps the heading on slopes (docs/MODEL.md, "Slopes").
+GROUNDS = {"today's contact": "constraint", "paper's ground": "penalty"}
+GROUND_LABEL = {v: k for k, v in GROUNDS.items()}
 DEFAULT_CAMERA = CAMERA_POSITION
 
 

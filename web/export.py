@@ -40,6 +40,7 @@ class Settings:
     ramp_started_at_s: float | None
     job_duration_s: float = 30.0
     api_url: str = DEFAULT_API_URL
+    ground: str = "constraint"  # `ModelParams.ground` of the walk (the jobs' `ground` too)
 
 
 def _csv(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> bytes:
@@ -98,6 +99,7 @@ def run_job(s: Settings) -> dict[str, Any]:
         "slope_deg": round(s.slope_deg, 6),
         "d31_init": [round(s.d31_init, 6)],
         "duration_s": s.job_duration_s,
+        "ground": s.ground,
     }
 
 
@@ -114,6 +116,7 @@ def hysteresis_job(s: Settings, ramp: Ramp) -> dict[str, Any]:
         "body_mass_g": round(s.body_mass_g if ramp.param != "body_mass_g" else ramp.start, 6),
         "slope_deg": round(s.slope_deg if ramp.param != "slope_deg" else ramp.start, 6),
         "d31_init": round(s.d31_init, 6),
+        "ground": s.ground,
     }
 
 

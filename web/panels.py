@@ -41,6 +41,7 @@ from web.requests import (
     SetD31Window,
     SetFollow,
     SetFootfallWindow,
+    SetGround,
     SetParam,
     SetPlaying,
     SetSpeed,
@@ -89,6 +90,7 @@ class Readouts:
     body_mass_g: float = controls.BODY_MASS_G.initial
     slope_deg: float = controls.SLOPE_DEG.initial
     heading_deg: float | None = None
+    ground: str = "constraint"
 
 
 # A heading this far from +x (the slope's uphill direction) gets a word of explanation.
@@ -107,7 +109,8 @@ def heading_note(heading_deg: float | None) -> str:
         return ""
     return (
         f"turned {round(off)}° from the slope's +x: the model has no steering (nor has the "
-        "paper's), so it keeps walking the way a slope yawed it; Reset faces it uphill again"
+        "paper's), so it keeps walking the way a slope yawed it; Reset faces it uphill again, "
+        "and the paper's ground (button 'ground') keeps its heading on slopes"
     )
 
 
@@ -138,6 +141,7 @@ def format_readouts(r: Readouts) -> dict[str, str]:
         "β (simulation)": f"{r.beta:.4f}",
         "body mass (simulation, g)": f"{r.body_mass_g:.2f}",
         "slope (simulation, °)": f"{r.slope_deg:.1f}",
+        "ground": controls.GROUND_LABEL[r.ground],
         "sim time (s)": f"{r.time_s:.2f}",
         "speed along heading (cm/s)": _f(r.speed_cm_s, "{:.2f}")
         + ("" if r.heading_deg is None else f"  (heading {round(r.heading_deg)}°)"),
@@ -213,6 +217,11 @@ class Panels:
             self.d31_window.on_update(self._on_d31_window)
             self.camera = gui.add_button_group("camera", controls.CAMERA_MODES)  # as speed
             self.camera.on_click(self._queue(lambda: SetFollow(str(self.camera.value))))
+            # the paper's ground keeps walking up and down a slope; today's contact turns
+            self.ground = gui.add_button_group("ground", tuple(controls.GROUNDS))
+            self.ground.on_click(
+                self._queue(lambda: SetGround(controls.GROUNDS[str(self.ground.value)]))
+            )
             self.d31_init = self._slider("d31_init", controls.D31_INIT, None)
             self.reset = gui.add_button("Reset with this initial Δ31")
             self.reset.on_click(

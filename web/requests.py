@@ -53,6 +53,14 @@ class Reset:
 
 
 @dataclass(frozen=True)
+class SetGround:
+    """Walk on another ground (`ModelParams.ground`): a restart from the last initial Delta31
+    at the current beta, mass and slope, so it keeps its place among resets."""
+
+    ground: str
+
+
+@dataclass(frozen=True)
 class StartRamp:
     ramp: Ramp  # the core's schedule; the loop sets the ramped parameter from it
 
@@ -83,6 +91,7 @@ Request = (
     | SetFollow
     | SetFootfallWindow
     | Reset
+    | SetGround
     | SetD31Window
     | StartRamp
     | StopRamp

@@ -22,6 +22,9 @@ from server.kinds.bounds import (
     BETA_BOUNDS,
     DT_REASON,
     DURATION_BOUNDS,
+    GROUND_DEFAULT,
+    GROUND_HELP,
+    GROUNDS,
     MASS_BOUNDS,
     MAX_DT_S,
     SLOPE_BOUNDS,
@@ -36,6 +39,7 @@ from sim_core.contract import (
     INTEGRATORS,
     MASS_REASON,
     Integrator,
+    ModelParams,
     cost_problem,
     numerics_problem,
     resolve_numerics,
@@ -105,6 +109,22 @@ class Physics(Strict):
         nullable=True,
         validate_default=True,
     )
+    ground: str = Field(
+        GROUND_DEFAULT,
+        description=GROUND_HELP,
+        json_schema_extra={"allowed": " or ".join(GROUNDS), "enum": list(GROUNDS)},
+    )
+
+    @field_validator("ground")
+    @classmethod
+    def _a_known_ground(cls, v: str) -> str:
+        if v not in GROUNDS:
+            raise ValueError(f"ground must be one of {', '.join(GROUNDS)}; got {v!r}")
+        return v
+
+    def model_params(self) -> ModelParams:
+        """The core's parameters of this job: the defaults on the job's ground."""
+        return ModelParams(ground=self.ground)
 
     @classmethod
     def kind_name(cls) -> str:

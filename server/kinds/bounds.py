@@ -8,7 +8,7 @@ states only tighter bounds, each with its reason. Nothing here loads MuJoCo.
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any, TypedDict
+from typing import Annotated, Any, TypedDict, get_args
 
 import annotated_types
 from pydantic import BeforeValidator, Field
@@ -19,6 +19,7 @@ from sim_core.contract import (
     MAX_STABLE_DT_S,
     MIN_DT_S,
     TWO_PI,
+    ModelParams,
     RunSpec,
 )
 
@@ -57,6 +58,15 @@ def core_bounds(name: str) -> Bounds:
 
 def core_default(name: str) -> Any:
     return RunSpec.model_fields[name].default
+
+
+# The grounds a job may walk on (`ModelParams.ground`, read from it) and the default's.
+GROUNDS: tuple[str, ...] = get_args(ModelParams.model_fields["ground"].annotation)
+GROUND_DEFAULT: str = ModelParams.model_fields["ground"].default
+GROUND_HELP = (
+    "the ground model: 'constraint' (MuJoCo's contact, the default) or 'penalty' (the paper's "
+    "viscoelastic feet, which keep the heading on slopes: docs/MODEL.md, 'Slopes')"
+)
 
 
 def in_range(value: float, bounds: Bounds) -> bool:

@@ -73,7 +73,7 @@ def finder_runner(core: Any, job: Finder, progress: Progress, nthread: int) -> F
                          **job.numerics_fields())
             for c, p in batch
         ]  # fmt: skip
-        results = core.simulate_batch(specs, nthread=nthread)
+        results = core.simulate_batch(specs, job.model_params(), nthread=nthread)
         done += sum(p.duration_s for _, p in batch)
         progress(min(0.99, done / budget))
         return [{"d31": r.d31.tolist(), "error": r.error} for r in results]

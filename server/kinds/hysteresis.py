@@ -129,6 +129,7 @@ def run(job: HysteresisJob, progress: Progress, nthread: int) -> dict[str, Any]:
         turn=job.turn,
         hold_s=job.hold_s,
         ramp_s=job.ramp_s,
+        params=job.model_params(),
         progress=progress,
     )
     if res.failure is not None:

@@ -56,7 +56,9 @@ def simulate_each(
     """One run per d31_init of a `run` or `return_map` job, one batch call; `JobFailed` naming
     every run that failed."""
     specs = [core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
-    results: list[Any] = core.simulate_batch(specs, nthread=nthread, progress=progress)
+    results: list[Any] = core.simulate_batch(
+        specs, job.model_params(), nthread=nthread, progress=progress
+    )
     failures = [
         (f"run {i + 1} of {len(results)} (d31_init = {d:.4g})", r.failure)
         for i, (d, r) in enumerate(zip(job.d31_init, results, strict=True))

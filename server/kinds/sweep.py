@@ -37,7 +37,7 @@ def _grid(
     """Every (beta, d31_init) of the job's grid as independent runs, one batch call."""
     pairs = [(b, d) for b in job.beta_range.values() for d in job.d31_init]
     specs = core.spec_grid(job.beta_range.values(), job.d31_init, **job.run_fields())
-    results = core.simulate_batch(specs, nthread=nthread, progress=progress)
+    results = core.simulate_batch(specs, job.model_params(), nthread=nthread, progress=progress)
     failures = [
         (f"beta {b:.4g}, d31_init {d:.4g}", r.failure)
         for (b, d), r in zip(pairs, results, strict=True)

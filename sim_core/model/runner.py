@@ -69,6 +69,9 @@ MIN_UP_COS = 0.5
 
 ProgressFn = Callable[[float], None]
 BlockHook = Callable[["BatchRunner"], None]
+# What a runner compiles its model with (params, visual=False): `mjspec.build_model`, or a
+# study's variant of it passed as `build` (a seam, so that no study patches this module).
+ModelBuilder = Callable[..., mujoco.MjModel]
 
 
 def spec_numerics(spec: RunSpec, params: ModelParams) -> tuple[str, float, float, int]:
@@ -110,6 +113,7 @@ class BatchRunner:
         record: bool = True,
         open_ended: bool = False,
         history_s: float | None = None,
+        build: ModelBuilder = build_model,
     ) -> None:
         if not specs:
             raise ValueError("no simulations to run")
@@ -127,7 +131,7 @@ class BatchRunner:
         self.params = base.model_copy(update={"integrator": self.integrator, "dt": self.dt})
         self.specs = list(specs)
         n = self.n = len(specs)
-        self.model = build_model(self.params, visual=False)  # drawing: Simulation.model
+        self.model = build(self.params, visual=False)  # drawing: Simulation.model
         self._leg_qpos = leg_qpos_addresses(self.model)  # fixed by the model; used per reset
         self.batch = mujoco.batch.Batch(self.model, nsim=n, nthread=nthread if n > 1 else 1)
         self.geo = pack_geometry(self.params)

@@ -34,6 +34,9 @@ READINGS: dict[str, dict[str, Any]] = {
     # target keeps reaching down (at the swing curve's final descent speed) instead of
     # following the AEP-PEP line
     "late descent": {"late_swing_descent": 1.0},
+    # "The stance phase is a straight line from the landing position (LP) to the PEP": LP as
+    # the tip's place at touchdown with its height, not only its fore-aft place on the line
+    "landing height kept": {"landing_height_kept": 1.0},
 }
 STARTS = 8  # the acceptance: "every one of 8 starts over the circle"
 

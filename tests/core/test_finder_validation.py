@@ -29,4 +29,22 @@ def test_every_reported_point_is_reached_and_every_reached_attractor_is_reported
     for c in checks:
         assert c.finder.attractors, table
         assert all(ok for _, _, ok in c.reached), table
-        assert all(ok for _, end, ok in c.independent if end is not None), table
+        assert not c.missing(), table
+        # every settled end the finder does not list was put to its kick test
+        assert all(e in c.kicked for _, e, ok in c.independent if e is not None and not ok)
+
+
+def test_an_unlisted_end_counts_as_missed_only_if_a_kick_comes_back_to_it() -> None:
+    from sim_core.paper.fixedpoints import CellResult
+    from sim_core.paper.validation import BetaCheck
+
+    empty = CellResult(beta=0.655, body_mass_g=3.0, slope_deg=0.0, attractors=[], borders=[],
+                       ghosts=[], runs=[], sim_s=0.0)  # fmt: skip
+    c = BetaCheck(0.655, empty, independent=[(0.4, 4.58, False), (1.2, 1.74, True),
+                                              (2.0, None, False), (3.0, 2.10, False)])  # fmt: skip
+    c.kicked = {4.58: (2.91, None), 2.10: (None, 2.11)}  # 4.58: kicks slide off; 2.10 returns
+    assert c.missing() == [2.10] and not c.ok
+    assert "4.580 (not an attractor: kicks end 2.910 / not settled)" in report([c])[2]
+    assert "2.100 (missing)" in report([c])[2]
+    c.kicked[2.10] = (1.74, 1.74)
+    assert c.missing() == [] and c.ok

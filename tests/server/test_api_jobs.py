@@ -342,3 +342,18 @@ def test_worker_error_shows_no_paths_or_traceback(make_server: Callable[..., Ser
     assert "allowed fields" in job["error"]
     for leak in ("/", "site-packages", "Traceback", "http", ".py"):
         assert leak not in job["error"], (leak, job["error"])
+
+
+def test_a_job_walks_on_the_ground_it_names(make_server: Callable[..., Server]) -> None:
+    """`ground` reaches the core: the paper's ground walks another walk than the default's."""
+    srv = make_server(workers=1)
+    with srv.client() as c:
+        finals = {}
+        for ground in ("constraint", "penalty"):
+            job = submit(c, {**SHORT, "duration_s": 0.5, "include_series": True, "ground": ground})
+            job = wait_status(c, job["id"], {"done", "failed"}, timeout=60)
+            assert job["status"] == "done", job["error"]
+            (run,) = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]["runs"]
+            finals[ground] = run["d31"]
+        assert finals["constraint"] and finals["penalty"]
+        assert finals["constraint"] != finals["penalty"]

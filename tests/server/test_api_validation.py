@@ -104,6 +104,8 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
     (with_(BASE, d31_init=[7.0]), "d31_init[0]", "0 <= d31_init <= 2*pi"),
     (with_(BASE, d31_init=[0.5] * 1001), "d31_init", "1..1000 values"),
     (with_(BASE, include_series=1), "include_series", "boolean"),
+    (with_(BASE, ground="ice"), "ground", "one of constraint, penalty"),
+    (with_(BASE, ground=1), "ground", "string"),
     (with_(BASE, colour="red"), "colour", "allowed fields: beta"),
     (with_(BASE, kind="walk"), "kind", KINDS),
     ({"beta": 0.66, "d31_init": [2.0]}, "kind", KINDS),

@@ -13,6 +13,7 @@ import time
 from collections.abc import Callable
 
 import msgspec.msgpack
+import pytest
 import viser
 from viser._messages import ViewerCameraMessage
 from websockets.sync.client import connect
@@ -142,5 +143,34 @@ def test_a_mass_ramp_holds_ramps_and_holds_and_the_export_shows_it() -> None:
             expected = ramp.value(float(r["time_s"]) - t0)
             assert abs(float(r["body_mass_g"]) - expected) < 0.05, r  # within one chunk
         assert max(float(r["body_mass_g"]) for r in during) > 4.5
+    finally:
+        app.stop()
+
+
+def test_the_ground_button_restarts_the_walk_on_the_papers_ground_where_it_stood() -> None:
+    """Issue 30: slopes must be walked up and down; the paper's ground keeps the heading."""
+    import json
+
+    from web import controls
+    from web.requests import SetGround, SetParam
+
+    app = ViewerApp("127.0.0.1", 0)
+    try:
+        app.apply(SetParam("slope_deg", -20.0))
+        app._step(0.2, time.perf_counter() + 600)
+        old = app.sim
+        app.apply(SetGround("penalty"))
+        assert app.sim is not old and app.ground == "penalty"
+        assert app.sim.slope_deg == -20.0 and app.sim.time_s == 0.0  # kept; a new walk
+        assert len(app.d31.events) == 0
+        app._step(0.3, time.perf_counter() + 600)
+        assert app.sim.error is None and len(app.d31.events) > 0
+        app.apply(SetGround("penalty"))  # the same ground again: no restart
+        assert app.sim.time_s > 0.0
+        settings = json.loads(app.export("settings")[1])
+        assert settings["ground"] == "penalty" and settings["jobs"]["run"]["ground"] == "penalty"
+        with pytest.raises(ValueError, match="unknown ground"):
+            app.apply(SetGround("ice"))
+        assert set(controls.GROUNDS.values()) == {"constraint", "penalty"}
     finally:
         app.stop()

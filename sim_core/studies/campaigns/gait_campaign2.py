@@ -10,7 +10,7 @@ Sub-commands (numbers and the commands that made them: docs/studies/gait_campaig
 Parameter sets are the lead-1 point (`LEAD1`) plus `--set name=value` overrides. Nothing here
 knows the target gait; beta enters only through the paper's eq. 2 (inside sim_core).
 
-    PYTHONPATH=. python docs/studies/gait_campaign2.py finals --betas 0.62 0.70 --duration 20
+    python -m sim_core.studies.campaigns.gait_campaign2 finals --betas 0.62 0.70 --duration 20
 """
 
 from __future__ import annotations
@@ -34,7 +34,7 @@ from sim_core import (
     simulate_batch,
     sweep,
 )
-from sim_core.model.gait import TAIL_DRIFT_SETTLED, angle_diff, tail_drift
+from sim_core.model.gait import TAIL_DRIFT_SETTLED, angle_diff, settling
 from sim_core.model.params import phi_aep
 
 LEAD1: dict[str, Any] = {
@@ -64,12 +64,12 @@ def parse_sets(items: list[str]) -> dict[str, Any]:
 
 
 def tail_stats(r: RunResult) -> dict[str, Any]:
-    """Final Delta31 and its drift per gait cycle over the last quarter (`gait.tail_drift`)."""
-    tail = tail_drift(r.d31)
-    if tail is None:
+    """Final Delta31, its drift per gait cycle over the last quarter and THE settled rule
+    (`gait.settling`; this campaign's own rule, |drift| < SETTLE_SLOPE, is the rule's core)."""
+    s = settling(r.d31)
+    if s.final is None:
         return {"final": None, "slope": None, "settled": False}
-    final, slope = tail
-    return {"final": final, "slope": slope, "settled": abs(slope) < SETTLE_SLOPE}
+    return {"final": s.final, "slope": s.drift, "settled": s.settled}
 
 
 def row(r: RunResult, p: ModelParams) -> dict[str, Any]:

@@ -14,7 +14,7 @@ Parameter sets are `ModelParams()` (today's default) plus `--set name=value` ove
 `STEP_ONE` names the adopted setting. Nothing here knows the target gait; beta enters only
 through eq. 2 inside sim_core.
 
-    PYTHONPATH=. python docs/studies/gait_campaign3.py map --out docs/studies/regimes.json
+    python -m sim_core.studies.campaigns.gait_campaign3 map --out docs/studies/regimes.json
 """
 
 from __future__ import annotations
@@ -28,11 +28,9 @@ from typing import Any
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-from gait_campaign2 import binned_legs, crossings, row, table_finals
-
 from sim_core import ModelParams, RunSpec, simulate_batch, sweep
 from sim_core.model.probes import open_loop_drift
+from sim_core.studies.campaigns.gait_campaign2 import binned_legs, crossings, row, table_finals
 
 # The step-one candidate of issue 22 (fact 7, first row): lift joints 0.6x as stiff with
 # damping on their own velocity (1 ms lag), a 0.5 mm lower stance, centre of mass 1 mm forward.
@@ -505,6 +503,7 @@ def main(argv: list[str] | None = None) -> int:
         x.add_argument("--nthread", type=int, default=2)
         x.add_argument("--out", type=Path, default=None, help="JSON file for the raw rows")
     args = ap.parse_args(argv)
+    data: Any
     if args.cmd == "plotmap":
         data = json.loads(args.json.read_text())
         print(table_map(data))
@@ -532,7 +531,7 @@ def main(argv: list[str] | None = None) -> int:
                     else f"{rw['final']:.3f} (drift {rw['slope']:+.4f}/cycle, {rw['kind']})"
                 )
             )
-        data: Any = rows
+        data = rows
     elif args.cmd == "map":
         data = run_map(args)
         print(table_map(data))

@@ -1,8 +1,8 @@
 """Fourth study (docs/REPRODUCTION.md): the reduced support model over soft legs.
 
-    python docs/studies/reduced_model_search.py grid    # leg stiffness x damping x swing apex
-    python docs/studies/reduced_model_search.py random 0 160   # random search, seeds 0..159
-    python docs/studies/reduced_model_search.py apex    # fifth study: swing apex up to 4 mm
+    python -m sim_core.studies.campaigns.reduced_model_search grid   # stiffness x damping x apex
+    python -m sim_core.studies.campaigns.reduced_model_search random 0 160   # seeds 0..159
+    python -m sim_core.studies.campaigns.reduced_model_search apex   # fifth study: apex to 4 mm
 
 Each candidate runs 12 starts over the circle at beta 0.62, 0.655 and 0.70
 (`sim_core.studies.reduced_model`) and prints where they end. The random search scores a candidate
@@ -75,10 +75,11 @@ def random_candidate(seed: int) -> dict[str, Any]:
 
 
 def main() -> None:
+    cands: list[dict[str, float]]
     if sys.argv[1] == "grid":
-        grid = itertools.product([8, 10, 12, 15, 20, 30, 50], [0.02, 0.04, 0.06, 0.08],
-                                 [0.8e-3, 1.0e-3, 1.2e-3])  # fmt: skip
-        cands = [{"leg_stiffness": k, "leg_damping": c, "swing_height": h} for k, c, h in grid]
+        grid3 = itertools.product([8, 10, 12, 15, 20, 30, 50], [0.02, 0.04, 0.06, 0.08],
+                                  [0.8e-3, 1.0e-3, 1.2e-3])  # fmt: skip
+        cands = [{"leg_stiffness": k, "leg_damping": c, "swing_height": h} for k, c, h in grid3]
     elif sys.argv[1] == "apex":  # a higher swing keeps soft legs' landings late in the swing
         grid = itertools.chain(
             itertools.product([30, 60, 120, 250], [0.03, 0.1, 0.3, 1.0],

@@ -1,7 +1,8 @@
 """Fourth study (docs/REPRODUCTION.md): where 12 starts of the full model end, per beta.
 
-    python docs/studies/full_model_finals.py '{"tarsus_stiffness": 15, "tarsus_damping": 0.04,
-        "swing_height": 0.001}' --betas 0.62 0.70 --duration-s 5 [--dt-s 2.5e-5]
+    python -m sim_core.studies.campaigns.full_model_finals '{"tarsus_stiffness": 15,
+        "tarsus_damping": 0.04, "swing_height": 0.001}' --betas 0.62 0.70 --duration-s 5 \
+        [--dt-s 2.5e-5]
 
 Prints the final Delta31 of each start, the median slip (share of the stroke), the median
 speed and where in the swing the feet land (`RunResult.landing_swing_share`, the median over
@@ -52,9 +53,9 @@ def main() -> None:
             f"feet land at {land:.2f} of the swing"
         )
     if a.plot:
-        runs = [{"beta": r.spec.beta, "d31_init": r.spec.d31_init, "d31": r.d31.tolist(),
-                 "error": r.error} for r in results]  # fmt: skip
-        fig5({"runs": runs}, Path(a.plot))
+        series = [{"beta": r.spec.beta, "d31_init": r.spec.d31_init, "d31": r.d31.tolist(),
+                   "error": r.error} for r in results]  # fmt: skip
+        fig5({"runs": series}, Path(a.plot))
 
 
 if __name__ == "__main__":

@@ -1,6 +1,6 @@
 """The penalty ground's settled finals at dt, dt/2 and RK4 2e-5 s (docs/NUMERICS.md).
 
-Usage: K=2000 LABELS=default,half,rk4 python docs/studies/penalty_ground.py
+Usage: K=2000 LABELS=default,half,rk4 python -m sim_core.studies.campaigns.penalty_ground
 Beta 0.62 and 0.70 from Delta31 1.9 and 3.0, 30 s each; writes out/penalty_ground_K_LABELS.json.
 VARY=ground_damping:1.1 scales one more field (the +-10% check).
 """
@@ -11,7 +11,7 @@ import time
 from pathlib import Path
 
 from sim_core import ModelParams, RunSpec, simulate_batch
-from sim_core.model.gait import tail_drift
+from sim_core.model.gait import settling
 
 K = float(os.environ.get("K", "2000"))
 C = 0.1 * (K / 2000) ** 0.5  # the same damping ratio as 0.1 N s/m at 2000 N/m
@@ -36,9 +36,10 @@ def main() -> None:
         wall = time.perf_counter() - t
         rows = []
         for s, r in zip(specs, runs, strict=True):
-            td = None if r.failure else tail_drift(r.d31)
+            td = None if r.failure else settling(r.d31)
             rows.append({"beta": s.beta, "start": s.d31_init, "final": r.d31_final,
-                         "gait": r.gait, "drift": td and td[1], "slip": r.slip_fraction,
+                         "gait": r.gait, "drift": None if td is None else td.drift,
+                         "slip": r.slip_fraction,
                          "landing": r.landing_swing_share, "retouch": r.retouches_per_stance,
                          "speed": r.speed_cm_s,
                          "failure": r.failure and r.failure.kind})  # fmt: skip
