@@ -34,6 +34,7 @@ from sim_core.runs.backends import Backend, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 
 MATCH = 0.05  # rad, the issue's tolerance
+Kick = tuple[float | None, bool]  # where a kick run ended (None: it failed), and if it settled
 NUDGE = 0.04  # rad: how far from a reported point its check runs start (finder's kicks: 0.03)
 CHECK_DURATION_S = 40.0  # the issue's independent runs
 
@@ -49,14 +50,14 @@ class BetaCheck:
     # at least one within MATCH)
     independent: list[tuple[float, float | None, bool]] = field(default_factory=list)
     # (start, settled final or None, found by the finder within MATCH)
-    kicked: dict[float, tuple[float | None, float | None]] = field(default_factory=dict)
-    # an unlisted settled end -> where its kicks from below and above settled (None: not)
+    kicked: dict[float, tuple[Kick, Kick]] = field(default_factory=dict)
+    # an unlisted settled end -> where its kicks from below and above ended
 
     def attractor(self, end: float) -> bool:
-        """An unlisted end is an attractor if a kick from either side comes back to it (the
+        """An unlisted end is an attractor if a kick from either side settles back on it (the
         finder lists states that come back from one side only as one-sided states)."""
-        lo, hi = self.kicked.get(end, (end, end))
-        return any(e is not None and _near(e, [end]) for e in (lo, hi))
+        kicks = self.kicked.get(end, ((end, True), (end, True)))
+        return any(ok and e is not None and _near(e, [end]) for e, ok in kicks)
 
     def missing(self) -> list[float]:
         """Settled ends the finder does not list that are attractors by its own test."""
@@ -134,13 +135,14 @@ def validate(
     if stats is not None:
         stats.computed += st.computed
         stats.cached += st.cached
-    back: dict[tuple[float, float], list[float | None]] = {}
+    back: dict[tuple[float, float], list[Kick]] = {}
     for (c, e, _), t in zip(kicks, ktasks, strict=True):
         r = kres[t.key]
         s = settling(r["d31"]) if r["error"] is None else None
-        back.setdefault((c.beta, e), []).append(s.final if s is not None and s.settled else None)
-    for (b, e), (lo, hi) in back.items():
-        checks[b].kicked[e] = (lo, hi)
+        kick = (None, False) if s is None else (s.final, s.settled)
+        back.setdefault((c.beta, e), []).append(kick)
+    for (b, e), (below, above) in back.items():
+        checks[b].kicked[e] = (below, above)
     return [checks[b] for b in betas]
 
 
@@ -156,8 +158,15 @@ def _said(c: BetaCheck, e: float | None, ok: bool) -> str:
         return f"{e:.3f}"
     if c.attractor(e):
         return f"{e:.3f} (missing)"
-    lo, hi = c.kicked.get(e, (None, None))
-    return f"{e:.3f} (not an attractor: kicks end {_end(lo)} / {_end(hi)})"
+    lo, hi = c.kicked.get(e, ((None, False), (None, False)))
+    return f"{e:.3f} (not an attractor: kicks end {_kick(lo)} / {_kick(hi)})"
+
+
+def _kick(k: Kick) -> str:
+    end, settled = k
+    if end is None:
+        return "failed"
+    return f"{end:.3f}" + ("" if settled else " (still drifting)")
 
 
 def report(checks: Sequence[BetaCheck]) -> list[str]:

@@ -42,9 +42,12 @@ def test_an_unlisted_end_counts_as_missed_only_if_a_kick_comes_back_to_it() -> N
                        ghosts=[], runs=[], sim_s=0.0)  # fmt: skip
     c = BetaCheck(0.655, empty, independent=[(0.4, 4.58, False), (1.2, 1.74, True),
                                               (2.0, None, False), (3.0, 2.10, False)])  # fmt: skip
-    c.kicked = {4.58: (2.91, None), 2.10: (None, 2.11)}  # 4.58: kicks slide off; 2.10 returns
+    # 4.58: kicks slide off (one still drifting near it is not a return); 2.10: one returns
+    c.kicked = {4.58: ((2.91, False), (4.59, False)), 2.10: ((None, False), (2.11, True))}
     assert c.missing() == [2.10] and not c.ok
-    assert "4.580 (not an attractor: kicks end 2.910 / not settled)" in report([c])[2]
+    assert (
+        "4.580 (not an attractor: kicks end 2.910 (still drifting) / 4.590 (still" in report([c])[2]
+    )
     assert "2.100 (missing)" in report([c])[2]
-    c.kicked[2.10] = (1.74, 1.74)
+    c.kicked[2.10] = ((1.74, True), (1.74, True))
     assert c.missing() == [] and c.ok

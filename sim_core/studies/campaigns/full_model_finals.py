@@ -22,7 +22,9 @@ from pathlib import Path
 
 import numpy as np
 
-from sim_core import ModelParams, RunSpec, simulate_batch
+from sim_core.model.params import ModelParams
+from sim_core.model.runner import simulate_batch
+from sim_core.model.spec import RunSpec
 from sim_core.paper.plots import fig5
 
 

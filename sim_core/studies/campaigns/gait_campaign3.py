@@ -28,8 +28,11 @@ from typing import Any
 
 import numpy as np
 
-from sim_core import ModelParams, RunSpec, simulate_batch, sweep
+from sim_core.model.params import ModelParams
 from sim_core.model.probes import open_loop_drift
+from sim_core.model.runner import simulate_batch
+from sim_core.model.spec import RunSpec
+from sim_core.paper.sweep import sweep
 from sim_core.studies.campaigns.gait_campaign2 import binned_legs, crossings, row, table_finals
 
 # The step-one candidate of issue 22 (fact 7, first row): lift joints 0.6x as stiff with
