@@ -16,6 +16,7 @@ CAPTION = (
     "(Δ31 ≈ 2.95 rad) from a tripod start while β ≤ 0.645, and *metachronal* (1.7-2.1 rad) at "
     "every β. Raise β past ~0.65 and the tripod is lost: Δ31 lingers 15-25 s near 2.95, then "
     "slides to the metachronal gait. The jump back to the tripod at high speed does not appear "
-    "(the metachronal gait lives down to β 0.60), so there is no hysteresis loop yet. See "
-    "docs/REPRODUCTION.md."
+    "(the metachronal gait lives down to β 0.60), so there is no hysteresis loop yet. On a "
+    "slope, walk on the paper's ground (buttons 'ground'): today's contact turns the body "
+    "downhill. See docs/REPRODUCTION.md."
 )
