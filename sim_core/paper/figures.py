@@ -136,7 +136,7 @@ def figure_tasks(fig: str, cfg: Config, p: ModelParams) -> list[Task]:
     if fig == "8":
         return [_ramp_task(beta_ramp(cfg, up=u), cfg, p) for u in (False, True)]
     if fig == "9":
-        return [_ramp_task(r, cfg, q) for r, q in _fig9_runs(cfg, p)]
+        return [_ramp_task(r, cfg, q) for _, r, q in _fig9_runs(cfg, p)]
     if fig == "ablation":
         return _runs(cfg.ablation_betas, cfg.ablation_inits, cfg.ablation_duration_s, p,
                      phase_reset=False)  # fmt: skip
@@ -382,14 +382,15 @@ def _fig8(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[Figure
     return [FigureData("fig8", data, csv, summary)]
 
 
-def _fig9_runs(cfg: Config, p: ModelParams) -> list[tuple[Ramp, ModelParams]]:
-    """Fig. 9's sweeps, and Fig. 9b's again on the paper's ground: today's contact turns the
-    body 70-110 deg within 20-40 s downhill, the paper's ground keeps it within 1 deg
-    (docs/MODEL.md, "Slopes"), so only there does the sweep walk down and up the slope."""
+def _fig9_runs(cfg: Config, p: ModelParams) -> list[tuple[str, Ramp, ModelParams]]:
+    """Fig. 9's sweeps (figure name, ramp, parameters), and Fig. 9b's again on the paper's
+    ground: today's contact turns the body 90-100 deg downhill within 40-60 s, the paper's
+    ground keeps it within 1 deg (docs/MODEL.md, "Slopes"), so only there does the sweep walk
+    down and up the slope."""
     ramps = sweep_ramps(cfg)
-    runs = [(r, p) for r in ramps.values()]
+    runs = [(name, r, p) for name, r in ramps.items()]
     if p.ground != "penalty":
-        runs.append((ramps["fig9b"], p.model_copy(update={"ground": "penalty"})))
+        runs.append(("fig9b", ramps["fig9b"], p.model_copy(update={"ground": "penalty"})))
     return runs
 
 
@@ -404,8 +405,7 @@ def _sweep_data(r: Ramp, res: dict[str, Any], cfg: Config) -> dict[str, Any]:
 
 def _fig9(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     figs: dict[str, FigureData] = {}
-    for r, q in _fig9_runs(cfg, p):
-        name = next(k for k, x in sweep_ramps(cfg).items() if x == r)
+    for name, r, q in _fig9_runs(cfg, p):
         res = get(_ramp_task(r, cfg, q))
         data = _sweep_data(r, res, cfg)
         if name in figs:  # the same sweep on the paper's ground, beside it

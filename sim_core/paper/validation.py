@@ -104,17 +104,26 @@ def validate(
         for x in initial_values(starts):
             x0 = float((x + offset) % (TWO_PI))
             probes.append((c, Probe(x0, CHECK_DURATION_S), "i", x0))
-    tasks = [probe_task(c, p, params) for c, p, _, _ in probes]
-    results, st = run_tasks(tasks, cache, backend, 8, progress)
-    if stats is not None:
-        stats.computed += st.computed
-        stats.cached += st.cached
+
+    def ends_of(batch: list[tuple[Cell, Probe]]) -> list[Kick]:
+        """Where each run ends (None: it failed) and whether it settled, through the cache."""
+        tasks = [probe_task(c, p, params) for c, p in batch]
+        results, st = run_tasks(tasks, cache, backend, 8, progress)
+        if stats is not None:
+            stats.computed += st.computed
+            stats.cached += st.cached
+        out: list[Kick] = []
+        for t in tasks:
+            r = results[t.key]
+            s = settling(r["d31"]) if r["error"] is None else None
+            out.append((None, False) if s is None else (s.final, s.settled))
+        return out
+
     checks = {c.beta: BetaCheck(c.beta, res) for c, res in zip(cells, found, strict=True)}
     ends: dict[tuple[float, float], list[float | None]] = {}
-    for (c, _, what, x), t in zip(probes, tasks, strict=True):
-        r = results[t.key]
-        s = settling(r["d31"]) if r["error"] is None else None
-        end = s.final if s is not None and s.settled else None
+    done = ends_of([(c, p) for c, p, _, _ in probes])
+    for (c, _, what, x), (final, settled) in zip(probes, done, strict=True):
+        end = final if settled else None
         chk = checks[c.beta]
         if what == "r":
             ends.setdefault((c.beta, x), []).append(end)
@@ -130,16 +139,8 @@ def validate(
                 if e is not None and not ok]  # fmt: skip
     kicks = [(c, e, Probe(float((e + s * cfg.kick_rad) % TWO_PI), CHECK_DURATION_S))
              for c, e in unlisted for s in (-1.0, 1.0)]  # fmt: skip
-    ktasks = [probe_task(c, p, params) for c, _, p in kicks]
-    kres, st = run_tasks(ktasks, cache, backend, 8, progress)
-    if stats is not None:
-        stats.computed += st.computed
-        stats.cached += st.cached
     back: dict[tuple[float, float], list[Kick]] = {}
-    for (c, e, _), t in zip(kicks, ktasks, strict=True):
-        r = kres[t.key]
-        s = settling(r["d31"]) if r["error"] is None else None
-        kick = (None, False) if s is None else (s.final, s.settled)
+    for (c, e, _), kick in zip(kicks, ends_of([(c, p) for c, _, p in kicks]), strict=True):
         back.setdefault((c.beta, e), []).append(kick)
     for (b, e), (below, above) in back.items():
         checks[b].kicked[e] = (below, above)
