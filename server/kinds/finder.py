@@ -69,14 +69,14 @@ def finder_runner(core: Any, job: Finder, progress: Progress, nthread: int) -> F
     def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
         nonlocal done
         specs = [
-            core.RunSpec(d31_init=p.d31_init, duration_s=p.duration_s, **c.spec_fields(),
-                         **job.numerics_fields())
+            core.RunSpec(**p.spec_fields(), **c.spec_fields(), **job.numerics_fields())
             for c, p in batch
-        ]  # fmt: skip
+        ]
         results = core.simulate_batch(specs, job.model_params(), nthread=nthread)
-        done += sum(p.duration_s for _, p in batch)
+        done += sum(r.duration_s or p.duration_s for (_, p), r in zip(batch, results, strict=True))
         progress(min(0.99, done / budget))
-        return [{"d31": r.d31.tolist(), "error": r.error} for r in results]
+        return [{"d31": r.d31.tolist(), "error": r.error, "duration_s": r.duration_s}
+                for r in results]  # fmt: skip
 
     return run
 

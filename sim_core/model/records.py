@@ -65,6 +65,7 @@ def assemble_result(
         "integrator": integrator,
         "dt_s": dt_s,
         "control_dt_s": control_dt_s,
+        "duration_s": duration_s,
     }
     if failure is not None:
         return RunResult(

@@ -33,6 +33,7 @@ from sim_core.model.controller import (
 )
 from sim_core.model.cost import RECORD_DT_S
 from sim_core.model.cpg import initial_phases
+from sim_core.model.gait import settling
 from sim_core.model.guard import (
     FLIPPED,
     LEFT_GROUND,
@@ -149,6 +150,12 @@ class BatchRunner:
             np.full(n, np.inf) if open_ended else np.array([s.duration_s for s in specs])
         )
         self._first_end = float(self.duration.min()) - 1e-12  # no run ends before this time
+        # RunSpec.stop_if_settled_s: when each run's settled test is due (inf: never), and the
+        # earliest one still due (one float compared per control period)
+        self._settle_due = np.array(
+            [np.inf if s.stop_if_settled_s is None else s.stop_if_settled_s for s in specs]
+        )
+        self._next_settle_due = float(self._settle_due.min()) - 1e-12
         self.phi = np.zeros((n, 6))
         self.phi_next = np.zeros((n, 6))
         self.stance = np.zeros((n, 6), dtype=np.int8)
@@ -415,6 +422,8 @@ class BatchRunner:
         while self.active.any() and (max_blocks is None or done_blocks < max_blocks):
             self.step_block()
             done_blocks += 1
+            if self.time >= self._next_settle_due:
+                self._stop_settled()
             if hook is not None:
                 hook(self)
             if report:
@@ -422,6 +431,22 @@ class BatchRunner:
                 if done - last >= 0.01 or not self.active.any():
                     progress(done)  # type: ignore[misc]
                     last = done
+
+    def _stop_settled(self) -> None:
+        """Runs whose `stop_if_settled_s` has come: those that settled end now, exactly as a
+        run of this length would have (the same control period ends both)."""
+        due = np.flatnonzero(self._settle_due <= self.time + 1e-12)
+        for i in due:
+            if self.active[i] and settling(self.journal.d31_v[i]).settled:
+                self.end(int(i))
+        self._settle_due[due] = np.inf
+        self._next_settle_due = float(self._settle_due.min()) - 1e-12
+
+    def end(self, i: int) -> None:
+        """End simulation i now: its duration becomes the time reached (its result is that of
+        a run this long)."""
+        self.duration[i] = self.time
+        self.active[i] = False
 
     # --- results ----------------------------------------------------------------------------
     def result(self, i: int) -> RunResult:

@@ -53,12 +53,22 @@ class RunSpec(BaseModel):
     dt_s: float | None = Field(None, gt=0.0, le=1e-2, description="physics timestep, s")
     control_dt_s: float | None = Field(None, gt=0.0, le=1e-2, description="controller period, s")
     phi1_init: float = Field(0.0, ge=0.0, le=TWO_PI, description="initial phase of leg 1, rad")
+    stop_if_settled_s: float | None = Field(
+        None,
+        gt=0.0,
+        description="at this simulated time, s, a run whose Delta31 has settled (the settled "
+        "rule, gait.settling) stops; one that has not runs on to duration_s. The run up to "
+        "then is the same as a run of that length, so one spec does a short try and its "
+        "longer re-run without simulating the start twice",
+    )
 
     @model_validator(mode="after")
     def _control_not_faster_than_physics(self) -> RunSpec:
         if self.dt_s is not None and self.control_dt_s is not None:
             if self.control_dt_s < self.dt_s * (1 - 1e-9):
                 raise ValueError("control_dt_s must be >= dt_s")
+        if self.stop_if_settled_s is not None and self.stop_if_settled_s > self.duration_s:
+            raise ValueError("stop_if_settled_s must be <= duration_s")
         return self
 
 
@@ -277,6 +287,9 @@ class RunResult:
     settled: bool = False  # `gait.settling` of d31
     drift_per_cycle: float | None = None  # over the last quarter, rad per leg-1 touchdown
     settled_why: str = ""  # why not settled, in words ("" if settled)
+    # the simulated length asked for: the spec's duration, or the time the run stopped
+    # settled (`RunSpec.stop_if_settled_s`); a failed run ended earlier (`failure.time_s`)
+    duration_s: float | None = None
     # what the numbers say about themselves (`gait.run_warnings`): a duty factor off beta,
     # feet landing far from the AEP, a step coarser than the converged default
     warnings: tuple[str, ...] = ()
@@ -300,6 +313,7 @@ class RunResult:
             "settled": self.settled,
             "drift_per_cycle": self.drift_per_cycle,
             "settled_why": self.settled_why,
+            "duration_s": self.duration_s,
             "speed_cm_s": self.speed_cm_s,
             "duty_factor_measured": self.duty_factor_measured,
             "slip_fraction": self.slip_fraction,

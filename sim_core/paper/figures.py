@@ -42,11 +42,11 @@ BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch coun
 class Config:
     """Sizes and protocol of every experiment (the paper states few of them)."""
 
+    # Fig. 5's runs are the finder's starts at these betas (`fig5_tasks`: the same tasks, run
+    # once): `finder.starts` (8; the paper used 3) spread over the circle, `finder.duration_s`
+    # (40 s, ~360 strides at 0.70: past the tripod fold a start near pi slides for 30-60 s
+    # through the ghost, docs/studies/gait_campaign3.md)
     fig5_betas: tuple[float, ...] = (0.62, 0.70)
-    fig5_inits: int = 8  # the paper used 3; 8 spread over the circle also probe the basins
-    # ~ 270 strides at 0.70 (T = T_sw / (1 - beta) = 0.11 s): past the tripod fold a start near
-    # pi slides for 30-60 s through the ghost (docs/studies/gait_campaign3.md), 10 s is not enough
-    fig5_duration_s: float = 30.0
     map_betas: tuple[float, ...] = (0.64, 0.655, 0.675)  # Fig. 7
     # Figs. 7-8 come from the settled fixed-point finder (`paper.fixedpoints`); its starts,
     # durations and border resolution are chosen from measurement in `FinderConfig`
@@ -80,7 +80,7 @@ class Config:
     def quick(cls) -> Config:
         """Tiny sizes for tests and smoke runs: the machinery, not the science."""
         return cls(
-            fig5_inits=3, fig5_duration_s=1.0, finder=FinderConfig.quick(),
+            finder=FinderConfig.quick(),
             bif_betas=(0.62, 0.64, 0.655, 0.675, 0.70), hold_s=0.3,
             ramp_s=0.6, ablation_betas=(0.66,), ablation_inits=2, ablation_duration_s=0.5,
             footprint_window_s=0.3, name="quick",
@@ -100,6 +100,13 @@ def _runs(
     return [
         run_task(s, p) for s in spec_grid(betas, initial_values(n), duration_s=duration_s, **kw)
     ]
+
+
+def fig5_tasks(cfg: Config, p: ModelParams) -> list[Task]:
+    """Fig. 5's runs: the finder's spread starts at each of `fig5_betas` (beta outer), as the
+    finder asks for them (`probe_task`), so that reproduce runs each once."""
+    return [probe_task(Cell(beta), Probe(float(x), cfg.finder.duration_s), p)
+            for beta in cfg.fig5_betas for x in initial_values(cfg.finder.starts)]  # fmt: skip
 
 
 def beta_ramp(cfg: Config, slower: bool = False, up: bool = False) -> Ramp:
@@ -127,7 +134,7 @@ def _ramp_task(r: Ramp, cfg: Config, p: ModelParams) -> Task:
 def figure_tasks(fig: str, cfg: Config, p: ModelParams) -> list[Task]:
     """Every simulation figure `fig` needs (Fig. 8 also needs the Fig. 6a sweep it overlays)."""
     if fig == "5":
-        return _runs(cfg.fig5_betas, cfg.fig5_inits, cfg.fig5_duration_s, p)
+        return fig5_tasks(cfg, p)
     if fig == "6":
         return [_ramp_task(beta_ramp(cfg, s, u), cfg, p) for u in (False, True)
                 for s in (False, True)]  # fmt: skip
@@ -299,7 +306,7 @@ def _pairs(cell: CellResult, p: ModelParams, get: Lookup, settled: bool = True) 
     `return_map_from_series`."""
     c = Cell(cell.beta, cell.body_mass_g, cell.slope_deg)
     series = [
-        get(probe_task(c, Probe(r.d31_init, r.duration_s), p))["d31"]
+        get(probe_task(c, r.probe(), p))["d31"]
         for r in cell.runs
         if r.settled == settled and r.failure is None
     ]

@@ -96,7 +96,8 @@ class FinderConfig:
     # < 0.05 mrad per cycle before it slides (so 20 s calls it settled, 40 s does not).
     duration_s: float = 40.0
     # Bisection runs only decide a basin between two known attractors; one that has not
-    # settled by then is re-run at `duration_s`.
+    # settled by then goes on to `duration_s` (`Probe.stop_if_settled_s`: one run, not a
+    # short try and a re-run from the start).
     bisect_duration_s: float = 20.0
     border_tol_rad: float = 0.02  # the bracket of a border's starts (issue 28)
     # At most this many borders per condition, preferring those in the paper's window: each
@@ -105,7 +106,7 @@ class FinderConfig:
     # Borders are bisected between attractors of different gaits only (classify_gait);
     # two settled states of one gait (e.g. 1.77 / 2.12 at 0.62) are both listed, unbisected.
     window: tuple[float, float] = (1.4, 3.4)  # PAPER_WINDOW
-    # Each state is re-run from this far on either side (bisect_duration_s, then duration_s
+    # Each state is re-run from this far on either side (bisect_duration_s, on to duration_s
     # if unsettled) and is stable only if both come back within CLUSTER_TOL: the issue's
     # "reached from near it" made two-sided. 0.03: a tenth of the smallest basin measured
     # (2.88-2.95 at 0.62 is 0.07 wide; closer saddles shrink the kick, KICK_ROOM). 0: no
@@ -141,10 +142,18 @@ class Cell:
 
 @dataclass(frozen=True)
 class Probe:
-    """One run a search asks for: a start and a duration, at its cell's condition."""
+    """One run a search asks for: a start and a duration, at its cell's condition; with
+    `stop_if_settled_s`, a short try that runs on to `duration_s` only if it has not settled
+    by then (`RunSpec.stop_if_settled_s`: the same numbers as a short run and its re-run)."""
 
     d31_init: float
     duration_s: float
+    stop_if_settled_s: float | None = None
+
+    def spec_fields(self) -> dict[str, float | None]:
+        """The RunSpec fields of this run besides its cell's (`Cell.spec_fields`)."""
+        return {"d31_init": self.d31_init, "duration_s": self.duration_s,
+                "stop_if_settled_s": self.stop_if_settled_s}  # fmt: skip
 
 
 # --- the output schema (what reproduce, the REST kinds and the viewer read) --------------------
@@ -163,7 +172,7 @@ class RunOutcome(_Model):
     """One settled-or-not run of the search."""
 
     d31_init: float
-    duration_s: float
+    duration_s: float  # asked for (the probe's)
     final: float | None  # circular mean of the last quarter (rad)
     drift: float | None  # rad per gait cycle over the last quarter
     settled: bool
@@ -171,6 +180,12 @@ class RunOutcome(_Model):
     attractor: int | None  # index into CellResult.attractors, None if unsettled or failed
     failure: str | None = None
     role: Role = "start"
+    stop_if_settled_s: float | None = None  # the probe's short try, if it had one
+    simulated_s: float | None = None  # how long it ran: less than duration_s if it stopped
+
+    def probe(self) -> Probe:
+        """The probe that ran it (its task, `search.probe_task`, reads its series back)."""
+        return Probe(self.d31_init, self.duration_s, self.stop_if_settled_s)
 
 
 class Attractor(_Model):
@@ -363,6 +378,7 @@ class _Run:
     d31: list[float]
     settle: Settling
     failure: str | None
+    duration_s: float  # simulated: the probe's, or less where it stopped settled
     label: int | None = None  # the attractor it settled on
     side: int | None = None  # in a bisection bracket: the attractor whose side it is on
 
@@ -379,7 +395,8 @@ class _Cluster:
 def _run_of(probe: Probe, role: Role, res: dict[str, Any]) -> _Run:
     failure = res.get("error")
     d31 = [] if failure else list(res["d31"])
-    return _Run(probe, role, d31, settling(d31), failure)
+    length = res.get("duration_s") or probe.duration_s  # shorter if it stopped settled
+    return _Run(probe, role, d31, settling(d31), failure, float(length))
 
 
 def _clusters(finals: list[float]) -> list[_Cluster]:
@@ -420,9 +437,12 @@ def _search(
         probes: list[Probe],
     ) -> Generator[list[Probe], list[dict[str, Any]], list[dict[str, Any]]]:
         nonlocal sim_s
-        sim_s += sum(p.duration_s for p in probes)
         out = yield probes
+        sim_s += sum(r.get("duration_s") or p.duration_s for p, r in zip(probes, out, strict=True))
         return out
+
+    # a short try that goes on to the full length only where it has not settled
+    tries = cfg.bisect_duration_s if cfg.bisect_duration_s < cfg.duration_s else None
 
     spread = [(float(x), "start") for x in initial_values(cfg.starts)]
     seeds = [(float(wrap(x)), "seed") for x in cell.seeds]
@@ -460,30 +480,19 @@ def _search(
     brackets: list[list[Any]] = [[a, b, 0, "", 0] for a, b in cand]
     active = [k for k, br in enumerate(brackets) if _width(br) > cfg.border_tol_rad]
     while active:
-        probes = [Probe(_mid(brackets[k]), cfg.bisect_duration_s) for k in active]
+        probes = [Probe(_mid(brackets[k]), cfg.duration_s, tries) for k in active]
         outs = yield from ask(probes)
-        retry: list[tuple[int, Probe]] = []
         for k, p, res in zip(active, probes, outs, strict=True):
             r = _run_of(p, "bisect", res)
             runs.append(r)
             brackets[k][2] += 1
-            if not r.settle.settled:
-                retry.append((k, Probe(p.d31_init, cfg.duration_s)))
-                continue
-            _narrow(brackets[k], r, clusters)
-        if retry:
-            outs = yield from ask([p for _, p in retry])
-            for (k, p), res in zip(retry, outs, strict=True):
-                r = _run_of(p, "bisect", res)
-                runs.append(r)
-                brackets[k][2] += 1
-                if r.settle.settled:
-                    _narrow(brackets[k], r, clusters)
-                elif not _by_heading(brackets[k], r, clusters):
-                    brackets[k][3] = (
-                        f"a run from {p.d31_init:.3f} did not settle in {p.duration_s:g} s "
-                        "and heads to neither side"
-                    )
+            if r.settle.settled:
+                _narrow(brackets[k], r, clusters)
+            elif not _by_heading(brackets[k], r, clusters):
+                brackets[k][3] = (
+                    f"a run from {p.d31_init:.3f} did not settle in {r.duration_s:g} s "
+                    "and heads to neither side"
+                )
         active = [
             k for k in active if not brackets[k][3] and _width(brackets[k]) > cfg.border_tol_rad
         ]
@@ -497,20 +506,11 @@ def _search(
             break
         sizes = {k: _kick_sizes(k, clusters, saddles, cfg.kick_rad) for k in todo}
         kicks = [(k, side, Probe(float(wrap(clusters[k].value + sign * sizes[k][side])),
-                                 cfg.bisect_duration_s))
+                                 cfg.duration_s, tries))
                  for k in todo for side, sign in ((0, -1.0), (1, 1.0))]  # fmt: skip
         outs = yield from ask([p for _, _, p in kicks])
-        back: dict[tuple[int, int], _Run] = {}
-        again = []
-        for (k, side, p), res in zip(kicks, outs, strict=True):
-            back[k, side] = _run_of(p, "kick", res)
-            if not back[k, side].settle.settled and back[k, side].failure is None:
-                again.append((k, side, Probe(p.d31_init, cfg.duration_s)))
-        if again:
-            outs = yield from ask([p for _, _, p in again])
-            for (k, side, p), res in zip(again, outs, strict=True):
-                runs.append(back[k, side])  # the short try stays in the record
-                back[k, side] = _run_of(p, "kick", res)
+        back = {(k, side): _run_of(p, "kick", res)
+                for (k, side, p), res in zip(kicks, outs, strict=True)}  # fmt: skip
         for r in back.values():
             runs.append(r)
             if r.settle.settled and r.settle.final is not None:
@@ -555,7 +555,9 @@ def _search(
     ghosts = _ghosts(runs, [a.d31 for a in attractors] + [b.d31 for b in borders if b.d31])
     outcomes = [
         RunOutcome(
-            d31_init=r.probe.d31_init, duration_s=r.probe.duration_s, final=r.settle.final,
+            d31_init=r.probe.d31_init, duration_s=r.probe.duration_s,
+            stop_if_settled_s=r.probe.stop_if_settled_s, simulated_s=r.duration_s,
+            final=r.settle.final,
             drift=r.settle.drift, settled=r.settle.settled, why=r.settle.why,
             attractor=r.label, failure=r.failure, role=r.role,
         )

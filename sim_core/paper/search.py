@@ -20,8 +20,7 @@ from sim_core.runs.tasks import Task, execute_chunk, run_task
 
 def probe_task(cell: Cell, probe: Probe, params: ModelParams | None) -> Task:
     """The task of one finder run (the start wrapped onto [0, 2 pi))."""
-    spec = RunSpec(d31_init=probe.d31_init, duration_s=probe.duration_s, **cell.spec_fields())
-    return run_task(spec, params)
+    return run_task(RunSpec(**probe.spec_fields(), **cell.spec_fields()), params)
 
 
 def task_runner(

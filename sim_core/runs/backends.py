@@ -82,37 +82,43 @@ class LocalBackend:
     """A pool of `workers` processes (default: all cores); one chunk per process at a time.
 
     Processes are started with 'spawn' so that no thread state (tqdm's monitor, MuJoCo's
-    pools) is forked; the compiled controller loads from numba's on-disk cache in each.
-    With one worker or one chunk it runs inline and starts nothing.
+    pools) is forked; the compiled controller loads from numba's on-disk cache in each. The
+    pool starts at the first call that needs it and serves every later one until `close`
+    (the finder asks in ~20 rounds: one start-up, not twenty). With one worker or one chunk
+    it runs inline.
     """
 
     name = "local"
 
     def __init__(self, workers: int | None = None) -> None:
         self.workers = max(1, workers or os.cpu_count() or 1)
+        self._pool: ProcessPoolExecutor | None = None
 
     def imap(self, fn: Executor, chunks: Sequence[list[Task]]) -> ChunkResults:
         if self.workers == 1 or len(chunks) <= 1:
             yield from InlineBackend().imap(fn, chunks)
             return
-        ctx = multiprocessing.get_context("spawn")
-        pool = ProcessPoolExecutor(max_workers=min(self.workers, len(chunks)), mp_context=ctx)
+        if self._pool is None:
+            ctx = multiprocessing.get_context("spawn")
+            self._pool = ProcessPoolExecutor(max_workers=self.workers, mp_context=ctx)
+        futures: dict[Future[list[dict[str, Any]]], list[Task]] = {
+            self._pool.submit(fn, chunk): chunk for chunk in chunks
+        }
         try:
-            futures: dict[Future[list[dict[str, Any]]], list[Task]] = {
-                pool.submit(fn, chunk): chunk for chunk in chunks
-            }
             pending = set(futures)
             while pending:
                 done, pending = wait(pending, return_when=FIRST_COMPLETED)
                 for fut in done:
                     yield futures[fut], fut.result()
         except BaseException:  # interrupted or failed: drop what has not started, do not wait
-            pool.shutdown(wait=False, cancel_futures=True)
+            self._pool.shutdown(wait=False, cancel_futures=True)
+            self._pool = None
             raise
-        pool.shutdown(wait=True)
 
     def close(self) -> None:
-        pass
+        if self._pool is not None:
+            self._pool.shutdown(wait=True)
+            self._pool = None
 
 
 class DaskBackend:

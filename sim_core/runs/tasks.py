@@ -187,6 +187,7 @@ def execute_chunk(
             "landing_swing_share": _finite(res.landing_swing_share),
             "error": res.error,
             "failure": None if res.failure is None else res.failure.to_dict(),
+            "duration_s": res.duration_s,
             "compute_s": share,
         }
         if task.ramp is not None:
@@ -203,19 +204,29 @@ def execute_chunk(
 
 
 def make_chunks(tasks: Sequence[Task], chunk_size: int, workers: int = 1) -> list[list[Task]]:
-    """Compatible tasks of similar duration, at most `chunk_size` per chunk, most work first.
+    """Compatible tasks, at most `chunk_size` per chunk, the work balanced over `workers`,
+    most work first.
 
-    Chunks are made small enough that every worker gets at least one while work remains, and
-    they are ordered longest first so that a long ramp starts early instead of last.
+    Tasks are first dealt to `workers` shares of equal simulated time (longest first, each to
+    the lightest share), and each share is then cut into batches of compatible tasks: so a
+    round of 136 runs on 2 workers is 18 batches of 7-8, not 17 of 8 that leave one worker a
+    batch behind, and a long ramp fills one share while the short runs fill the other.
+    Ordered longest first, so a long ramp starts early instead of last.
     """
     if chunk_size < 1:
         raise ValueError("chunk_size must be >= 1")
-    groups: dict[tuple[Any, ...], list[Task]] = {}
-    for t in tasks:
-        groups.setdefault(t.group(), []).append(t)
+    shares: list[list[Task]] = [[] for _ in range(max(1, workers))]
+    load = [0.0] * len(shares)
+    for t in sorted(tasks, key=lambda t: (-t.duration_s, t.key)):
+        k = load.index(min(load))
+        shares[k].append(t)
+        load[k] += t.duration_s
     chunks: list[list[Task]] = []
-    for members in groups.values():
-        members = sorted(members, key=lambda t: (-t.duration_s, t.key))
-        size = max(1, min(chunk_size, math.ceil(len(members) / max(1, workers))))
-        chunks.extend(members[k : k + size] for k in range(0, len(members), size))
+    for share in shares:
+        groups: dict[tuple[Any, ...], list[Task]] = {}
+        for t in share:
+            groups.setdefault(t.group(), []).append(t)
+        for members in groups.values():
+            size = math.ceil(len(members) / math.ceil(len(members) / chunk_size))
+            chunks.extend(members[k : k + size] for k in range(0, len(members), size))
     return sorted(chunks, key=lambda c: -sum(t.duration_s for t in c))

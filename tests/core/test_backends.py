@@ -54,9 +54,16 @@ def test_a_ramp_task_follows_its_schedule() -> None:
 def test_local_pool_and_dask_cluster_give_identical_results(tmp_path: Path) -> None:
     tasks = _tiny()
     inline, _ = run_tasks(tasks, ResultCache(tmp_path / "a"), InlineBackend(), progress=False)
-    pool, stats = run_tasks(tasks, ResultCache(tmp_path / "b"), LocalBackend(2), chunk_size=2,
-                            progress=False)  # fmt: skip
+    local = LocalBackend(2)
+    try:  # two rounds on one pool (the finder's way): the second reuses its processes
+        pool, stats = run_tasks(tasks, ResultCache(tmp_path / "b"), local, chunk_size=2,
+                                progress=False)  # fmt: skip
+        again, _ = run_tasks(tasks, ResultCache(tmp_path / "d"), local, chunk_size=1,
+                             progress=False)  # fmt: skip
+    finally:
+        local.close()
     assert stats.computed == len(tasks)
+    assert _without_timing(again) == _without_timing(pool)
     dask = DaskBackend(workers=1, processes=False)
     try:
         assert dask.workers == 1

@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from sim_core import RunSpec
+from sim_core.model.params import ModelParams
 from sim_core.model.ramp import Ramp
 from sim_core.paper.analysis import range_ends, stance_intervals, sweep_summary
-from sim_core.paper.figures import Config
+from sim_core.paper.figures import Config, figure_tasks
 from sim_core.paper.fixedpoints import Cell, FinderConfig, FinderOutput, branch_ranges, find
 from sim_core.paper.reproduce import DOC_BEGIN, DOC_END, reproduce, table_rows, update_doc
 from sim_core.runs.backends import InlineBackend, run_tasks
@@ -201,7 +202,9 @@ def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path)
     assert any(c.borders for c in bif.cells) and all(c.attractors for c in bif.cells)
     text = doc.read_text()
     assert "kept text" in text and "stale" not in text and "| paper states |" in text
-    assert count.tasks == report.stats.tasks > 17 * 8  # 17 betas x 8 starts and bisections
+    assert count.tasks == report.stats.computed > 17 * 8  # 17 betas x 8 starts and bisections
+    # Fig. 5's runs are the finder's starts at 0.62 and 0.70: simulated once, read back once
+    assert report.stats.cached == len(figure_tasks("5", Config(), ModelParams())) == 16
     # a re-run of one figure simulates nothing and keeps the other figures' rows
     again = reproduce(["7"], Config(), tmp_path / "fig", tmp_path / "cache", InlineBackend(),
                       progress=False, executor=count)  # fmt: skip

@@ -2,6 +2,7 @@
 
 import itertools
 import math
+from types import SimpleNamespace
 
 import numpy as np
 import pytest
@@ -161,3 +162,34 @@ def test_the_default_model_lands_its_feet_near_the_aep_and_a_soft_foot_spring_do
     assert stiff_res.landing_swing_share is not None and stiff_res.landing_swing_share > 0.95
     assert soft_res.landing_swing_share is not None and soft_res.landing_swing_share < 0.8
     assert stiff_res.summary()["landing_swing_share"] == stiff_res.landing_swing_share
+
+
+@pytest.mark.parametrize("settles", [True, False])
+def test_a_run_that_stops_if_settled_is_the_short_run_or_the_long_one(
+    settles: bool, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """`stop_if_settled_s`: a run that has settled then ends there, bit for bit the run of
+    that length; one that has not is the full run. (The settled rule needs ~15 s of walking,
+    so here it is replaced by a fixed verdict: this tests when and how the run stops.)"""
+    import sim_core.model.runner as runner_module
+
+    seen: list[int] = []
+
+    def verdict(d31):  # the rule is asked once, with the series up to the short length
+        seen.append(len(d31))
+        return SimpleNamespace(settled=settles)
+
+    monkeypatch.setattr(runner_module, "settling", verdict)
+    kw = {"beta": 0.62, "d31_init": 2.9}
+    short, long = RunSpec(**kw, duration_s=0.3), RunSpec(**kw, duration_s=0.5)
+    both = simulate_batch([RunSpec(**kw, duration_s=0.5, stop_if_settled_s=0.3), long], nthread=1)
+    (tried, plain) = both
+    ref = simulate(short) if settles else simulate(long)
+    _same(tried, ref)
+    np.testing.assert_array_equal(tried.times_s, ref.times_s)
+    assert tried.duration_s == pytest.approx(0.3 if settles else 0.5)
+    assert tried.speed_cm_s == ref.speed_cm_s and tried.slip_fraction == ref.slip_fraction
+    _same(plain, simulate(long))  # its batch neighbour runs on, untouched
+    assert seen == [len(simulate(short).d31)]
+    with pytest.raises(ValueError, match="stop_if_settled_s"):
+        RunSpec(duration_s=1.0, stop_if_settled_s=2.0)
