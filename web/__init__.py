@@ -1,5 +1,6 @@
 """Live browser viewer for the walking hexapod: a viser app over `sim_core.Simulation`.
 
 Only `web.app` and `web.scene` import viser and MuJoCo; the request queue, slider mapping,
-footfall buffer and SVG diagrams are pure so that they can be tested without a browser.
+readers of the simulation's record (web/record.py) and SVG diagrams are pure so that they can
+be tested without a browser.
 """

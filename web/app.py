@@ -3,9 +3,11 @@
 Threads. viser serves websockets on its own thread and runs GUI callbacks on a pool; those
 callbacks only queue requests (web/requests.py). The loop thread is the only code that touches
 the simulation: each frame it applies queued requests, steps the physics by the simulated time
-the wall clock says is due (at the chosen speed), samples stance for the footfall diagram, and
-streams poses inside `server.atomic()`. Diagrams and readouts are redrawn at a few Hz: they are
-read by people, and each redraw is a message to every browser.
+the wall clock says is due (at the chosen speed), notes the conditions of the new Delta31
+events, and streams poses inside `server.atomic()`. Diagrams and readouts are redrawn at a few
+Hz from the simulation's own record (web/record.py; the viewer keeps no copy of the history):
+they are read by people, and each redraw is a message to every browser; a panel whose inputs
+did not change (a paused run) is not rebuilt.
 
 One simulation for everyone: viser's `server.gui` is shared by all browsers, so sliders already
 move for everybody; a simulation per browser would need per-client panels and would multiply
@@ -24,6 +26,7 @@ import logging
 import math
 import threading
 import time
+from collections.abc import Callable, Hashable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -40,10 +43,10 @@ from sim_core.contract import (
 )
 from web import controls, export
 from web.bifurcation import WatchedFile, finder_points
-from web.footfall import D31Trace, FootfallBuffer, StanceLog
 from web.pacing import RateMeter, SimClock
 from web.panels import Panels, Readouts
 from web.paths import ATLAS_AXES, DEFAULT_API_URL, DEFAULT_BIFURCATION, atlas_path
+from web.record import Conditions, D31Conditions, d31_since, footfall_bars, stance_intervals
 from web.requests import (
     PARAMS,
     Export,
@@ -70,9 +73,8 @@ log = logging.getLogger(__name__)
 class LoopConfig:
     fps: float = 30.0  # pose streaming rate; ~30 Hz is plenty for a walking insect
     panel_hz: float = 5.0  # diagrams and readouts
-    chunk_s: float = 0.002  # stance sampling step: a swing lasts 34 ms, a frame 33 ms
+    chunk_s: float = 0.002  # stepping chunk: ramps and conditions act between chunks
     step_budget: float = 0.8  # share of a frame the stepping may use before we draw anyway
-    footfall_buffer_s: float = 3.0  # kept; the diagram shows the window the user chose in it
     trail_len: int = 600  # live (beta, Delta31) points kept on the bifurcation panel
     return_map_len: int = 1200  # latest Delta31 pairs on the return map
 
@@ -126,10 +128,10 @@ class ViewerApp:
         sim = self.sim
         start = {"beta": sim.beta, "body_mass_g": sim.body_mass_g, "slope_deg": sim.slope_deg}
         self.panels.sync_controls(True, None, start)
-        self.footfall = FootfallBuffer(self.cfg.footfall_buffer_s)
-        self.stance_log = StanceLog()
         self.footfall_window_s = controls.FOOTFALL_WINDOW_S.initial
-        self.d31 = D31Trace()
+        self.d31_conditions = D31Conditions()  # what the core's Delta31 events happened under
+        self._walk = 0  # bumps when the walk starts over: its record is a new one
+        self._drawn: dict[int, Hashable] = {}  # per panel handle, the inputs last drawn
         self.d31_window_s: float | None = None  # None: the whole run
         self.bifurcation_path = bifurcation_path
         self.bifurcation = WatchedFile(bifurcation_path, FinderOutput, "finder results")
@@ -200,9 +202,7 @@ class ViewerApp:
             case SetFollow(mode=m):
                 self.scene.set_follow(m)
             case SetFootfallWindow(seconds=w):
-                self.footfall_window_s = min(
-                    self.cfg.footfall_buffer_s, controls.FOOTFALL_WINDOW_S.clamp(w)
-                )
+                self.footfall_window_s = controls.FOOTFALL_WINDOW_S.clamp(w)
             case SetD31Window(seconds=w):
                 self.d31_window_s = w
             case Reset(d31_init=d):
@@ -231,7 +231,7 @@ class ViewerApp:
                 self._ramp_phase = controls.ramp_phase(ramp, 0.0)
                 self._set_param(ramp.param, ramp.start)
                 self._write[ramp.param] = ramp.start  # the slider shows the start, once
-                self.d31.ramp_path.clear()  # a new ramp draws a new path
+                self.d31_conditions.start_ramp()  # a new ramp draws a new path
             case StopRamp():
                 self._stop_ramp()
             case Export(what=what, send=send):
@@ -239,10 +239,9 @@ class ViewerApp:
                 send(name, data)
 
     def _restarted(self) -> None:
-        """A new walk began (reset or another ground): forget the old one's history."""
-        self.footfall.clear()
-        self.stance_log.clear()
-        self.d31.clear()
+        """A new walk began (reset or another ground): its record starts over."""
+        self.d31_conditions.clear()
+        self._walk += 1
         self._clock.reset()
         self.error = None
         self.playing = True
@@ -287,12 +286,16 @@ class ViewerApp:
     def export(self, what: str) -> tuple[str, bytes]:
         """(file name, content) of one export (web/export.py); loop thread only."""
         stamp = f"t{self.sim.time_s:.0f}s"
+        events = self.sim.d31_events
         if what == "d31":
-            return f"insect-gait_d31_{stamp}.csv", export.d31_csv(self.d31.events)
+            return f"insect-gait_d31_{stamp}.csv", export.d31_csv(
+                self.d31_conditions.events(events)
+            )
         if what == "footfall":
-            return f"insect-gait_footfall_{stamp}.csv", export.footfall_csv(self.stance_log.rows())
+            intervals = stance_intervals(*self.sim.footfall_since(None))  # the kept history
+            return f"insect-gait_footfall_{stamp}.csv", export.footfall_csv(intervals)
         if what == "ramp":
-            path, ramp = self.d31.ramp_path, self._last_ramp
+            path, ramp = self.d31_conditions.ramp_path(events), self._last_ramp
             data = export.ramp_csv(path, ramp, self._ramp_t0 if ramp is not None else None)
             return f"insect-gait_ramp_{stamp}.csv", data
         if what == "settings":
@@ -388,15 +391,9 @@ class ViewerApp:
                 self.playing = False
                 break
             advanced += sim.time_s - t0
-            # every control period of the core's own history, not one sample per chunk
-            times, stance = sim.footfall_since(self.footfall.t_now)
-            for t, s in zip(times, stance, strict=True):
-                self.footfall.append(float(t), s)
-            self.stance_log.extend(times, stance)
-            # Delta31 events with the parameters (and ramp phase) in force when they happened
-            self.d31.sync(
-                sim.d31_events, sim.beta, self._ramp_phase, sim.body_mass_g, sim.slope_deg
-            )
+            # the new Delta31 events happened under the parameters (and ramp phase) just used
+            now = Conditions(sim.beta, sim.body_mass_g, sim.slope_deg, self._ramp_phase)
+            self.d31_conditions.note(sim.d31_events, now)
         return advanced
 
     def _draw_panels(
@@ -439,33 +436,48 @@ class ViewerApp:
                 ground=self.ground,
             )
         )
-        t_now = sim.time_s
-        self.panels.show_html(
+        t_now, window = sim.time_s, self.footfall_window_s
+        self._redraw(
             self.panels.footfall,
-            footfall_svg(self.footfall.bars(), t_now, self.footfall_window_s),
+            (self._walk, t_now, window),
+            lambda: footfall_svg(footfall_bars(sim, window), t_now, window),
         )
-        w = self.d31_window_s
-        events = self.d31.events if w is None else self.d31.recent(t_now - w)
-        self.panels.show_html(self.panels.d31, d31_svg(events, t_now, w, gait))
-        self.panels.show_html(self.panels.return_map, return_map_svg(self._return_map()))
+        w, events = self.d31_window_s, sim.d31_events
+        self._redraw(
+            self.panels.d31,
+            (self._walk, len(events), t_now, w, gait),
+            lambda: d31_svg(events if w is None else d31_since(events, t_now - w), t_now, w, gait),
+        )
+        self._redraw(
+            self.panels.return_map,
+            (self._walk, len(events), sim.beta),
+            lambda: return_map_svg(self._return_map()),
+        )
         self.panels.show_html(self.panels.job, job_html(self.settings()))
+
+    def _redraw(self, handle: viser.GuiHtmlHandle, key: Hashable, build: Callable[[], str]) -> None:
+        """Rebuild a panel only when `key`, the inputs it is drawn from, changed (the walk, the
+        record's length or time, the window): an idle plot costs nothing."""
+        if self._drawn.get(id(handle)) != key:
+            self._drawn[id(handle)] = key
+            self.panels.show_html(handle, build())
 
     def _return_map(self) -> list[tuple[float, float]]:
         """The current run's (Delta31 n, n + 4) pairs, the latest `return_map_len`, built by
         the core's return-map construction (first RETURN_MAP_SKIP of the run dropped)."""
-        n = self.cfg.return_map_len + 4
-        recent = self.d31.last_n(n)
-        whole = len(recent) == len(self.d31.events)
+        events = self.sim.d31_events
+        recent = events[-(self.cfg.return_map_len + 4) :]
+        whole = len(recent) == len(events)
         rm = return_map_from_series(
-            self.sim.beta, [[e.d31 for e in recent]], lag=4, skip=RETURN_MAP_SKIP if whole else 0
+            self.sim.beta, [[d for _, d in recent]], lag=4, skip=RETURN_MAP_SKIP if whole else 0
         )
         return list(zip(rm.x.tolist(), rm.y.tolist(), strict=True))
 
     def _draw_bifurcation(self) -> None:
         finder, note = self.bifurcation.get()
-        trail = self.d31.last_n(self.cfg.trail_len)
-        last = self.d31.last
-        live = (self.sim.beta, last.d31 if last is not None else None)
+        events = self.sim.d31_events
+        trail = self.d31_conditions.events(events, -self.cfg.trail_len)
+        live = (self.sim.beta, events[-1][1] if events else None)
         self.panels.show_html(
             self.panels.bifurcation,
             bifurcation_svg(
@@ -474,7 +486,7 @@ class ViewerApp:
                 trail,
                 live,
                 (controls.BETA.lo, controls.BETA.hi),
-                list(self.d31.ramp_path) if self._ramp_draws_on_beta() else [],
+                self.d31_conditions.ramp_path(events) if self._ramp_draws_on_beta() else [],
             ),
         )
         axis = self.panels.atlas_axis if self.panels.atlas_axis in ATLAS_AXES else "mass"

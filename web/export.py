@@ -1,6 +1,6 @@
 """What the page exports and what it offers to submit: files and REST job bodies, kept pure.
 
-The loop thread builds each file from its own records when a browser asks (a download button
+The loop thread builds each file from the simulation's record when a browser asks (a download button
 queues an `Export` request) and hands the bytes to that browser (viser's
 `ClientHandle.send_file_download`). The REST bodies are what `POST /v1/jobs` takes
 (docs/API.md): a `run` job at the current settings and, when a ramp is set up, the
@@ -18,8 +18,8 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from sim_core.contract import LEG_NAMES, Ramp
-from web.footfall import D31Event
 from web.paths import DEFAULT_API_URL
+from web.record import D31Event, Interval
 
 EXPORTS = ("d31", "footfall", "ramp", "settings")
 D31_COLUMNS = ("time_s", "d31_rad", "beta", "body_mass_g", "slope_deg", "ramp")
@@ -56,10 +56,10 @@ def _event_row(e: D31Event) -> tuple[Any, ...]:
     return (
         round(e.time_s, 6),
         round(e.d31, 6),
-        round(e.beta, 6),
-        e.body_mass_g,
-        e.slope_deg,
-        e.ramp,
+        round(e.at.beta, 6),
+        e.at.body_mass_g,
+        e.at.slope_deg,
+        e.at.ramp,
     )
 
 
@@ -68,11 +68,13 @@ def d31_csv(events: Iterable[D31Event]) -> bytes:
     return _csv(D31_COLUMNS, (_event_row(e) for e in events))
 
 
-def footfall_csv(intervals: Iterable[tuple[str, float, float]]) -> bytes:
-    """Stance intervals (leg R1..L3, start, end in s), in order of their start."""
+def footfall_csv(intervals: Sequence[Sequence[Interval]]) -> bytes:
+    """Stance intervals, per leg in paper order (`record.stance_intervals`), as rows (leg
+    R1..L3, start, end in s) in order of their start."""
+    rows = sorted((a, leg, b) for leg, legs in enumerate(intervals) for a, b in legs)
     return _csv(
         ("leg", "start_s", "end_s"),
-        ((LEG_NAMES[int(leg)], round(a, 6), round(b, 6)) for leg, a, b in intervals),
+        ((LEG_NAMES[leg], round(a, 6), round(b, 6)) for a, leg, b in rows),
     )
 
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass
 
 from sim_core.contract import LEG_NAMES, TWO_PI, AtlasOutput
 from web.bifurcation import FinderPoints
-from web.footfall import D31Event
+from web.record import CoreEvents, D31Event
 
 LEG_ORDER = LEG_NAMES  # the paper's legs 1-6, rows top to bottom
 # Fig. 4's colouring by leg pair: fore (legs 1-2) red, middle (3-4) blue, hind (5-6) green;
@@ -184,19 +184,20 @@ def footfall_svg(
     return "\n".join(out)
 
 
-# Drawn at most this many Delta31 points: a whole run is kept (web/footfall.py), but a 10-minute
-# run has ~6000 touchdowns and the panel is redrawn 5 times a second for every browser.
+# Drawn at most this many Delta31 points: the whole run is kept (`Simulation.d31_events`), but a
+# 10-minute run has ~6000 touchdowns and the panel is redrawn 5 times a second for every browser.
 MAX_DRAWN = 1200
 
 
-def d31_svg(events: Sequence[D31Event], t_now: float, window_s: float | None, gait: str) -> str:
-    """Delta31 at each leg-1 touchdown over the last `window_s` (None: the whole run), with
-    the two gaits' lines; beyond MAX_DRAWN points every k-th is drawn (the title says so)."""
+def d31_svg(events: CoreEvents, t_now: float, window_s: float | None, gait: str) -> str:
+    """Delta31 at each leg-1 touchdown, (time_s, Delta31) as `Simulation.d31_events` has them,
+    over the last `window_s` (None: the whole run), with the two gaits' lines; beyond MAX_DRAWN
+    points every k-th is drawn (the title says so)."""
     whole = window_s is None
     span = max(t_now, 1.0) if window_s is None else window_s
     t0, t1 = time_window(t_now, span)
     f = Frame(t0, t1, 0.0, TWO_PI)
-    shown = [e for e in events if t0 <= e.time_s <= t1]
+    shown = [(t, d) for t, d in events if t0 <= t <= t1 and math.isfinite(d)]
     k = max(1, math.ceil(len(shown) / MAX_DRAWN))
     if k > 1:
         shown = shown[::k]
@@ -210,11 +211,11 @@ def d31_svg(events: Sequence[D31Event], t_now: float, window_s: float | None, ga
         t0=f"{t0:.3f}",
     )
     out += _y_angle_axis(f) + _reference_lines(f)
-    pts = [(f.x(e.time_s), f.y(e.d31)) for e in shown]
+    pts = [(f.x(t), f.y(d)) for t, d in shown]
     # Delta31 is an angle: a step across 0 = 2 pi is not a swing through pi, so the line breaks
     segments: list[list[tuple[float, float]]] = []
     for i, p in enumerate(pts):
-        if i == 0 or abs(shown[i].d31 - shown[i - 1].d31) > math.pi:
+        if i == 0 or abs(shown[i][1] - shown[i - 1][1]) > math.pi:
             segments.append([])
         segments[-1].append(p)
     for seg in segments:
@@ -321,9 +322,9 @@ def bifurcation_svg(
             colour = GAIT_COLOURS.get(gait, GAIT_COLOURS["other"])
             out.append(_marker("stable", f.x(b), f.y(d), colour))
     for e in trail:
-        if lo <= e.beta <= hi:
+        if lo <= e.at.beta <= hi:
             out.append(
-                f'<circle cx="{f.x(e.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" fill="#000" '
+                f'<circle cx="{f.x(e.at.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" fill="#000" '
                 'fill-opacity="0.35"/>'
             )
     ramp = _ramp_lines(f, ramp_path, lo, hi)
@@ -373,21 +374,21 @@ def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> lis
     out: list[str] = []
     segments: list[tuple[str, list[D31Event]]] = []
     for i, e in enumerate(path):
-        if not e.ramp or not lo <= e.beta <= hi:
+        if not e.at.ramp or not lo <= e.at.beta <= hi:
             continue
         prev = path[i - 1] if i > 0 else None
         if (
             not segments
             or prev is None
-            or segments[-1][0] != e.ramp
+            or segments[-1][0] != e.at.ramp
             or segments[-1][1][-1] is not prev
             or abs(e.d31 - prev.d31) > math.pi
         ):
-            segments.append((e.ramp, []))
+            segments.append((e.at.ramp, []))
         segments[-1][1].append(e)
     for direction, seg in segments:
         colour = RAMP_COLOURS.get(direction, "#444")
-        pts = " ".join(f"{f.x(e.beta):.1f},{f.y(e.d31):.1f}" for e in seg)
+        pts = " ".join(f"{f.x(e.at.beta):.1f},{f.y(e.d31):.1f}" for e in seg)
         if len(seg) >= 2:
             out.append(
                 f'<polyline class="ramp" data-direction="{html.escape(direction)}" '
@@ -396,7 +397,7 @@ def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> lis
         else:
             e = seg[0]
             out.append(
-                f'<circle class="ramp" cx="{f.x(e.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" '
+                f'<circle class="ramp" cx="{f.x(e.at.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" '
                 f'fill="{colour}"/>'
             )
     return out

@@ -83,35 +83,82 @@ def test_presets_and_the_ramp_drive_the_running_simulation() -> None:
         for preset in (TRIPOD, METACHRONAL):
             app.apply(Reset(preset))
             app._step(0.25, time.perf_counter() + 600)
-            first = app.d31.events[0].d31
+            first = app.sim.d31_events[0][1]
             assert abs(first - preset) < 0.15, (preset, first)  # the first touchdowns start there
         app.apply(StartRamp(controls.make_ramp("beta", 0.66, 0.60, 0.0, 1.0)))
         app._step(0.6, time.perf_counter() + 600)
         assert app.ramp is not None and app.sim.beta < controls.BETA.initial
-        path = list(app.d31.ramp_path)
-        assert path and {e.ramp for e in path} == {"down"}
+        path = app.d31_conditions.ramp_path(app.sim.d31_events)
+        assert path and {e.at.ramp for e in path} == {"down"}
         assert all(math.isfinite(e.d31) for e in path)
-        assert path[-1].beta < path[0].beta  # the path follows beta down as it goes
+        assert path[-1].at.beta < path[0].at.beta  # the path follows beta down as it goes
+        # the path is the core's own events, with the beta the loop set when each happened
+        assert [(e.time_s, e.d31) for e in path] == app.sim.d31_events[-len(path) :]
     finally:
         app.stop()
 
 
-def test_the_footfall_diagram_reads_every_control_period_of_the_core() -> None:
-    """The viewer's footfall buffer is filled from `Simulation`'s own history (one sample per
-    control period), not sampled once per loop chunk; a swing of ~34 ms then spans ~68
-    samples instead of about one."""
-    import numpy as np
+def test_the_footfall_bars_are_the_stance_read_at_every_control_period() -> None:
+    """The footfall diagram is drawn from `Simulation`'s own record (one sample per control
+    period; a swing of ~34 ms spans ~68 of them): stepping one control period at a time and
+    reading `sim.stance` directly, every sample in the diagram's window lies inside a drawn bar
+    of its leg exactly when that leg was in stance, and the panel shows those bars."""
+    from web.record import footfall_bars
+    from web.svg import footfall_svg
 
     app = ViewerApp("127.0.0.1", 0)
     try:
-        app._step(0.2, time.perf_counter() + 600)
-        times, stance = app.sim.footfall_since(None)
-        assert len(app.footfall) == times.size > 0.2 / app.sim.control_dt_s
-        dt = np.diff(times)
-        assert np.allclose(dt, app.sim.control_dt_s)
-        assert stance.shape == (times.size, 6)
-        later, _ = app.sim.footfall_since(float(times[-3]))
-        assert later.tolist() == times[-2:].tolist()
+        sim, window = app.sim, app.footfall_window_s
+        direct = []
+        while sim.time_s < window + 0.05:
+            sim.advance(sim.control_dt_s)
+            direct.append((sim.time_s, sim.stance.copy()))
+        bars = footfall_bars(sim, window)
+        t0 = sim.time_s - window
+        seen = [(t, on) for t, on in direct[:-1] if t >= t0]  # the last sample ends the bars
+        assert len(seen) > 0.9 * window / sim.control_dt_s
+        for t, on in seen:
+            for leg in range(6):
+                inside = any(a <= t < b for a, b in bars[leg])
+                assert inside == on[leg], (t, leg, bars[leg])
+        # a leg in stance at the window's edge has a bar from the edge (the diagram clips it)
+        first = max(i for i, (t, _) in enumerate(direct) if t <= t0)
+        for leg in range(6):
+            if direct[first][1][leg]:
+                assert any(a <= t0 < b for a, b in bars[leg]), (leg, bars[leg])
+        assert sum(map(len, bars)) >= 6  # a few steps per leg: the check saw transitions
+        app._draw_panels(None, None, None)
+        assert app.panels.footfall.content == footfall_svg(bars, sim.time_s, window)
+    finally:
+        app.stop()
+
+
+def test_a_reset_starts_the_record_and_its_panels_over_and_an_idle_plot_is_not_rebuilt() -> None:
+    from web.requests import Reset
+
+    app = ViewerApp("127.0.0.1", 0)
+    try:
+        app._step(0.3, time.perf_counter() + 600)
+        app._draw_panels(None, None, None)
+        assert 'class="stance"' in app.panels.footfall.content
+        n = len(app.sim.d31_events)
+        assert n > 0 and len(app.d31_conditions) == n
+        assert f'data-n-events="{n}"' in app.panels.d31.content
+        # nothing stepped, nothing changed: the panels are not rebuilt
+        app.panels.footfall.content = "idle"
+        app.panels.d31.content = "idle"
+        app._draw_panels(None, None, None)
+        assert app.panels.footfall.content == app.panels.d31.content == "idle"
+        app.apply(Reset(2.0))
+        assert app.sim.time_s == 0.0 and len(app.sim.d31_events) == len(app.d31_conditions) == 0
+        app._draw_panels(None, None, None)  # a new walk: redrawn, empty
+        assert 'class="stance"' not in app.panels.footfall.content
+        assert 'data-n-events="0"' in app.panels.d31.content
+        app._step(0.05, time.perf_counter() + 600)
+        times, _ = app.sim.footfall_since(None)
+        assert times[0] < 0.05 and len(app.d31_conditions) == len(app.sim.d31_events)
+        app._draw_panels(None, None, None)
+        assert app.panels.footfall.content != "idle"
     finally:
         app.stop()
 
@@ -162,9 +209,9 @@ def test_the_ground_button_restarts_the_walk_on_the_papers_ground_where_it_stood
         app.apply(SetGround("penalty"))
         assert app.sim is not old and app.ground == "penalty"
         assert app.sim.slope_deg == -20.0 and app.sim.time_s == 0.0  # kept; a new walk
-        assert len(app.d31.events) == 0
+        assert len(app.sim.d31_events) == len(app.d31_conditions) == 0
         app._step(0.3, time.perf_counter() + 600)
-        assert app.sim.error is None and len(app.d31.events) > 0
+        assert app.sim.error is None and len(app.d31_conditions) == len(app.sim.d31_events) > 0
         app.apply(SetGround("penalty"))  # the same ground again: no restart
         assert app.sim.time_s > 0.0
         settings = json.loads(app.export("settings")[1])

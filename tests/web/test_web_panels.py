@@ -17,7 +17,7 @@ import pytest
 from sim_core.contract import AtlasOutput, FinderOutput
 from web import controls, export
 from web.bifurcation import WatchedFile, finder_points, load_validated
-from web.footfall import D31Event, D31Trace, StanceLog
+from web.record import Conditions, D31Event, d31_since, stance_intervals
 from web.svg import MAX_DRAWN, atlas_svg, bifurcation_svg, d31_svg, return_map_svg
 
 
@@ -124,39 +124,26 @@ def test_the_atlas_draws_a_cell_per_condition_coloured_by_region() -> None:
     assert 'class="note"' in none and "absent" in none and 'class="cell"' not in none
 
 
-def test_the_d31_record_keeps_the_whole_run_and_draws_a_bounded_number() -> None:
-    tr = D31Trace(maxlen=10_000)
-    core = [(0.1 * k, 2.0 + 0.001 * k) for k in range(5000)]  # 500 s of touchdowns
-    tr.sync(core, 0.66, "up", 3.0, 0.0)
-    assert len(tr.events) == 5000 and tr.events[0].time_s == 0.0  # nothing scrolled away
-    assert [e.time_s for e in tr.recent(499.75)] == pytest.approx([499.8, 499.9])
-    whole = d31_svg(tr.events, 500.0, None, "metachronal")
-    assert "whole run" in whole and 'data-t0="0.000"' in whole
+def test_the_whole_runs_d31_events_draw_a_bounded_number() -> None:
+    core = [(0.1 * k, 2.0 + 0.001 * k) for k in range(5000)]  # 500 s of the core's touchdowns
+    assert [t for t, _ in d31_since(core, 499.75)] == pytest.approx([499.8, 499.9])
+    whole = d31_svg(core, 500.0, None, "metachronal")
+    assert "whole run" in whole and 'data-t0="0.000"' in whole and 'data-n-events="5000"' in whole
     assert whole.count("<circle") <= MAX_DRAWN and "1 in 5 drawn" in whole
-    last = d31_svg(tr.recent(470.0), 500.0, 30.0, "metachronal")
+    last = d31_svg(d31_since(core, 470.0), 500.0, 30.0, "metachronal")
     assert "last 30 s" in last and 'data-t0="470.000"' in last
-    small = D31Trace(maxlen=100)
-    small.sync(core, 0.66)
-    assert len(small.events) == 100 and small.events[0].time_s == pytest.approx(490.0)
 
 
-def test_stance_intervals_of_the_whole_run() -> None:
-    log = StanceLog()
+def test_the_footfall_export_is_the_records_stance_intervals() -> None:
     t = np.arange(10) * 0.1
     s = np.zeros((10, 6), bool)
     s[2:5, 0] = True  # R1 in stance from 0.2 to 0.5
     s[7:, 0] = True  # and from 0.7, still on at the end
     s[:, 3] = True  # L2 always
-    log.extend(t[:6], s[:6])
-    log.extend(t[6:], s[6:])  # in two pieces, as the loop feeds it
-    rows = log.rows()
-    assert ("0", 0.2, pytest.approx(0.5)) in rows
-    assert ("0", pytest.approx(0.7), pytest.approx(0.9)) in rows
-    assert ("3", 0.0, pytest.approx(0.9)) in rows and len(rows) == 3
-    text = export.footfall_csv(rows).decode()
-    assert text.splitlines()[0] == "leg,start_s,end_s" and "R1,0.2,0.5" in text and "L2,0.0" in text
-    log.extend(np.array([0.0]), np.zeros((1, 6), bool))  # time went back: a reset
-    assert log.rows() == []
+    text = export.footfall_csv(stance_intervals(t, s)).decode()
+    rows = list(csv.reader(io.StringIO(text)))
+    assert rows[0] == ["leg", "start_s", "end_s"]
+    assert rows[1:] == [["L2", "0.0", "0.9"], ["R1", "0.2", "0.5"], ["R1", "0.7", "0.9"]]
 
 
 def _settings(**kw: Any) -> export.Settings:
@@ -166,7 +153,7 @@ def _settings(**kw: Any) -> export.Settings:
 
 
 def test_the_exports_carry_the_records() -> None:
-    ev = [D31Event(0.1 * k, 2.0, 0.70 - 0.001 * k, "down", 3.0, 0.0) for k in range(5)]
+    ev = [D31Event(0.1 * k, 2.0, Conditions(0.70 - 0.001 * k, 3.0, 0.0, "down")) for k in range(5)]
     rows = list(csv.DictReader(io.StringIO(export.d31_csv(ev).decode())))
     assert [float(r["beta"]) for r in rows] == pytest.approx([0.70, 0.699, 0.698, 0.697, 0.696])
     assert rows[0].keys() == set(export.D31_COLUMNS) and rows[0]["ramp"] == "down"

@@ -8,9 +8,9 @@ import pytest
 
 from sim_core import RunSpec
 from web import controls
-from web.footfall import D31Trace, FootfallBuffer
 from web.pacing import RateMeter, SimClock
 from web.panels import Readouts, format_readouts
+from web.record import Conditions, D31Conditions, D31Event, d31_since, stance_intervals
 from web.requests import Request, RequestQueue, Reset, SetParam, StartRamp, StopRamp, coalesce
 from web.svg import d31_svg, footfall_svg
 
@@ -82,28 +82,41 @@ def test_request_queue_is_safe_across_threads() -> None:
     assert len(drained) == 800 and q.drain() == []
 
 
-def test_footfall_buffer_makes_bars_and_starts_over_on_reset() -> None:
-    buf = FootfallBuffer(window_s=1.0)
-    for k in range(21):
-        t = k * 0.1
-        buf.append(t, [t % 0.4 < 0.2] + [True] * 5)
-    bars = buf.bars()
+def test_stance_samples_make_one_bar_per_interval() -> None:
+    t = np.arange(21) * 0.1
+    s = np.ones((21, 6), dtype=bool)
+    s[:, 0] = [k % 4 < 2 for k in range(21)]  # R1: on 2 samples, off 2, ...
+    s[20, 2] = False  # R2 lifts at the last sample
+    s[:20, 4] = False  # R3 lands at the last sample: nothing to draw yet
+    bars = stance_intervals(t, s)
     assert len(bars) == 6
-    assert all(b > a for a, b in bars[0]) and len(bars[0]) >= 2
-    assert bars[1] == [(pytest.approx(1.0), pytest.approx(2.0))]  # clipped to the window
-    buf.append(0.05, [False] * 6)  # time went backwards: a reset
-    assert len(buf) == 1
-    with pytest.raises(ValueError):
-        buf.append(1.0, [True] * 5)
+    # sample i stands for [t_i, t_i+1): on at 0.0 and 0.1, off at 0.2 -> (0.0, 0.2)
+    assert bars[0][:2] == [pytest.approx((0.0, 0.2)), pytest.approx((0.4, 0.6))]
+    # ... and lands again at the last sample: an interval of no length yet is not a bar
+    assert len(bars[0]) == 5 and bars[0][-1] == pytest.approx((1.6, 1.8))
+    assert bars[1] == [pytest.approx((0.0, 2.0))]  # still on: ends at the last sample
+    assert bars[2] == [pytest.approx((0.0, 2.0))]  # lifted at the last sample
+    assert bars[4] == []
+    assert stance_intervals(np.zeros(0), np.zeros((0, 6), bool)) == [[] for _ in range(6)]
 
 
-def test_d31_trace_takes_only_new_events() -> None:
-    tr = D31Trace()
-    assert tr.sync([(0.1, 2.0), (0.2, 2.1)], 0.66) == 2
-    assert tr.sync([(0.1, 2.0), (0.2, 2.1), (0.3, 2.2)], 0.65) == 1
-    assert tr.last is not None and tr.last.beta == 0.65
-    assert tr.sync([(0.05, 1.0)], 0.65) == 1  # the core started over
-    assert len(tr.recent(0.0)) == 4
+def test_d31_conditions_follow_the_cores_events_index_for_index() -> None:
+    core: list[tuple[float, float]] = [(0.1, 2.0), (0.2, 2.1)]
+    log = D31Conditions()
+    log.note(core, Conditions(0.66, 3.0, 0.0))
+    core.append((0.3, 2.2))  # the core extends its list in place
+    log.note(core, Conditions(0.65, 3.0, 0.0))
+    log.note(core, Conditions(0.64, 3.0, 0.0))  # nothing new: nothing noted
+    ev = log.events(core)
+    assert [(e.time_s, e.d31, e.at.beta) for e in ev] == [
+        (0.1, 2.0, 0.66), (0.2, 2.1, 0.66), (0.3, 2.2, 0.65)
+    ]  # fmt: skip
+    assert [e.time_s for e in log.events(core, -2)] == [0.2, 0.3]
+    assert d31_since(core, 0.2) == [(0.2, 2.1), (0.3, 2.2)] and d31_since(core, 0.35) == []
+    core.append((0.4, 2.3))  # not noted yet: not shown with somebody else's conditions
+    assert len(log.events(core)) == 3
+    log.note([(0.05, 1.0)], Conditions(0.7))  # the core started over
+    assert [(e.time_s, e.at.beta) for e in log.events([(0.05, 1.0)])] == [(0.05, 0.7)]
 
 
 def test_sim_clock_caps_the_debt_when_the_machine_is_slow() -> None:
@@ -130,20 +143,16 @@ def test_svg_panels_carry_their_data() -> None:
     bars = [[(0.5, 0.8)], [], [(0.1, 0.2), (0.6, 0.9)], [], [], []]
     svg = footfall_svg(bars, 1.0, 1.0)
     assert svg.startswith("<svg") and svg.count("<rect") >= 3
-    from web.footfall import D31Event
-
-    ev = [D31Event(t, 2.0 + 0.1 * t, 0.66) for t in np.linspace(0.1, 0.9, 5)]
+    ev = [(t, 2.0 + 0.1 * t) for t in np.linspace(0.1, 0.9, 5)]
     d = d31_svg(ev, 1.0, 1.0, "metachronal")
     assert "metachronal" in d and "<svg" in d
 
 
 def test_d31_line_breaks_where_the_angle_wraps() -> None:
-    from web.footfall import D31Event
-
-    ev = [D31Event(0.1, 6.2, 0.66), D31Event(0.2, 0.05, 0.66), D31Event(0.3, 0.1, 0.66)]
+    ev = [(0.1, 6.2), (0.2, 0.05), (0.3, 0.1), (0.4, math.nan)]
     d = d31_svg(ev, 1.0, 1.0, "other")
     assert d.count("<polyline") == 1  # 6.2 -> 0.05 is a wrap, not a line through pi
-    assert d.count("<circle") == 3
+    assert d.count("<circle") == 3 and "nan" not in d  # a non-finite value is not drawn
 
 
 def test_a_typed_keystroke_outside_the_range_is_not_a_value_yet() -> None:
@@ -201,20 +210,25 @@ def test_footfall_shows_the_chosen_window_with_legs_coloured_by_pair() -> None:
 
 
 def test_the_ramp_draws_its_path_per_direction() -> None:
-    from web.footfall import D31Event, D31Trace
     from web.svg import bifurcation_svg
 
-    tr = D31Trace()
-    tr.sync([(0.1, 2.0), (0.2, 2.05)], 0.62, "down")
-    tr.sync([(0.1, 2.0), (0.2, 2.05), (0.3, 2.1), (0.4, 2.2)], 0.63, "up")
-    tr.sync([(0.1, 2.0), (0.2, 2.05), (0.3, 2.1), (0.4, 2.2), (0.5, 2.2)], 0.64, "")
-    assert [e.ramp for e in tr.ramp_path] == ["down", "down", "up", "up"]
-    svg = bifurcation_svg(None, "", [], (0.64, 2.2), (0.55, 0.8), list(tr.ramp_path))
+    core = [(0.05, 1.9), (0.1, 2.0), (0.2, 2.05), (0.3, 2.1), (0.4, 2.2), (0.5, 2.2)]
+    log = D31Conditions()
+    log.note(core[:1], Conditions(0.62))  # before the ramp
+    log.start_ramp()
+    log.note(core[:3], Conditions(0.62, ramp="down"))
+    log.note(core[:5], Conditions(0.63, ramp="up"))
+    log.note(core, Conditions(0.64))  # the ramp ended
+    assert [e.at.ramp for e in log.ramp_path(core)] == ["down", "down", "up", "up"]
+    svg = bifurcation_svg(None, "", [], (0.64, 2.2), (0.55, 0.8), log.ramp_path(core))
     assert svg.count('class="ramp"') == 2
     assert 'data-direction="down"' in svg and 'data-direction="up"' in svg
-    tr.clear()
-    assert not tr.ramp_path
-    wrap = [D31Event(0.1, 6.2, 0.6, "up"), D31Event(0.2, 0.1, 0.61, "up")]
+    log.start_ramp()  # a new ramp: a new path
+    assert log.ramp_path(core) == []
+    log.clear()
+    assert log.ramp_path(core) == [] and len(log) == 0
+    up = Conditions(0.6, ramp="up")
+    wrap = [D31Event(0.1, 6.2, up), D31Event(0.2, 0.1, Conditions(0.61, ramp="up"))]
     svg = bifurcation_svg(None, "", [], (0.6, None), (0.55, 0.8), wrap)
     assert svg.count('class="ramp"') == 2  # broken at the wrap: two dots, no line through pi
 
@@ -235,12 +249,11 @@ def test_time_axes_never_show_negative_times_and_name_their_unit() -> None:
     """Early in a run (t = 2 s, a 30 s window) the axis used to run from -28 s."""
     import re
 
-    from web.footfall import D31Event
     from web.svg import time_window
 
     assert time_window(2.0, 30.0) == (0.0, 30.0)
     assert time_window(45.0, 30.0) == (15.0, 45.0)
-    d = d31_svg([D31Event(1.0, 2.0, 0.66)], 2.0, 30.0, "metachronal")
+    d = d31_svg([(1.0, 2.0)], 2.0, 30.0, "metachronal")
     f = footfall_svg([[(0.1, 0.2)], [], [], [], [], []], 0.3, 0.5)
     for svg in (d, f):
         ticks = [float(x) for x in re.findall(r'text-anchor="middle">(-?[0-9.]+)</text>', svg)]

@@ -1,0 +1,124 @@
+"""What the panels and exports draw, read from the running `Simulation`'s own record.
+
+The simulation keeps the history (`Simulation.footfall_since`: stance at every control period
+over its last `history_s` seconds; `Simulation.d31_events`: Delta31 at every leg-1 touchdown
+since the last reset), so the viewer keeps no copy of it: the footfall diagram and its export
+are computed from the stance record when drawn, and the Delta31 trace, return map and trail
+read the core's event list. The one thing only the viewer knows is the conditions it set
+(beta, body mass, slope, the ramp's phase) when each event happened: `D31Conditions` notes
+them per core event, by index, for the trail, the ramp's path and the Delta31 export.
+"""
+
+from __future__ import annotations
+
+import bisect
+import itertools
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from operator import itemgetter
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from sim_core.contract import LEG_NAMES
+
+if TYPE_CHECKING:
+    from sim_core import Simulation
+
+Interval = tuple[float, float]
+CoreEvents = Sequence[tuple[float, float]]  # `Simulation.d31_events`: (time_s, Delta31)
+
+
+def stance_intervals(times: np.ndarray, stance: np.ndarray) -> list[list[Interval]]:
+    """Per leg (paper order), (start, end) of each stance interval in the samples, in time order.
+
+    Sample i stands for [t_i, t_{i+1}); an interval still open at the last sample ends there.
+    """
+    t = np.asarray(times, dtype=float)
+    on = np.asarray(stance, dtype=bool).reshape(-1, len(LEG_NAMES))
+    if t.size == 0:
+        return [[] for _ in LEG_NAMES]
+    edges = np.diff(on.astype(np.int8), axis=0, prepend=0, append=0)  # +1 on, -1 off
+    last = t.size - 1
+    out = []
+    for leg in range(len(LEG_NAMES)):
+        starts = np.flatnonzero(edges[:, leg] == 1)
+        ends = np.minimum(np.flatnonzero(edges[:, leg] == -1), last)
+        out.append(
+            [(float(t[a]), float(t[b])) for a, b in zip(starts, ends, strict=True) if t[b] > t[a]]
+        )
+    return out
+
+
+def footfall_bars(sim: Simulation, window_s: float) -> list[list[Interval]]:
+    """The stance bars of the simulation's last `window_s` seconds (the footfall diagram),
+    from samples reaching two control periods before the window, so that the sample in force
+    at its edge is among them whatever the rounding of the times: a leg in stance there has a
+    bar from the edge (the diagram clips the bars to the window it shows)."""
+    return stance_intervals(*sim.footfall_since(sim.time_s - window_s - 2 * sim.control_dt_s))
+
+
+def d31_since(events: CoreEvents, since_s: float) -> CoreEvents:
+    """The core's Delta31 events from `since_s` on (the list is in time order)."""
+    return events[bisect.bisect_left(events, since_s, key=itemgetter(0)) :]
+
+
+@dataclass(frozen=True)
+class Conditions:
+    """What the viewer had set when an event happened."""
+
+    beta: float
+    body_mass_g: float = math.nan
+    slope_deg: float = math.nan
+    ramp: str = ""  # "down"/"up"/"hold" while a ramp ran, else ""
+
+
+@dataclass(frozen=True)
+class D31Event:
+    """One of the core's Delta31 events with the conditions in force then."""
+
+    time_s: float
+    d31: float
+    at: Conditions
+
+
+class D31Conditions:
+    """The conditions in force at each of the core's Delta31 events, index for index with
+    `Simulation.d31_events` (which the simulation keeps; this keeps only what it lacks), and
+    where the latest ramp began in it."""
+
+    def __init__(self) -> None:
+        self._at: list[Conditions] = []
+        self._ramp_from = 0
+
+    def __len__(self) -> int:
+        return len(self._at)
+
+    def clear(self) -> None:
+        """The simulation started over (its event list with it)."""
+        self._at.clear()
+        self._ramp_from = 0
+
+    def note(self, events: CoreEvents, now: Conditions) -> None:
+        """The events the core added since the last call happened under `now` (the loop calls
+        this after every chunk of stepping, with the conditions it stepped under)."""
+        if len(events) < len(self._at):  # the core started over without our being told
+            self.clear()
+        self._at.extend(itertools.repeat(now, len(events) - len(self._at)))
+
+    def start_ramp(self) -> None:
+        """A new ramp begins: its path starts with the next event."""
+        self._ramp_from = len(self._at)
+
+    def events(self, core: CoreEvents, start: int = 0) -> list[D31Event]:
+        """The core's events from index `start` (negative: from the end) with their conditions."""
+        n = min(len(self._at), len(core))
+        first = max(0, n + start) if start < 0 else min(start, n)
+        return [
+            D31Event(t, d, c) for (t, d), c in zip(core[first:n], self._at[first:n], strict=True)
+        ]
+
+    def ramp_path(self, core: CoreEvents) -> list[D31Event]:
+        """The latest ramp's events (those taken while it ran), for its drawing and export."""
+        return [e for e in self.events(core, self._ramp_from) if e.at.ramp]
