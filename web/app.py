@@ -46,7 +46,7 @@ from web.bifurcation import WatchedFile, finder_points
 from web.pacing import RateMeter, SimClock
 from web.panels import Panels, Readouts
 from web.paths import ATLAS_AXES, DEFAULT_API_URL, DEFAULT_BIFURCATION, atlas_path
-from web.record import Conditions, D31Conditions, d31_since, footfall_bars, stance_intervals
+from web.record import Conditions, D31Conditions, d31_since, footfall_bars
 from web.requests import (
     PARAMS,
     Export,
@@ -292,7 +292,7 @@ class ViewerApp:
                 self.d31_conditions.events(events)
             )
         if what == "footfall":
-            intervals = stance_intervals(*self.sim.footfall_since(None))  # the kept history
+            intervals = self.sim.stance_intervals()  # the whole walk since its (re)start
             return f"insect-gait_footfall_{stamp}.csv", export.footfall_csv(intervals)
         if what == "ramp":
             path, ramp = self.d31_conditions.ramp_path(events), self._last_ramp

@@ -400,3 +400,23 @@ def run_warnings(
             f"({converged_dt_s:g} s): the numbers are not converged (docs/NUMERICS.md)"
         )
     return out
+
+
+def stance_intervals(
+    touchdowns: Sequence[Sequence[float]],
+    liftoffs: Sequence[Sequence[float]],
+    t0: float,
+    t1: float,
+) -> list[list[tuple[float, float]]]:
+    """Per leg, the stance intervals (touchdown, next lift-off) overlapping [t0, t1], clipped."""
+    out: list[list[tuple[float, float]]] = []
+    for td, lo in zip(touchdowns, liftoffs, strict=True):
+        lo_arr = np.asarray(lo, dtype=float)
+        leg: list[tuple[float, float]] = []
+        for a in td:
+            later = lo_arr[lo_arr > a]
+            b = float(later[0]) if later.size else t1
+            if b >= t0 and a <= t1:
+                leg.append((max(a, t0), min(b, t1)))
+        out.append(leg)
+    return out

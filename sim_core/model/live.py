@@ -160,6 +160,15 @@ class Simulation:
         assert s.times_s is not None and s.stance is not None
         return np.array(s.times_s), np.array(s.stance, dtype=bool).reshape(-1, 6)
 
+    def stance_intervals(self) -> list[list[tuple[float, float]]]:
+        """Per leg, (start, end) of every stance since the last reset (s), from the touchdown
+        and lift-off events (kept for the whole run, where `footfall` keeps `history_s`); a
+        leg standing from the start counts from 0, one standing now ends now."""
+        ev = self._runner.journal
+        tds = [([0.0] if lo and (not td or lo[0] < td[0]) else []) + td
+               for td, lo in zip(ev.touchdowns[0], ev.liftoffs[0], strict=True)]  # fmt: skip
+        return gait.stance_intervals(tds, ev.liftoffs[0], 0.0, self.time_s)
+
     def _last_second(self) -> _Window:
         """The record's last second and the heading speed over it, computed once per recorded
         row (the viewer reads speed, heading and duty factor every frame)."""

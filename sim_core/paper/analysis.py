@@ -189,26 +189,6 @@ def _gait_until(d31: np.ndarray, beta: np.ndarray, upto: np.ndarray) -> str:
     return window_gait(d, float(beta[upto][-1])) if d.size else "other"
 
 
-def stance_intervals(
-    touchdowns: Sequence[Sequence[float]],
-    liftoffs: Sequence[Sequence[float]],
-    t0: float,
-    t1: float,
-) -> list[list[tuple[float, float]]]:
-    """Per leg, the stance intervals (touchdown, next lift-off) overlapping [t0, t1], clipped."""
-    out: list[list[tuple[float, float]]] = []
-    for td, lo in zip(touchdowns, liftoffs, strict=True):
-        lo_arr = np.asarray(lo, dtype=float)
-        leg: list[tuple[float, float]] = []
-        for a in td:
-            later = lo_arr[lo_arr > a]
-            b = float(later[0]) if later.size else t1
-            if b >= t0 and a <= t1:
-                leg.append((max(a, t0), min(b, t1)))
-        out.append(leg)
-    return out
-
-
 def branch_census(finals: Sequence[float | None], target: float, tol: float) -> tuple[int, int]:
     """(runs whose settled Delta31 is within `tol` of `target`, runs counted)."""
     hit = sum(1 for f in finals if f is not None and abs(float(angle_diff(f, target))) <= tol)

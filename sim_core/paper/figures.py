@@ -18,14 +18,19 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff, circular_mean, classify_gait, settling
+from sim_core.model.gait import (
+    angle_diff,
+    circular_mean,
+    classify_gait,
+    settling,
+    stance_intervals,
+)
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec, spec_grid
 from sim_core.paper.analysis import (
     PAPER_WINDOW,
     branch_census,
     max_drift,
-    stance_intervals,
     sweep_summary,
 )
 from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe, branch_ranges

@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from sim_core import RunSpec
+from sim_core.model.gait import stance_intervals
 from sim_core.model.params import ModelParams
 from sim_core.model.ramp import Ramp
-from sim_core.paper.analysis import range_ends, stance_intervals, sweep_summary
+from sim_core.paper.analysis import range_ends, sweep_summary
 from sim_core.paper.figures import Config, figure_tasks
 from sim_core.paper.fixedpoints import Cell, FinderConfig, FinderOutput, branch_ranges, find
 from sim_core.paper.reproduce import DOC_BEGIN, DOC_END, reproduce, table_rows, update_doc

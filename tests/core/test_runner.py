@@ -119,6 +119,23 @@ def test_the_live_history_is_a_bounded_ring_in_time_order() -> None:
     assert sim.duty_factor is not None and 0.4 < sim.duty_factor < 0.9
 
 
+def test_the_live_stance_intervals_cover_the_whole_walk_and_match_the_record() -> None:
+    sim = Simulation(RunSpec(beta=0.66, d31_init=2.9), history_s=0.25)
+    sim.advance(0.8)
+    legs = sim.stance_intervals()
+    assert len(legs) == 6 and all(legs)
+    assert min(iv[0][0] for iv in legs) == 0.0  # legs standing from the start count from 0
+    assert all(a < b <= sim.time_s for iv in legs for a, b in iv)
+    t, st = sim.footfall  # the last 0.25 s, sampled every control period
+    assert t[0] > 0.5  # the record forgot the start that the intervals keep
+    tol = sim.control_dt_s
+    for leg, iv in enumerate(legs):
+        for ti, on in zip(t[1:-1], st[1:-1, leg], strict=True):
+            inside = any(a + tol < ti < b - tol for a, b in iv)
+            outside = all(ti < a - tol or ti > b + tol for a, b in iv)
+            assert (on and not outside) or (not on and not inside), (leg, ti, on)
+
+
 def test_a_ring_record_keeps_the_last_rows() -> None:
     from sim_core.model.records import Recorder
 
