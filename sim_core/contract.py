@@ -74,6 +74,13 @@ from sim_core.paper.fixedpoints import (
     find,
     region_of,
 )
+from sim_core.paper.results import (
+    ATLAS_AXES,
+    BIFURCATION_FILE,
+    RESULTS_DIR,
+    RESULTS_ENV,
+    atlas_file,
+)
 from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
 
 _DEFAULTS = ModelParams()
@@ -82,8 +89,10 @@ DEFAULT_DT_S: float = _DEFAULTS.dt
 DEFAULT_CONTROL_DT_S: float = _DEFAULTS.control_dt
 
 __all__ = [
+    "ATLAS_AXES",
     "AXIS_LABEL",
     "AXIS_PARAM",
+    "BIFURCATION_FILE",
     "DEFAULT_CONTROL_DT_S",
     "DEFAULT_DT_S",
     "DEFAULT_INTEGRATOR",
@@ -103,6 +112,8 @@ __all__ = [
     "RAMP_PARAMS",
     "RECORD_DT_S",
     "REGIONS",
+    "RESULTS_DIR",
+    "RESULTS_ENV",
     "RETURN_MAP_SKIP",
     "SLIDE_BACK_SPEED_M_S",
     "SLIDE_WINDOW_S",
@@ -126,6 +137,7 @@ __all__ = [
     "RunFailure",
     "RunSpec",
     "Settling",
+    "atlas_file",
     "circular_mean",
     "classify_gait",
     "cost_problem",

@@ -34,18 +34,20 @@ import viser
 
 from sim_core import ModelParams, RunSpec, Simulation
 from sim_core.contract import (
+    ATLAS_AXES,
     AXIS_LABEL,
     RETURN_MAP_SKIP,
     AtlasOutput,
     FinderOutput,
     Ramp,
+    atlas_file,
     return_map_from_series,
 )
 from web import controls, export
 from web.bifurcation import WatchedFile, finder_points
 from web.pacing import RateMeter, SimClock
 from web.panels import Panels, Readouts
-from web.paths import ATLAS_AXES, DEFAULT_API_URL, DEFAULT_BIFURCATION, atlas_path
+from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION
 from web.record import Conditions, D31Conditions, d31_since, footfall_bars
 from web.requests import (
     PARAMS,
@@ -136,7 +138,7 @@ class ViewerApp:
         self.bifurcation_path = bifurcation_path
         self.bifurcation = WatchedFile(bifurcation_path, FinderOutput, "finder results")
         self.atlases = {
-            axis: WatchedFile(atlas_path(bifurcation_path.parent, axis), AtlasOutput, "atlas")
+            axis: WatchedFile(atlas_file(bifurcation_path.parent, axis), AtlasOutput, "atlas")
             for axis in ATLAS_AXES
         }
         self.playing = True

@@ -13,7 +13,8 @@ import sys
 from pathlib import Path
 
 from sim_core.cli import EXIT_USAGE, port_number, port_taken
-from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, RESULTS_ENV
+from sim_core.contract import RESULTS_ENV
+from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:

@@ -10,6 +10,7 @@ from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE, doc_to_update
 from sim_core.model.params import INTEGRATORS
+from sim_core.paper.results import RESULTS_DIR, RESULTS_ENV
 
 
 def _add_bench(sub: Any) -> None:
@@ -58,7 +59,10 @@ def _add_numerics(sub: Any) -> None:
     p = sub.add_parser("numerics", help="integrator x timestep grid against RK4 at 2e-5 s")
     p.add_argument("--quick", action="store_true", help="a coarse grid, short runs")
     p.add_argument(
-        "--out", default=None, help="folder (default docs/figures; --quick: out/numerics-quick)"
+        "--out",
+        default=None,
+        help=f"folder (default {RESULTS_DIR}, ${RESULTS_ENV} overrides; "
+        f"--quick: out/numerics-quick)",
     )
     p.add_argument("--doc", default=None,
                    help="markdown file whose numerics section to regenerate (default "
@@ -75,7 +79,7 @@ def _cmd_numerics(args: argparse.Namespace) -> int:
 
     prog = "insect-gait numerics"
     # a quick grid never overwrites the committed full one
-    out = Path(args.out or ("out/numerics-quick" if args.quick else "docs/figures"))
+    out = Path(args.out or ("out/numerics-quick" if args.quick else RESULTS_DIR))
     try:
         doc = doc_to_update(args, "docs/NUMERICS.md")
     except FileNotFoundError as exc:

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE, doc_to_update
+from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR, RESULTS_ENV
 
 
 def _add_backend_args(p: Any, backends: Sequence[str]) -> None:
@@ -30,7 +31,10 @@ def _add_reproduce(sub: Any) -> None:
     p.add_argument("--figure", nargs="+", choices=[*FIGURES, "all"], default=["all"],
                    help="which figures (default all)")  # fmt: skip
     p.add_argument(
-        "--out", default=None, help="folder (default docs/figures; --quick: out/reproduce-quick)"
+        "--out",
+        default=None,
+        help=f"folder (default {RESULTS_DIR}, ${RESULTS_ENV} overrides; "
+        f"--quick: out/reproduce-quick)",
     )
     _add_backend_args(p, BACKENDS)
     p.add_argument("--quick", action="store_true", help="tiny sizes: a smoke test, not science")
@@ -52,7 +56,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
         return EXIT_USAGE
     cfg = Config.quick() if args.quick else Config()
-    out = Path(args.out or ("out/reproduce-quick" if args.quick else "docs/figures"))
+    out = Path(args.out or ("out/reproduce-quick" if args.quick else RESULTS_DIR))
     try:
         doc = doc_to_update(args, "docs/REPRODUCTION.md")
     except FileNotFoundError as exc:
@@ -99,7 +103,7 @@ def _cmd_study(args: argparse.Namespace) -> int:
     ))  # fmt: skip
     if rc != 0 or args.quick or args.no_sensitivity:
         return rc
-    run_sensitivity(Path(args.out or "docs/figures"))
+    run_sensitivity(Path(args.out or RESULTS_DIR))
     return 0
 
 
@@ -115,7 +119,7 @@ def _add_atlas(sub: Any) -> None:
     p.add_argument("--quick", action="store_true",
                    help="a 2 x 2 grid of short runs: the machinery, not science")  # fmt: skip
     p.add_argument("--out", default=None,
-                   help="folder for atlas_<axis>.json/png (default docs/figures; --quick: "
+                   help=f"folder for atlas_<axis>.json/png (default {RESULTS_DIR}; --quick: "
                    "out/atlas-quick)")  # fmt: skip
     _add_backend_args(p, [b for b in BACKENDS if b != "ray"])
     p.add_argument("--no-progress", action="store_true", help="no progress output")
@@ -134,7 +138,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
         print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
         return EXIT_USAGE
     cfg = AtlasConfig.quick(args.axis) if args.quick else AtlasConfig(args.axis)
-    out = Path(args.out or ("out/atlas-quick" if args.quick else "docs/figures"))
+    out = Path(args.out or ("out/atlas-quick" if args.quick else RESULTS_DIR))
     try:
         backend = get_backend(args.backend, args.workers, args.address)
     except BackendUnavailable as exc:
@@ -221,7 +225,7 @@ def _add_finder_claims(sub: Any) -> None:
     p.add_argument("--beta", type=float, nargs="+", default=[0.62, 0.645, 0.655, 0.70],
                    help="betas whose stable points get the numerics check (default "
                         "%(default)s)")  # fmt: skip
-    p.add_argument("--bifurcation", type=Path, default=Path("docs/figures/bifurcation.json"),
+    p.add_argument("--bifurcation", type=Path, default=RESULTS_DIR / BIFURCATION_FILE,
                    help="the finder's output to check (reproduce writes it; default "
                         "%(default)s)")  # fmt: skip
     p.add_argument(

@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE
+from sim_core.paper.results import RESULTS_DIR
 
 
 def _add_calibrate(sub: Any) -> None:
@@ -79,7 +80,9 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
 
 def _add_sensitivity(sub: Any) -> None:
     p = sub.add_parser("sensitivity", help="+-10%% of each open parameter: tornado chart + JSON")
-    p.add_argument("--out", default="docs/figures", help="output folder")
+    p.add_argument(
+        "--out", default=RESULTS_DIR, type=Path, help="output folder (default %(default)s)"
+    )
     p.add_argument("--n-init", type=int, default=8, help="initial Delta31 values per beta")
     p.add_argument("--duration-s", type=float, default=6.0, help="per run")
     p.set_defaults(func=_cmd_sensitivity)

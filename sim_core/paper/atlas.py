@@ -37,6 +37,7 @@ from sim_core.paper.fixedpoints import (
     find,
     region_of,
 )
+from sim_core.paper.results import atlas_file
 from sim_core.paper.search import task_runner
 from sim_core.runs.backends import Backend, RunStats
 from sim_core.runs.cache import ResultCache
@@ -244,7 +245,8 @@ def plot_atlas(out: AtlasOutput, path: Path) -> None:
 def write_atlas(out: AtlasOutput, folder: Path) -> list[Path]:
     """atlas_<axis>.json (the AtlasOutput) and atlas_<axis>.png into `folder`."""
     folder.mkdir(parents=True, exist_ok=True)
-    js, png = folder / f"atlas_{out.axis}.json", folder / f"atlas_{out.axis}.png"
+    js = atlas_file(folder, out.axis)
+    png = js.with_suffix(".png")
     js.write_text(out.model_dump_json())
     plot_atlas(out, png)
     return [js, png]

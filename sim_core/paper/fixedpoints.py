@@ -48,6 +48,7 @@ from sim_core.model.gait import (
     wrap,
 )
 from sim_core.paper.analysis import FixedPoint, folds, range_ends, stable_ranges
+from sim_core.paper.results import AtlasAxis
 from sim_core.paper.returnmap import RETURN_MAP_SKIP, initial_values
 
 # Settled finals closer than this (rad) are one attractor: 10x the spread of a settled tail
@@ -761,7 +762,6 @@ def branch_ranges(cells: Sequence[CellResult], gait: str) -> dict[str, Any]:
 
 # --- the gait atlas's schema (`sim_core.paper.atlas` writes it; the REST kind and the viewer
 # read it) ---------------------------------------------------------------------------------------
-AtlasAxis = Literal["mass", "slope"]
 AXIS_PARAM: dict[str, str] = {"mass": "body_mass_g", "slope": "slope_deg"}
 AXIS_LABEL: dict[str, str] = {"mass": "body mass (g)", "slope": "slope (deg, uphill +)"}
 Region = Literal["both", "tripod only", "metachronal only", "other states", "not settled"]

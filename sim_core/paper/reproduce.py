@@ -33,6 +33,7 @@ from sim_core.paper.figures import (
     finder_cells,
 )
 from sim_core.paper.fixedpoints import FinderOutput, find
+from sim_core.paper.results import BIFURCATION_FILE
 from sim_core.paper.search import task_runner
 from sim_core.paper.values import PAPER
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
@@ -75,9 +76,6 @@ class Report:
     wall_s: float
     table: str
     summaries: dict[str, Any] = field(default_factory=dict)
-
-
-VIEWER_BIFURCATION = "bifurcation.json"  # a FinderOutput: the viewer validates it as such
 
 
 def _add_stats(a: RunStats, b: RunStats) -> RunStats:
@@ -163,8 +161,8 @@ def reproduce(
                     source="insect-gait reproduce: Fig. 8, the settled fixed-point finder",
                     config=asdict(cfg.finder), cells=[found[b] for b in cfg.bif_betas],
                 )  # fmt: skip
-                (out / VIEWER_BIFURCATION).write_text(fo.model_dump_json())
-                files.append(out / VIEWER_BIFURCATION)
+                (out / BIFURCATION_FILE).write_text(fo.model_dump_json())
+                files.append(out / BIFURCATION_FILE)
             summaries[fd.name] = fd.summary
     wall = time.perf_counter() - t0
     run = {

@@ -190,11 +190,20 @@ def test_the_return_map_and_the_status_box() -> None:
     assert "white-space:normal" in box and long in box  # wrapped, nothing cut
 
 
-def test_the_viewer_reads_the_results_folder_through_one_constant() -> None:
+def test_the_viewer_reads_the_results_folder_the_writers_fill(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    from sim_core.paper import results
+    from sim_core.paper.atlas import write_atlas
     from web import paths
 
-    assert paths.DEFAULT_BIFURCATION == paths.RESULTS_DIR / "bifurcation.json"
-    assert paths.atlas_path(paths.RESULTS_DIR, "slope").name == "atlas_slope.json"
+    assert paths.DEFAULT_BIFURCATION == results.RESULTS_DIR / results.BIFURCATION_FILE
     with pytest.raises(ValueError):
-        paths.atlas_path(paths.RESULTS_DIR, "gravity")
+        results.atlas_file(results.RESULTS_DIR, "gravity")
+    monkeypatch.setenv(results.RESULTS_ENV, str(tmp_path))
+    assert results.results_dir() == tmp_path
+    # what the atlas writer writes is where the viewer looks for it
+    written = write_atlas(_atlas(), tmp_path)
+    assert results.atlas_file(tmp_path, "mass") in written
+    assert AtlasOutput.model_validate_json(results.atlas_file(tmp_path, "mass").read_text())
     assert math.isfinite(controls.RAMP_HOLD_S.initial)
