@@ -157,7 +157,6 @@ class Simulation:
         for None): what a caller keeping its own rolling window has not seen yet, at every
         control period (the viewer's footfall diagram). Copies."""
         s = self._record.since(0, after_s)
-        assert s.times_s is not None and s.stance is not None
         return np.array(s.times_s), np.array(s.stance, dtype=bool).reshape(-1, 6)
 
     def stance_intervals(self) -> list[list[tuple[float, float]]]:
@@ -174,8 +173,6 @@ class Simulation:
         row (the viewer reads speed, heading and duty factor every frame)."""
         if self._window is None or self._window.rows != self._record.n_rows:
             s = self._record.since(0, self.time_s - 1.0)
-            assert s.times_s is not None and s.stance is not None
-            assert s.body_pos_m is not None and s.body_quat is not None
             speed, heading = gait.heading_speed(s.times_s, s.body_pos_m, s.body_quat)
             self._window = _Window(self._record.n_rows, s.stance, speed, heading)
         return self._window

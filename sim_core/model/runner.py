@@ -455,8 +455,7 @@ class BatchRunner:
         return assemble_result(
             spec=self.specs[i], integrator=self.integrator, dt_s=self.dt,
             control_dt_s=self.control_dt, failure=self.failures[i], d31=ev.d31_v[i],
-            d31_times_s=ev.d31_t[i], times_s=ser.times_s, stance=ser.stance,
-            body_pos_m=ser.body_pos_m, body_vel_m_s=ser.body_vel_m_s, body_quat=ser.body_quat,
+            d31_times_s=ev.d31_t[i], series=ser,
             touchdowns=ev.touchdowns[i], touchdown_phases=ev.touchdown_phases[i],
             liftoffs=ev.liftoffs[i], slips=ev.slips[i], retouches=int(self.retouches[i]),
             phi_aep=float(self.phi_aep[i]), duration_s=float(self.duration[i]),
