@@ -130,15 +130,15 @@ class Simulation:
 
     @property
     def stance(self) -> np.ndarray:
-        return self._runner.stance[0] != 0
+        return self._runner.legs.stance[0] != 0
 
     @property
     def phases(self) -> np.ndarray:
-        return self._runner.phi[0].copy()
+        return self._runner.legs.phi[0].copy()
 
     @property
     def d31_now(self) -> float:
-        p = self._runner.phi[0]
+        p = self._runner.legs.phi[0]
         return float(gait.wrap(p[2] - p[0]))
 
     @property
