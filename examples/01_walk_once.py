@@ -22,4 +22,4 @@ end = "n/a" if summary["d31_final"] is None else f"{summary['d31_final']:.3f} ra
 print(f"ends at {end}: {summary['gait']} ({summary['settled_why'] or 'settled'})")
 v_eq2 = nominal_speed(args.beta, 2e-3, 34e-3) * 100  # D = 2 mm, T_sw = 34 ms
 print(f"speed {summary['speed_cm_s']:.2f} cm/s (eq. 2: {v_eq2:.2f})")
-print(f"feet land at {result.landing_swing_share:.2f} of the swing (1 = at the AEP)")
+print(f"feet land at {result.measures.landing_swing_share:.2f} of the swing (1 = at the AEP)")

@@ -24,10 +24,10 @@ series: list[list[float]] = []
 
 
 def run(batch):  # the finder's runs, one simulate_batch per round
-    res = simulate_batch([RunSpec(d31_init=p.d31_init, duration_s=p.duration_s, **c.spec_fields())
-                          for c, p in batch])  # fmt: skip
-    series.extend(r.d31.tolist() for r in res)
-    return [{"d31": r.d31.tolist(), "error": r.error} for r in res]
+    res = simulate_batch([RunSpec(**p.spec_fields(), **c.spec_fields()) for c, p in batch])
+    series.extend(r.events.d31.tolist() for r in res)
+    return [{"d31": r.events.d31.tolist(), "error": r.error, "duration_s": r.measures.duration_s}
+            for r in res]  # fmt: skip
 
 
 cfg = FinderConfig(args.starts, args.duration_s, bisect_duration_s=args.duration_s / 2)

@@ -20,9 +20,10 @@ for beta in args.betas:
     ends = [r for r in results if r.spec.beta == beta]
 
     def word(r: RunResult) -> str:
-        if r.error or r.d31_final is None:
+        m = r.measures
+        if r.error or m.d31_final is None:
             return "fail" if r.error else "n/a"
-        return f"{r.d31_final:.2f}{'' if r.settled else '~'}"  # ~: not settled by the rule
+        return f"{m.d31_final:.2f}{'' if m.settled else '~'}"  # ~: not settled by the rule
 
     shown = ", ".join(word(r) for r in ends)
     print(f"beta {beta:.3f}: {shown}")

@@ -8,6 +8,7 @@ neither MuJoCo nor matplotlib.
 from __future__ import annotations
 
 import math
+from dataclasses import fields
 from typing import TYPE_CHECKING, Any
 
 from server.kinds.base import JobFailed, Physics
@@ -18,18 +19,22 @@ from sim_core.contract import (
     MAX_STABLE_DT_S,
     Integrator,
     RunFailure,
+    RunMeasures,
     resolve_numerics,
 )
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-# Columns of a run's summary row (`summary_row`): the run and sweep kinds' records.
-SUMMARY_COLUMNS = ("d31_init", "beta", "d31_final", "gait", "settled", "drift_per_cycle",
-                   "settled_why", "speed_cm_s", "duty_factor_measured",
-                   "slip_fraction", "landing_swing_share", "retouches_per_stance",
-                   "n_touchdowns")  # fmt: skip
 SUMMARY_ONLY = ("d31", "error", "diverged", "failure", "warnings")  # not columns of a row
+# Columns of a run's summary row (`summary_row`): the run and sweep kinds' records, i.e. the
+# start, beta and every measure of `RunResult.summary` (read from `RunMeasures`' fields)
+SUMMARY_COLUMNS = (
+    "d31_init",
+    "beta",
+    *(f.name for f in fields(RunMeasures) if f.name not in SUMMARY_ONLY),
+    "n_touchdowns",
+)
 
 
 def core() -> Any:
@@ -93,9 +98,9 @@ def summary_row(d31_init: float, summary: dict[str, Any]) -> dict[str, Any]:
 
 
 def warnings_of(results: list[Any]) -> list[str]:
-    """Every distinct warning of the job's runs (`RunResult.warnings`), in first-seen order:
+    """Every distinct warning of the job's runs (`RunMeasures.warnings`), in first-seen order:
     what the numbers say about themselves, e.g. a duty factor off beta at a coarse step."""
-    return list(dict.fromkeys(w for r in results for w in r.warnings))
+    return list(dict.fromkeys(w for r in results for w in r.measures.warnings))
 
 
 def d31_axis(ax: Axes, axis: str = "y") -> None:

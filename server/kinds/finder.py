@@ -73,10 +73,13 @@ def finder_runner(core: Any, job: Finder, progress: Progress, nthread: int) -> F
             for c, p in batch
         ]
         results = core.simulate_batch(specs, job.model_params(), nthread=nthread)
-        done += sum(r.duration_s or p.duration_s for (_, p), r in zip(batch, results, strict=True))
+        ran = [
+            r.measures.duration_s or p.duration_s for (_, p), r in zip(batch, results, strict=True)
+        ]
+        done += sum(ran)
         progress(min(0.99, done / budget))
-        return [{"d31": r.d31.tolist(), "error": r.error, "duration_s": r.duration_s}
-                for r in results]  # fmt: skip
+        return [{"d31": r.events.d31.tolist(), "error": r.error, "duration_s": s}
+                for r, s in zip(results, ran, strict=True)]  # fmt: skip
 
     return run
 

@@ -44,7 +44,7 @@ def run(job: ReturnMapJob, progress: Progress, nthread: int) -> dict[str, Any]:
     results = simulate_each(core(), job, progress, nthread)
     records: list[dict[str, Any]] = []
     for d0, res in zip(job.d31_init, results, strict=True):
-        rm = return_map_from_series(job.beta, [res.d31], lag=job.lag)
+        rm = return_map_from_series(job.beta, [res.events.d31], lag=job.lag)
         for k, (x, y) in enumerate(zip(rm.x.tolist(), rm.y.tolist(), strict=True)):
             records.append({"d31_init": d0, "n": RETURN_MAP_SKIP + k, "d31_n": x,
                             "d31_n_plus_lag": y})  # fmt: skip

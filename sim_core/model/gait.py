@@ -45,7 +45,7 @@ NOT_SETTLED = "not settled"
 # ghosts, so never a claim that a run has settled: that is `settling`.
 WINDOW_STD = 0.15
 WINDOW_LAST = 8
-# THE settled rule (`settling`), used everywhere a run's end is reported (RunResult.d31_final
+# THE settled rule (`settling`), used everywhere a run's end is reported (RunMeasures.d31_final
 # and gait, the API's run and sweep, the fixed-point finder, the reproduction's finals): the
 # least-squares drift per gait cycle over the last quarter of a run, below this (rad per leg-1
 # touchdown).

@@ -130,15 +130,15 @@ class Simulation:
 
     @property
     def stance(self) -> np.ndarray:
-        return self._runner.stance[0] != 0
+        return self._runner.legs.stance[0] != 0
 
     @property
     def phases(self) -> np.ndarray:
-        return self._runner.phi[0].copy()
+        return self._runner.legs.phi[0].copy()
 
     @property
     def d31_now(self) -> float:
-        p = self._runner.phi[0]
+        p = self._runner.legs.phi[0]
         return float(gait.wrap(p[2] - p[0]))
 
     @property
@@ -157,7 +157,6 @@ class Simulation:
         for None): what a caller keeping its own rolling window has not seen yet, at every
         control period (the viewer's footfall diagram). Copies."""
         s = self._record.since(0, after_s)
-        assert s.times_s is not None and s.stance is not None
         return np.array(s.times_s), np.array(s.stance, dtype=bool).reshape(-1, 6)
 
     def stance_intervals(self) -> list[list[tuple[float, float]]]:
@@ -174,8 +173,6 @@ class Simulation:
         row (the viewer reads speed, heading and duty factor every frame)."""
         if self._window is None or self._window.rows != self._record.n_rows:
             s = self._record.since(0, self.time_s - 1.0)
-            assert s.times_s is not None and s.stance is not None
-            assert s.body_pos_m is not None and s.body_quat is not None
             speed, heading = gait.heading_speed(s.times_s, s.body_pos_m, s.body_quat)
             self._window = _Window(self._record.n_rows, s.stance, speed, heading)
         return self._window

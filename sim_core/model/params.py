@@ -305,7 +305,7 @@ class ModelParams(BaseModel):
     lift_clearance: float = _ours(
         1e-5,
         "a stance foot this far above the ground, m, has left it: counts contact chatter "
-        "(RunResult.retouches_per_stance); 2x the stance penetration, 0.5% of the stroke",
+        "(RunMeasures.retouches_per_stance); 2x the stance penetration, 0.5% of the stroke",
         gt=0,
     )
     scuff_fraction: float = _ours(

@@ -53,7 +53,7 @@ def open_loop_drift(
     ):
         if not res.diverged:
             jumps[k] = phase_jumps(
-                res.touchdowns, res.touchdown_phases, phi_aep(spec.beta), settle_s
+                res.events.touchdowns_s, res.events.touchdown_phases, phi_aep(spec.beta), settle_s
             )
     grid = jumps.reshape(len(betas), len(d31s), 6)
     return drift_per_cycle(grid), grid

@@ -8,20 +8,22 @@ share, contact chatter) is computed by `model.gait` when a result is asked for.
 from __future__ import annotations
 
 from collections.abc import Sequence
-from typing import Any, NamedTuple
 
 import numpy as np
 
 from sim_core.model import gait
 from sim_core.model.params import ModelParams
-from sim_core.model.spec import RunFailure, RunResult, RunSpec
+from sim_core.model.spec import (
+    RunEvents,
+    RunFailure,
+    RunMeasures,
+    RunResult,
+    RunSeries,
+    RunSpec,
+)
 
 # the step docs/NUMERICS.md measured converged; a run on a coarser one says so in its warnings
 CONVERGED_DT_S = ModelParams().dt
-
-
-def _copy(a: np.ndarray | None, shape: tuple[int, ...], dtype: type = float) -> np.ndarray:
-    return np.zeros(shape, dtype=dtype) if a is None else a.copy()
 
 
 def assemble_result(
@@ -33,11 +35,7 @@ def assemble_result(
     failure: RunFailure | None,
     d31: Sequence[float],
     d31_times_s: Sequence[float],
-    times_s: np.ndarray | None,
-    stance: np.ndarray | None,
-    body_pos_m: np.ndarray | None,
-    body_vel_m_s: np.ndarray | None,
-    body_quat: np.ndarray | None,
+    series: RunSeries,
     touchdowns: Sequence[Sequence[float]],
     touchdown_phases: Sequence[Sequence[float]],
     liftoffs: Sequence[Sequence[float]],
@@ -50,8 +48,8 @@ def assemble_result(
 
     Args:
         d31, d31_times_s: Delta31 (rad) and time (s) at each leg-1 touchdown.
-        times_s, stance, body_pos_m, body_vel_m_s, body_quat: the recorded time series, (T,),
-            (T, 6), (T, 3), (T, 3), (T, 4); None when the run was not recorded.
+        series: the recorded time series (views into the recorder: copied here);
+            `RunSeries.none()` when the run was not recorded.
         touchdowns, touchdown_phases, liftoffs: per leg, the events' times (s) and the phase
             at touchdown before eq. 4 (rad).
         slips: each stance's foot slip as a share of the stroke.
@@ -59,84 +57,50 @@ def assemble_result(
         phi_aep: 2 pi (1 - beta) at the end of the run (a ramped run gets a rough landing
             share); duration_s: the run's length (the landing share skips its first third).
     """
-    empty = np.zeros(0)
-    base: dict[str, Any] = {
-        "spec": spec,
-        "integrator": integrator,
-        "dt_s": dt_s,
-        "control_dt_s": control_dt_s,
-        "duration_s": duration_s,
-    }
     if failure is not None:
-        return RunResult(
-            **base, d31=empty, d31_times_s=empty, times_s=empty,
-            stance=np.zeros((0, 6), dtype=np.bool_), body_pos_m=np.zeros((0, 3)),
-            body_vel_m_s=np.zeros((0, 3)), body_quat=np.zeros((0, 4)),
-            touchdowns=tuple(empty for _ in range(6)),
-            touchdown_phases=tuple(empty for _ in range(6)),
-            liftoffs=tuple(empty for _ in range(6)), d31_final=None, gait=None,
-            speed_cm_s=None, duty_factor_measured=None, slip_fraction=None, failure=failure,
-        )  # fmt: skip
-    times = _copy(times_s, (0,))
-    st = _copy(stance, (0, 6), np.bool_)
-    pos = _copy(body_pos_m, (0, 3))
-    d31_arr = np.array(d31)
-    d31_t = np.array(d31_times_s)
-    settle = gait.settling(d31_arr)
-    d31_final = gait.final_d31(d31_arr)
-    quat = _copy(body_quat, (0, 4))
-    speed = gait.forward_speed(times, pos, quat)
-    tds = tuple(np.array(t) for t in touchdowns)
-    tdp = tuple(np.array(t) for t in touchdown_phases)
-    los = tuple(np.array(t) for t in liftoffs)
+        return RunResult.failed(spec, integrator, dt_s, control_dt_s, failure, duration_s)
+    ser = series.copy()
+    events = RunEvents(
+        d31=np.array(d31),
+        d31_times_s=np.array(d31_times_s),
+        touchdowns_s=tuple(np.array(t) for t in touchdowns),
+        touchdown_phases=tuple(np.array(t) for t in touchdown_phases),
+        liftoffs_s=tuple(np.array(t) for t in liftoffs),
+    )
+    settle = gait.settling(events.d31)
+    speed = gait.forward_speed(ser.times_s, ser.body_pos_m, ser.body_quat)
+    tds, los = events.touchdowns_s, events.liftoffs_s
     # the footfall walked over the settled quarter names the gait
+    d31_t = events.d31_times_s
     quarter = (d31_t[-settle.tail], d31_t[-1]) if settle.tail else (0.0, 0.0)
     name = gait.run_gait(settle, gait.measured_footfall(tds, los, *quarter))
     ntd = sum(t.size for t in tds)
-    duty = gait.duty_factor(st)
-    landing = gait.landing_share(tds, tdp, phi_aep, after_s=duration_s / 3)
+    duty = gait.duty_factor(ser.stance)
+    landing = gait.landing_share(tds, events.touchdown_phases, phi_aep, after_s=duration_s / 3)
     retouch = float(retouches) / ntd if ntd else None
     warnings = gait.run_warnings(
         beta=spec.beta, duty_factor=duty, landing=landing, integrator=integrator, dt_s=dt_s,
         converged_dt_s=CONVERGED_DT_S, retouches=retouch,
     )  # fmt: skip
-    return RunResult(
-        **base,
-        d31=d31_arr,
-        d31_times_s=d31_t,
-        times_s=times,
-        stance=st,
-        body_pos_m=pos,
-        body_vel_m_s=_copy(body_vel_m_s, (0, 3)),
-        body_quat=quat,
-        touchdowns=tds,
-        touchdown_phases=tdp,
-        liftoffs=los,
-        d31_final=d31_final,
+    measures = RunMeasures(
+        d31_final=gait.final_d31(events.d31),
         gait=name,
         settled=settle.settled,
         drift_per_cycle=settle.drift,
         settled_why=settle.why,
+        duration_s=duration_s,
         speed_cm_s=None if speed is None else speed * 100.0,
         duty_factor_measured=duty,
         slip_fraction=float(np.median(slips)) if slips else None,
-        retouches_per_stance=retouch,
         landing_swing_share=landing,
+        retouches_per_stance=retouch,
         warnings=tuple(warnings),
     )
+    return RunResult(spec, integrator, dt_s, control_dt_s, events, ser, measures)
 
 
-class Series(NamedTuple):
-    """One simulation's recorded time series; all None when the run was not recorded."""
-
-    times_s: np.ndarray | None  # (T,)
-    stance: np.ndarray | None  # (T, 6) bool
-    body_pos_m: np.ndarray | None  # (T, 3)
-    body_vel_m_s: np.ndarray | None  # (T, 3)
-    body_quat: np.ndarray | None  # (T, 4) w, x, y, z
-
-
-NOT_RECORDED = Series(None, None, None, None, None)
+# a batch that keeps no time series gives its results these (empty) ones
+NOT_RECORDED = RunSeries.none()
 
 
 class Recorder:
@@ -182,15 +146,15 @@ class Recorder:
         self.length[live] = k + 1
         self.n_rows += 1
 
-    def series(self, i: int) -> Series:
+    def series(self, i: int) -> RunSeries:
         """Simulation i's rows in time order (views, not copies, until a ring has wrapped)."""
         if self.ring and self.n_rows > self.t.shape[0]:
             return self.since(i, None)
         n = int(self.length[i])
-        return Series(self.t[:n], self.stance[i, :n], self.pos[i, :n], self.vel[i, :n],
+        return RunSeries(self.t[:n], self.stance[i, :n], self.pos[i, :n], self.vel[i, :n],
                       self.quat[i, :n])  # fmt: skip
 
-    def since(self, i: int, after_s: float | None) -> Series:
+    def since(self, i: int, after_s: float | None) -> RunSeries:
         """Simulation i's rows later than `after_s` (all of them for None), in time order;
         copies only the rows asked for (a live viewer asks every frame)."""
         cap = self.t.shape[0]
@@ -200,7 +164,7 @@ class Recorder:
             order = np.arange(int(self.length[i]))
         if after_s is not None:
             order = order[int(np.searchsorted(self.t[order], after_s, side="right")) :]
-        return Series(self.t[order], self.stance[i, order], self.pos[i, order],
+        return RunSeries(self.t[order], self.stance[i, order], self.pos[i, order],
                       self.vel[i, order], self.quat[i, order])  # fmt: skip
 
 

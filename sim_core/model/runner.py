@@ -141,9 +141,25 @@ class BatchRunner:
         self._torso_inertia = self.model.body_inertia[TORSO].copy()
 
         self.beta = np.zeros(n)
-        self.omega = np.zeros(n)
-        self.phi_aep = np.zeros(n)
-        self.reset_on = np.ones(n, dtype=np.bool_)
+        # the controller's state, what beta drives (eq. 2) and the last period's events: each
+        # array under one name, in the NamedTuples the compiled kernels take
+        self.drive = Drive(omega=np.zeros(n), phi_aep=np.zeros(n), reset=np.ones(n, np.bool_))
+        self.legs = LegState(
+            phi=np.zeros((n, 6)),
+            phi_next=np.zeros((n, 6)),
+            stance=np.zeros((n, 6), dtype=np.int8),
+            lp=np.zeros((n, 6, 3)),
+            phi_td=np.zeros((n, 6)),
+            prev_height=np.zeros((n, 6)),
+            lifted=np.zeros((n, 6), dtype=np.bool_),
+            retouches=np.zeros(n, dtype=np.int64),  # stance feet that left and came back
+        )
+        self.log = EventLog(
+            td_time=np.full((n, 6), np.nan),
+            td_phase=np.full((n, 6), np.nan),
+            lo_time=np.full((n, 6), np.nan),
+            d31=np.full(n, np.nan),
+        )
         self.body_mass_g = np.full(n, p.body_mass * 1e3)
         self.slope_deg = np.zeros(n)
         self.duration = (
@@ -156,19 +172,7 @@ class BatchRunner:
             [np.inf if s.stop_if_settled_s is None else s.stop_if_settled_s for s in specs]
         )
         self._next_settle_due = float(self._settle_due.min()) - 1e-12
-        self.phi = np.zeros((n, 6))
-        self.phi_next = np.zeros((n, 6))
-        self.stance = np.zeros((n, 6), dtype=np.int8)
-        self.lp = np.zeros((n, 6, 3))
-        self.phi_td = np.zeros((n, 6))
-        self.td_time = np.full((n, 6), np.nan)
-        self.td_phase = np.full((n, 6), np.nan)
-        self.lo_time = np.full((n, 6), np.nan)
-        self.d31_evt = np.full(n, np.nan)
-        self._lifted = np.zeros((n, 6), dtype=np.bool_)
-        self.retouches = np.zeros(n, dtype=np.int64)  # stance feet that left and came back
         self.feet = np.zeros((n, self.nsub, self.model.nsite, 3))
-        self.prev_height = np.zeros((n, 6))
         self._warn_seen = np.zeros(self.batch.warning.shape[:2], dtype=np.int64)
         self._guard_codes = np.zeros(n, dtype=np.int64)
         self._guard_values = np.zeros(n)
@@ -181,12 +185,8 @@ class BatchRunner:
         self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
         self.ctrl = self.batch.bind("ctrl")  # desired joint velocities
         self.qvel = self.batch.bind("qvel")
-        self._state = LegState(self.phi, self.phi_next, self.stance, self.lp, self.phi_td,
-                               self.prev_height, self._lifted, self.retouches)  # fmt: skip
-        self._drive = Drive(self.omega, self.phi_aep, self.reset_on)
         self._rules = TouchRules(p.foot_radius, p.touch_depth, p.scuff_fraction,
                                  p.touchdown_interpolation, p.lift_clearance)  # fmt: skip
-        self._log = EventLog(self.td_time, self.td_phase, self.lo_time, self.d31_evt)
         self._plan: Callable[..., None] | None = None  # the kernels, bound at the first period
         self._events: Callable[..., int] | None = None
         self.nblock = 0
@@ -209,7 +209,7 @@ class BatchRunner:
         self.batch.reset()
         for i, spec in enumerate(specs):
             self.set_beta(i, spec.beta)
-            self.reset_on[i] = spec.phase_reset
+            self.drive.reset[i] = spec.phase_reset
             if spec.body_mass_g != p.body_mass * 1e3:
                 self.set_body_mass_g(i, spec.body_mass_g)
             if spec.slope_deg != 0.0:
@@ -235,8 +235,8 @@ class BatchRunner:
     def set_beta(self, i: int, beta: float) -> None:
         check_field("beta", beta)
         self.beta[i] = beta
-        self.omega[i] = omega(beta, self.params.swing_duration)
-        self.phi_aep[i] = phi_aep(beta)
+        self.drive.omega[i] = omega(beta, self.params.swing_duration)
+        self.drive.phi_aep[i] = phi_aep(beta)
 
     def set_body_mass_g(self, i: int, mass_g: float) -> None:
         check_field("body_mass_g", mass_g)
@@ -255,19 +255,19 @@ class BatchRunner:
     def init_state(self, i: int, d31: float, phi1: float = 0.0) -> None:
         """Put simulation i at rest-ish on its feet with the gait family member d31."""
         p = self.params
-        self.phi[i] = initial_phases(d31, phi1)
-        self.stance[i] = (self.phi[i] >= self.phi_aep[i]).astype(np.int8)
+        self.legs.phi[i] = initial_phases(d31, phi1)
+        self.legs.stance[i] = (self.legs.phi[i] >= self.drive.phi_aep[i]).astype(np.int8)
         aep = self.geo[0:18].reshape(6, 3)
-        self.lp[i] = aep
-        self.phi_td[i] = self.phi_aep[i]
+        self.legs.lp[i] = aep
+        self.legs.phi_td[i] = self.drive.phi_aep[i]
         q = np.zeros(18)
         tips = np.zeros((6, 3))
         initial_targets(
-            self.phi[i],
-            self.stance[i],
-            self.lp[i],
-            self.phi_td[i],
-            self.phi_aep[i],
+            self.legs.phi[i],
+            self.legs.stance[i],
+            self.legs.lp[i],
+            self.legs.phi_td[i],
+            self.drive.phi_aep[i],
             self.geo,
             q,
             tips,
@@ -282,8 +282,8 @@ class BatchRunner:
         self.qvel[i] = qvel
         self.active[i] = True
         self.failures[i] = None
-        self._lifted[i] = False
-        self.retouches[i] = 0
+        self.legs.lifted[i] = False
+        self.legs.retouches[i] = 0
         self._footing.x_ref[i] = qpos[0]
         self._footing.t_ref[i] = self.time
         self._footing.t_foothold[i] = self.time
@@ -298,7 +298,7 @@ class BatchRunner:
         p = self.params
         clock = time.perf_counter
         t_start = clock()
-        plan_args = (ids, self._state, self._drive, p.k_contralateral, p.k_ipsilateral,
+        plan_args = (ids, self.legs, self.drive, p.k_contralateral, p.k_ipsilateral,
                      self.control_dt, self.geo, self._lead, self.act, self.ctrl)  # fmt: skip
         if self._plan is None:
             self._plan = bind_kernel(plan_block, plan_args)
@@ -317,15 +317,16 @@ class BatchRunner:
                 self._fail(int(sim), "mujoco_error", f"MuJoCo error: {self.batch.error(int(sim))}")
         t_phys = clock()
         t0 = self.time
-        event_args = (ids, self.feet[:m, :, :, 2], t0, self.dt, self._state, self._drive,
-                      self._rules, self.geo, self._log)  # fmt: skip
+        event_args = (ids, self.feet[:m, :, :, 2], t0, self.dt, self.legs, self.drive,
+                      self._rules, self.geo, self.log)  # fmt: skip
         if self._events is None:
             self._events = bind_kernel(apply_events, event_args)
         events = self._events(*event_args)
         self.nblock += 1
         if events:
-            self.journal.collect(ids, self.td_time[ids], self.td_phase, self.lo_time[ids],
-                                 self.d31_evt, self.feet[:m, -1, :, :2])  # fmt: skip
+            log = self.log
+            self.journal.collect(ids, log.td_time[ids], log.td_phase, log.lo_time[ids], log.d31,
+                                 self.feet[:m, -1, :, :2])  # fmt: skip
         t_ctrl = clock()
         if self.recorder is not None and self.nblock % self.recorder.every == 0:
             self._record(ids)
@@ -338,7 +339,7 @@ class BatchRunner:
     def _guard(self, ids: np.ndarray) -> None:
         codes = self._guard_codes[: ids.size]
         values = self._guard_values[: ids.size]
-        args = (ids, self.qpos, self.qvel, self.batch.warning, self._warn_seen, self.stance,
+        args = (ids, self.qpos, self.qvel, self.batch.warning, self._warn_seen, self.legs.stance,
                 self.time, self._attach, self._limits, self._footing, codes, values)  # fmt: skip
         if self._guard_kernel is None:
             self._guard_kernel = bind_kernel(guard_codes, args)
@@ -395,7 +396,7 @@ class BatchRunner:
 
     def _record(self, live: np.ndarray) -> None:
         if self.recorder is not None:
-            self.recorder.take(self.time, live, self.stance, self.qpos, self.qvel)
+            self.recorder.take(self.time, live, self.legs.stance, self.qpos, self.qvel)
 
     def run(
         self,
@@ -455,11 +456,10 @@ class BatchRunner:
         return assemble_result(
             spec=self.specs[i], integrator=self.integrator, dt_s=self.dt,
             control_dt_s=self.control_dt, failure=self.failures[i], d31=ev.d31_v[i],
-            d31_times_s=ev.d31_t[i], times_s=ser.times_s, stance=ser.stance,
-            body_pos_m=ser.body_pos_m, body_vel_m_s=ser.body_vel_m_s, body_quat=ser.body_quat,
+            d31_times_s=ev.d31_t[i], series=ser,
             touchdowns=ev.touchdowns[i], touchdown_phases=ev.touchdown_phases[i],
-            liftoffs=ev.liftoffs[i], slips=ev.slips[i], retouches=int(self.retouches[i]),
-            phi_aep=float(self.phi_aep[i]), duration_s=float(self.duration[i]),
+            liftoffs=ev.liftoffs[i], slips=ev.slips[i], retouches=int(self.legs.retouches[i]),
+            phi_aep=float(self.drive.phi_aep[i]), duration_s=float(self.duration[i]),
         )  # fmt: skip
 
 

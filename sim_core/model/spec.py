@@ -7,7 +7,7 @@ viewer fill in; inside the core everything is SI.
 from __future__ import annotations
 
 from collections.abc import Iterable
-from dataclasses import asdict, dataclass
+from dataclasses import asdict, dataclass, fields
 from typing import Any, Literal, get_args
 
 import numpy as np
@@ -251,48 +251,118 @@ class SimulationDiverged(RuntimeError):
         super().__init__(str(failure))
 
 
-@dataclass(frozen=True)
-class RunResult:
-    """Everything one run recorded. A diverged run has `error` set and empty records."""
+def _plain(value: Any) -> Any:
+    """A record's value as plain JSON types (arrays as lists, bool arrays as 0/1, tuples of
+    arrays as lists of lists, a failure as its dict)."""
+    if isinstance(value, np.ndarray):
+        return (value.astype(int) if value.dtype == np.bool_ else value).tolist()
+    if isinstance(value, tuple):
+        return [_plain(v) for v in value]
+    if isinstance(value, RunFailure):
+        return value.to_dict()
+    return value
 
-    spec: RunSpec
-    integrator: str
-    dt_s: float
-    control_dt_s: float
+
+def _fields_plain(record: Any) -> dict[str, Any]:
+    """Every field of a record dataclass by name, as plain JSON types: what `summary` and
+    `to_dict` say is generated from the records' fields, so a new field reaches them."""
+    return {f.name: _plain(getattr(record, f.name)) for f in fields(record)}
+
+
+@dataclass(frozen=True)
+class RunEvents:
+    """What happened in a run, at the moments it happened."""
+
     # Delta31 = phi3 - phi1 (mod 2 pi) just after each leg-1 touchdown, and when it happened
     d31: np.ndarray
     d31_times_s: np.ndarray
-    # records every `record_dt_s`
-    times_s: np.ndarray
+    touchdowns_s: tuple[np.ndarray, ...]  # per leg: touchdown times
+    touchdown_phases: tuple[np.ndarray, ...]  # per leg: phase at touchdown, before resetting
+    liftoffs_s: tuple[np.ndarray, ...]  # per leg: lift-off times
+
+    @classmethod
+    def none(cls) -> RunEvents:
+        empty = np.zeros(0)
+        legs = tuple(empty for _ in range(6))
+        return cls(empty, empty, legs, legs, legs)
+
+
+@dataclass(frozen=True)
+class RunSeries:
+    """What a run recorded every `record_dt_s` (empty when it was not recorded)."""
+
+    times_s: np.ndarray  # (T,)
     stance: np.ndarray  # (T, 6) bool, paper leg order 1..6
     body_pos_m: np.ndarray  # (T, 3), world frame, x along the slope
     body_vel_m_s: np.ndarray  # (T, 3)
     body_quat: np.ndarray  # (T, 4) w, x, y, z
-    touchdowns: tuple[np.ndarray, ...]  # per leg: touchdown times (s)
-    touchdown_phases: tuple[np.ndarray, ...]  # per leg: phase at touchdown, before resetting
-    liftoffs: tuple[np.ndarray, ...]  # per leg: lift-off times (s)
+
+    def copy(self) -> RunSeries:
+        """Copies of every series (a recorder hands out views into its buffers)."""
+        return RunSeries(*(np.array(getattr(self, f.name)) for f in fields(self)))
+
+    @classmethod
+    def none(cls) -> RunSeries:
+        return cls(np.zeros(0), np.zeros((0, 6), dtype=np.bool_), np.zeros((0, 3)),
+                   np.zeros((0, 3)), np.zeros((0, 4)))  # fmt: skip
+
+
+@dataclass(frozen=True)
+class RunMeasures:
+    """What a run's records mean, computed once (`records.assemble_result`); None where a
+    failed run gives no numbers."""
+
     # where the run ends (circular mean of its last quarter) and, if it has settled by THE rule
     # (`gait.settling`: drift per cycle over the last quarter), its gait; else "not settled"
-    d31_final: float | None
-    gait: str | None
-    speed_cm_s: float | None
-    duty_factor_measured: float | None
-    slip_fraction: float | None  # median foot slip per stance / stroke D
-    # median share of the swing done at touchdown (1 = at the AEP), `gait.landing_share`
-    landing_swing_share: float | None = None
-    # stance feet that rose more than `lift_clearance` and pressed in again, per touchdown:
-    # ~0.1-0.4 on the defaults, > 2 where a coarse step makes the contact chatter
-    retouches_per_stance: float | None = None
-    failure: RunFailure | None = None
+    d31_final: float | None = None
+    gait: str | None = None
     settled: bool = False  # `gait.settling` of d31
     drift_per_cycle: float | None = None  # over the last quarter, rad per leg-1 touchdown
     settled_why: str = ""  # why not settled, in words ("" if settled)
     # the simulated length asked for: the spec's duration, or the time the run stopped
     # settled (`RunSpec.stop_if_settled_s`); a failed run ended earlier (`failure.time_s`)
     duration_s: float | None = None
+    speed_cm_s: float | None = None  # along the body's heading (`gait.forward_speed`)
+    duty_factor_measured: float | None = None
+    slip_fraction: float | None = None  # median foot slip per stance / stroke D
+    # median share of the swing done at touchdown (1 = at the AEP), `gait.landing_share`
+    landing_swing_share: float | None = None
+    # stance feet that rose more than `lift_clearance` and pressed in again, per touchdown:
+    # ~0.1-0.4 on the defaults, > 2 where a coarse step makes the contact chatter
+    retouches_per_stance: float | None = None
     # what the numbers say about themselves (`gait.run_warnings`): a duty factor off beta,
     # feet landing far from the AEP, a step coarser than the converged default
     warnings: tuple[str, ...] = ()
+
+
+@dataclass(frozen=True)
+class RunResult:
+    """Everything one run gives back: what was asked (spec, numerics), what happened
+    (`events`), what was recorded (`series`), what it means (`measures`), and the failure
+    that stopped it, if any. A failed run (`failed`) has empty records and no measures."""
+
+    spec: RunSpec
+    integrator: str
+    dt_s: float
+    control_dt_s: float
+    events: RunEvents
+    series: RunSeries
+    measures: RunMeasures
+    failure: RunFailure | None = None
+
+    @classmethod
+    def failed(
+        cls,
+        spec: RunSpec,
+        integrator: str,
+        dt_s: float,
+        control_dt_s: float,
+        failure: RunFailure,
+        duration_s: float | None = None,
+    ) -> RunResult:
+        """A run that left the physically meaningful region: no numbers, only why."""
+        return cls(spec, integrator, dt_s, control_dt_s, RunEvents.none(), RunSeries.none(),
+                   RunMeasures(duration_s=duration_s), failure)  # fmt: skip
 
     @property
     def error(self) -> str | None:
@@ -304,45 +374,26 @@ class RunResult:
         return self.failure is not None
 
     def summary(self) -> dict[str, Any]:
-        """The CLI's `--json` object: plain JSON types only."""
+        """The CLI's `--json` object, plain JSON types only: beta, Delta31 at every leg-1
+        touchdown, every measure, and the failure (generated from `RunMeasures`' fields)."""
         return {
             "beta": self.spec.beta,
-            "d31": [float(x) for x in self.d31],
-            "d31_final": self.d31_final,
-            "gait": self.gait,
-            "settled": self.settled,
-            "drift_per_cycle": self.drift_per_cycle,
-            "settled_why": self.settled_why,
-            "duration_s": self.duration_s,
-            "speed_cm_s": self.speed_cm_s,
-            "duty_factor_measured": self.duty_factor_measured,
-            "slip_fraction": self.slip_fraction,
-            "landing_swing_share": self.landing_swing_share,
-            "retouches_per_stance": self.retouches_per_stance,
+            "d31": _plain(self.events.d31),
+            **_fields_plain(self.measures),
             "diverged": self.diverged,
             "error": self.error,
-            "failure": None if self.failure is None else self.failure.to_dict(),
-            "warnings": list(self.warnings),
+            "failure": _plain(self.failure),
         }
 
     def to_dict(self) -> dict[str, Any]:
-        """Summary plus the time series, for storage and plotting."""
-        out = self.summary()
-        out.update(
-            {
-                "spec": self.spec.model_dump(),
-                "integrator": self.integrator,
-                "dt_s": self.dt_s,
-                "control_dt_s": self.control_dt_s,
-                "d31_times_s": self.d31_times_s.tolist(),
-                "times_s": self.times_s.tolist(),
-                "stance": self.stance.astype(int).tolist(),
-                "body_pos_m": self.body_pos_m.tolist(),
-                "body_vel_m_s": self.body_vel_m_s.tolist(),
-                "body_quat": self.body_quat.tolist(),
-                "touchdowns_s": [t.tolist() for t in self.touchdowns],
-                "touchdown_phases": [t.tolist() for t in self.touchdown_phases],
-                "liftoffs_s": [t.tolist() for t in self.liftoffs],
-            }
-        )
-        return out
+        """Summary plus the spec, the numerics, every event and the time series, for storage
+        and plotting (generated from the records' fields)."""
+        return {
+            **self.summary(),
+            "spec": self.spec.model_dump(),
+            "integrator": self.integrator,
+            "dt_s": self.dt_s,
+            "control_dt_s": self.control_dt_s,
+            **_fields_plain(self.events),
+            **_fields_plain(self.series),
+        }

@@ -130,10 +130,10 @@ def convergence_check(
             ConvergenceRow(
                 beta=spec.beta,
                 d31_init=spec.d31_init,
-                final_dt=a.d31_final,
-                final_half=b.d31_final,
-                gait_dt=a.gait,
-                gait_half=b.gait,
+                final_dt=a.measures.d31_final,
+                final_half=b.measures.d31_final,
+                gait_dt=a.measures.gait,
+                gait_half=b.measures.gait,
             )
         )
     return ConvergenceReport(integ, dt, control, duration_s, rows)
@@ -227,8 +227,8 @@ def grid_study(
 
     t_ref = time.perf_counter()
     ref_runs = simulate_batch(specs(*REFERENCE), p, nthread=1)  # timed like every grid point
-    ref = [r.d31_final for r in ref_runs]
-    ref_retouch = max(r.retouches_per_stance or 0.0 for r in ref_runs)
+    ref = [r.measures.d31_final for r in ref_runs]
+    ref_retouch = max(r.measures.retouches_per_stance or 0.0 for r in ref_runs)
     info: dict[str, object] = {
         "reference": ref,
         "reference_config": list(REFERENCE),
@@ -240,7 +240,9 @@ def grid_study(
         if any(r.diverged for r in finer):
             info["reference_check"] = "rk4 at 1e-5 s failed"
         else:
-            info["reference_check_error_rad"] = worst_error([r.d31_final for r in finer], ref)
+            info["reference_check_error_rad"] = worst_error(
+                [r.measures.d31_final for r in finer], ref
+            )
         if progress is not None:
             got = info.get("reference_check_error_rad", info.get("reference_check"))
             progress(f"reference check (rk4 1e-5 vs 2e-5): {got}")
@@ -266,7 +268,7 @@ def grid_study(
     for label, integ, over in variants:
         pv = p.model_copy(update=over) if over else p
         if pv.ground not in refs:
-            refs[pv.ground] = [r.d31_final for r in simulate_batch(specs(*REFERENCE), pv)]
+            refs[pv.ground] = [r.measures.d31_final for r in simulate_batch(specs(*REFERENCE), pv)]
             info[f"reference_{pv.ground}"] = refs[pv.ground]
         own_ref = refs[pv.ground]
         for dt in dts:
@@ -278,8 +280,10 @@ def grid_study(
                 point = GridPoint(integ, dt, wall, None, False, FAILURE_LABEL[failed[0].kind],
                                   label)  # fmt: skip
             else:
-                finals = [r.d31_final for r in runs]
-                slips = [r.slip_fraction for r in runs if r.slip_fraction is not None]
+                finals = [r.measures.d31_final for r in runs]
+                slips = [
+                    r.measures.slip_fraction for r in runs if r.measures.slip_fraction is not None
+                ]
                 thr = None
                 if with_batch:
                     bspecs = [RunSpec(beta=betas[k % len(betas)], d31_init=1.0 + 0.1 * k,
@@ -294,7 +298,7 @@ def grid_study(
                     drift = drift_rates(integ, dt, params=pv, betas=betas, d31s=drift_d31s)
                     drift_err = float(np.max(np.abs(drift - ref_drift)))  # NaN if a probe failed
                     drift_err = None if math.isnan(drift_err) else drift_err
-                retouch = max(r.retouches_per_stance or 0.0 for r in runs)
+                retouch = max(r.measures.retouches_per_stance or 0.0 for r in runs)
                 chatter = "contact chatter" if retouch > ref_retouch + CHATTER_MARGIN else None
                 betas_run = [r.spec.beta for r in runs]
                 point = GridPoint(integ, dt, wall, worst_error(finals, own_ref),

@@ -73,7 +73,7 @@ class PointCheck:
 def _final(r: RunResult) -> float | None:
     if r.error is not None:
         return None
-    s = settling(r.d31)
+    s = settling(r.events.d31)
     return s.final if s.settled else None
 
 
@@ -98,7 +98,8 @@ def numerics(
     for k, (b, a) in enumerate(points):
         r, h = done[k], done[len(specs) + k]
         near_fold = any(abs(b - f) <= FOLD_MARGIN for f in folds)
-        out.append(PointCheck(b, a.d31, a.gait, _final(r), _final(h), r.landing_swing_share,
+        out.append(PointCheck(b, a.d31, a.gait, _final(r), _final(h),
+                              r.measures.landing_swing_share,
                               SAME_TOL_FOLD if near_fold else SAME_TOL))  # fmt: skip
     return out
 

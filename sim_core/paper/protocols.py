@@ -32,4 +32,4 @@ def return_map(
     """Delta31(n) -> Delta31(n + lag) from many initial values (first `skip` cycles dropped)."""
     specs = spec_grid([beta], inits, duration_s=duration_s, dt_s=dt_s)
     runs = simulate_batch(specs, params, nthread=nthread)
-    return return_map_from_series(beta, [r.d31 for r in runs if not r.diverged], lag, skip)
+    return return_map_from_series(beta, [r.events.d31 for r in runs if not r.diverged], lag, skip)

@@ -177,28 +177,22 @@ def execute_chunk(
     out = []
     for i, task in enumerate(tasks):
         res = runner.result(i)
+        ev, ser = res.events, res.series
+        # the run's summary (every measure, generated from its fields), its touchdown times,
+        # the compute it cost; a non-finite float is stored as null (JSON has no NaN)
         item: dict[str, Any] = {
-            "d31": res.d31.tolist(),
-            "d31_times_s": res.d31_times_s.tolist(),
-            "d31_final": _finite(res.d31_final),
-            "gait": res.gait,
-            "speed_cm_s": _finite(res.speed_cm_s),
-            "slip_fraction": _finite(res.slip_fraction),
-            "landing_swing_share": _finite(res.landing_swing_share),
-            "error": res.error,
-            "failure": None if res.failure is None else res.failure.to_dict(),
-            "duration_s": res.duration_s,
-            "compute_s": share,
+            k: _finite(v) if isinstance(v, float) else v for k, v in res.summary().items()
         }
+        item |= {"d31_times_s": ev.d31_times_s.tolist(), "compute_s": share}
         if task.ramp is not None:
-            item["value"] = [float(task.ramp.value(float(t))) for t in res.d31_times_s]
+            item["value"] = [float(task.ramp.value(float(t))) for t in ev.d31_times_s]
             # the body's heading at each leg-1 touchdown, deg (a slope sweep must still walk up
             # and down the slope: `gait.HEADING_KEPT_DEG`)
-            k = np.searchsorted(res.times_s, res.d31_times_s).clip(0, max(0, res.times_s.size - 1))
-            yaw = np.degrees(yaw_of(res.body_quat[k])) if res.times_s.size else np.zeros(0)
+            k = np.searchsorted(ser.times_s, ev.d31_times_s).clip(0, max(0, ser.times_s.size - 1))
+            yaw = np.degrees(yaw_of(ser.body_quat[k])) if ser.times_s.size else np.zeros(0)
             item["heading_deg"] = [float(x) for x in yaw]
-            item["touchdowns_s"] = [t.tolist() for t in res.touchdowns]
-            item["liftoffs_s"] = [t.tolist() for t in res.liftoffs]
+            item["touchdowns_s"] = [t.tolist() for t in ev.touchdowns_s]
+            item["liftoffs_s"] = [t.tolist() for t in ev.liftoffs_s]
         out.append(item)
     return out
 

@@ -179,8 +179,8 @@ def load_share(
         res = runner.result(i)
         share = np.array([depth[i, LEG_PAIR == k].sum() for k in range(3)])
         share = share / share.sum()
-        late = res.times_s > settle_s
-        pitch = [_pitch_roll(q)[0] for q in res.body_quat[late]]
+        late = res.series.times_s > settle_s
+        pitch = [_pitch_roll(q)[0] for q in res.series.body_quat[late]]
         out[float(beta)] = {
             "share": dict(zip(PAIRS, share.round(4).tolist(), strict=True)),
             "mean_pitch_mrad": float(np.mean(pitch) * 1e3),  # + nose down (MuJoCo's y axis)

@@ -97,12 +97,12 @@ def evaluate(
             diverged += 1
             finals[spec.beta].append(None)
             continue
-        finals[spec.beta].append(window_d31(res.d31))  # a screen of short runs
+        finals[spec.beta].append(window_d31(res.events.d31))  # a screen of short runs
         v = nominal_speed(spec.beta, params.stroke, params.swing_duration) * 100
-        if res.speed_cm_s is not None:
-            speed_err = max(speed_err, abs(res.speed_cm_s - v) / v)
-        if res.slip_fraction is not None:
-            slip = max(slip, res.slip_fraction)
+        if res.measures.speed_cm_s is not None:
+            speed_err = max(speed_err, abs(res.measures.speed_cm_s - v) / v)
+        if res.measures.slip_fraction is not None:
+            slip = max(slip, res.measures.slip_fraction)
     return Evaluation(
         params={k: getattr(params, k) for k in SEARCH_SPACE},
         finals=finals,
@@ -230,14 +230,16 @@ def evaluate_pull(
     err: dict[float, list[float | None]] = {b: [] for b in betas}
     for spec, res in zip(specs, results, strict=True):
         b = spec.beta
-        if res.diverged or res.d31.size < 4:
+        if res.diverged or res.events.d31.size < 4:
             finals[b].append(None)
             continue
-        finals[b].append(final_d31(res.d31))  # where it ends, settled or not
-        share[b].append(res.landing_swing_share)
-        slip[b].append(res.slip_fraction)
+        finals[b].append(final_d31(res.events.d31))  # where it ends, settled or not
+        share[b].append(res.measures.landing_swing_share)
+        slip[b].append(res.measures.slip_fraction)
         v = nominal_speed(b, params.stroke, params.swing_duration) * 100
-        err[b].append(None if res.speed_cm_s is None else abs(res.speed_cm_s - v) / v)
+        err[b].append(
+            None if res.measures.speed_cm_s is None else abs(res.measures.speed_cm_s - v) / v
+        )
     return PullEvaluation(
         finals=finals,
         landing_share={b: _median(v) for b, v in share.items()},

@@ -55,17 +55,17 @@ def headings(
                  for s in slopes_deg for x in starts]  # fmt: skip
         for spec, r in zip(specs, simulate_batch(specs, p, nthread=nthread), strict=True):
             hs: list[float | None] = []
-            t = r.times_s
+            t = r.series.times_s
             for a in at_s:
                 if t.size == 0 or a > t[-1] + 1e-9:
                     hs.append(None)
                     continue
                 k = int(np.searchsorted(t, a - 1e-9))
-                hs.append(math.degrees(float(yaw_of(r.body_quat[min(k, t.size - 1)]))))
-            st = settling(r.d31) if r.failure is None else None
+                hs.append(math.degrees(float(yaw_of(r.series.body_quat[min(k, t.size - 1)]))))
+            st = settling(r.events.d31) if r.failure is None else None
             out.append(HeadingRun(name, spec.slope_deg, spec.d31_init, hs,
                                   st.final if st is not None and st.settled else None,
-                                  r.slip_fraction, r.error))  # fmt: skip
+                                  r.measures.slip_fraction, r.error))  # fmt: skip
     return out
 
 

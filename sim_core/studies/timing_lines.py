@@ -92,7 +92,9 @@ def open_loop_legs(
     jumps = np.full((len(specs), 6), np.nan)
     for k, (s, r) in enumerate(zip(specs, results, strict=True)):
         if not r.diverged:
-            jumps[k] = phase_jumps(r.touchdowns, r.touchdown_phases, phi_aep(s.beta), settle_s)
+            jumps[k] = phase_jumps(
+                r.events.touchdowns_s, r.events.touchdown_phases, phi_aep(s.beta), settle_s
+            )
     j = jumps.reshape(len(betas), len(d31s), len(phases), 6)
 
     def pair(legs: tuple[int, int]) -> np.ndarray:
@@ -192,14 +194,14 @@ def chain_lags(
         if r.diverged:
             out.append(ChainLag(params.ground, s.beta, s.d31_init, None, None, None))
             continue
-        st = settling(r.d31)
+        st = settling(r.events.d31)
         lags: list[float] = []
         early: list[float] = []
         w = omega(s.beta, params.swing_duration)
         for hind, mid in ((4, 2), (5, 3)):
-            tds, phs = r.touchdowns[hind], r.touchdown_phases[hind]
-            lifts = np.asarray(r.liftoffs[mid])
-            hind_lifts = np.asarray(r.liftoffs[hind])
+            tds, phs = r.events.touchdowns_s[hind], r.events.touchdown_phases[hind]
+            lifts = np.asarray(r.events.liftoffs_s[mid])
+            hind_lifts = np.asarray(r.events.liftoffs_s[hind])
             for t, ph in zip(tds, phs, strict=True):
                 if t < duration_s / 2:
                     continue

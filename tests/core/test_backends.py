@@ -37,8 +37,8 @@ def test_a_task_computes_what_simulate_computes() -> None:
     spec = RunSpec(beta=0.62, d31_init=2.0, duration_s=0.4)
     (r,) = execute_chunk([run_task(spec)])
     ref = simulate(spec)
-    np.testing.assert_array_equal(r["d31"], ref.d31)
-    assert r["error"] is None and r["speed_cm_s"] == ref.speed_cm_s
+    np.testing.assert_array_equal(r["d31"], ref.events.d31)
+    assert r["error"] is None and r["speed_cm_s"] == ref.measures.speed_cm_s
 
 
 def test_a_ramp_task_follows_its_schedule() -> None:

@@ -65,8 +65,8 @@ def test_a_coarse_run_says_so() -> None:
     from sim_core import RunSpec, simulate
 
     r = simulate(RunSpec(beta=0.66, duration_s=3.0, integrator="discrete", dt_s=1e-3))
-    assert r.duty_factor_measured is not None
-    assert abs(r.duty_factor_measured - 0.66) > DUTY_TOLERANCE
+    assert r.measures.duty_factor_measured is not None
+    assert abs(r.measures.duty_factor_measured - 0.66) > DUTY_TOLERANCE
     text = " ".join(r.summary()["warnings"])
     assert "measured duty factor" in text and "coarser than the converged default" in text
 

@@ -33,9 +33,9 @@ def test_damping_forms_differ() -> None:
     a = simulate(spec, TRACKING)
     b = simulate(spec, JOINT_VELOCITY)
     assert a.error is None and b.error is None
-    n = min(a.d31.size, b.d31.size)
+    n = min(a.events.d31.size, b.events.d31.size)
     assert n > 0
-    assert not np.allclose(a.d31[:n], b.d31[:n])
+    assert not np.allclose(a.events.d31[:n], b.events.d31[:n])
 
 
 def test_support_ratio_moves_load_to_the_middle_pair_at_equal_total() -> None:

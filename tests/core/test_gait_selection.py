@@ -27,7 +27,7 @@ def finals() -> dict[tuple[float, float], RunResult]:
 
 def _tail(r: RunResult) -> tuple[float, float]:
     assert not r.diverged, r.error
-    s = settling(r.d31)
+    s = settling(r.events.d31)
     assert s.final is not None and s.drift is not None, "too few touchdowns"
     return s.final, s.drift
 
@@ -39,9 +39,11 @@ def _settled(r: RunResult) -> float:
 
 
 def _walks_sanely(r: RunResult, v_paper: float) -> None:
-    assert r.speed_cm_s is not None and abs(r.speed_cm_s - v_paper) < 0.1 * v_paper
-    assert r.slip_fraction is not None and r.slip_fraction < 0.1
-    assert r.landing_swing_share is not None and 0.9 < r.landing_swing_share < 1.1
+    assert (
+        r.measures.speed_cm_s is not None and abs(r.measures.speed_cm_s - v_paper) < 0.1 * v_paper
+    )
+    assert r.measures.slip_fraction is not None and r.measures.slip_fraction < 0.1
+    assert r.measures.landing_swing_share is not None and 0.9 < r.measures.landing_swing_share < 1.1
 
 
 def test_high_speed_keeps_a_tripod_start_on_the_papers_tripod(finals) -> None:

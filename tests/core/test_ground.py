@@ -57,7 +57,8 @@ import sys
 import numpy as np
 from sim_core import RunSpec, simulate
 r = simulate(RunSpec(beta=0.62, d31_init=3.0, duration_s=0.4))
-np.savez(sys.argv[1], d31=r.d31, body_pos_m=r.body_pos_m, body_vel_m_s=r.body_vel_m_s)
+np.savez(sys.argv[1], d31=r.events.d31, body_pos_m=r.series.body_pos_m,
+         body_vel_m_s=r.series.body_vel_m_s)
 """
 
 
@@ -84,17 +85,17 @@ def test_a_batch_keeps_each_simulation_s_anchors() -> None:
     together = simulate_batch(specs, PENALTY, nthread=2)
     for s, r in zip(specs, together, strict=True):
         alone = simulate(s, PENALTY)
-        assert np.array_equal(r.d31, alone.d31)
-        assert np.array_equal(r.body_pos_m, alone.body_pos_m)
+        assert np.array_equal(r.events.d31, alone.events.d31)
+        assert np.array_equal(r.series.body_pos_m, alone.series.body_pos_m)
 
 
 def test_the_insect_stands_and_walks_on_it_without_slipping() -> None:
     r = simulate(RunSpec(beta=0.66, duration_s=1.5), PENALTY)
-    assert r.failure is None and r.warnings == ()
-    assert r.slip_fraction is not None and r.slip_fraction < 0.10
-    height = float(np.median(r.body_pos_m[:, 2]))
+    assert r.failure is None and r.measures.warnings == ()
+    assert r.measures.slip_fraction is not None and r.measures.slip_fraction < 0.10
+    height = float(np.median(r.series.body_pos_m[:, 2]))
     assert abs(height - PENALTY.stand_height) < 0.5e-3, height  # on its feet, not sunk
-    assert r.speed_cm_s is not None and r.speed_cm_s > 2.5
+    assert r.measures.speed_cm_s is not None and r.measures.speed_cm_s > 2.5
 
 
 def test_a_ground_too_stiff_for_the_step_fails_as_a_typed_value() -> None:
@@ -112,4 +113,4 @@ def test_a_chattering_ground_says_so(k: float) -> None:
                     ground_damping=0.32, ground_tangential_damping=0.32)  # fmt: skip
     r = simulate(RunSpec(beta=0.70, d31_init=1.9, duration_s=1.5), p)
     assert r.failure is None
-    assert any("chatters" in w for w in r.warnings), r.warnings
+    assert any("chatters" in w for w in r.measures.warnings), r.measures.warnings

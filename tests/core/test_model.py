@@ -85,8 +85,8 @@ def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_
     )
     res = simulate(RunSpec(beta=0.66, d31_init=2.9, duration_s=0.5), p)
     assert not res.diverged
-    assert res.body_pos_m[-1, 2] > p.stand_height / 2  # standing, on compressed tarsi
-    assert res.body_pos_m[-1, 0] > 0.003  # and walking forward
+    assert res.series.body_pos_m[-1, 2] > p.stand_height / 2  # standing, on compressed tarsi
+    assert res.series.body_pos_m[-1, 0] > 0.003  # and walking forward
 
 
 @pytest.mark.parametrize("axis", ["vertical", "tibia"])

@@ -61,8 +61,8 @@ def test_sound_runs_pass_and_the_checks_change_no_number() -> None:
     off._limits = off._limits._replace(reach=np.inf, no_foothold_s=np.inf, slide_speed=np.inf)
     off.run()
     for i, r in enumerate(checked):
-        assert np.array_equal(off.result(i).d31, r.d31)
-        assert np.array_equal(off.result(i).body_pos_m, r.body_pos_m)
+        assert np.array_equal(off.result(i).events.d31, r.events.d31)
+        assert np.array_equal(off.result(i).series.body_pos_m, r.series.body_pos_m)
 
 
 def _guard(

@@ -19,9 +19,14 @@ def test_a_reading_changes_the_walk_and_ours_is_the_default() -> None:
     base = simulate(spec)
     late = simulate(spec, ModelParams(**READINGS["late descent"]))
     assert base.failure is None and late.failure is None
-    assert base.d31.tolist() != late.d31.tolist()  # feet that land late now land sooner
-    assert late.landing_swing_share is not None and base.landing_swing_share is not None
-    assert late.landing_swing_share < base.landing_swing_share
+    assert (
+        base.events.d31.tolist() != late.events.d31.tolist()
+    )  # feet that land late now land sooner
+    assert (
+        late.measures.landing_swing_share is not None
+        and base.measures.landing_swing_share is not None
+    )
+    assert late.measures.landing_swing_share < base.measures.landing_swing_share
 
 
 def test_the_census_counts_every_start_and_reads_repeats_from_the_cache(tmp_path: Path) -> None:

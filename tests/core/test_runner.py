@@ -21,10 +21,10 @@ P = ModelParams()
 
 def _same(a, b) -> None:
     assert a.error == b.error
-    np.testing.assert_array_equal(a.d31, b.d31)
-    np.testing.assert_array_equal(a.body_pos_m, b.body_pos_m)
-    np.testing.assert_array_equal(a.stance, b.stance)
-    for x, y in zip(a.touchdowns, b.touchdowns, strict=True):
+    np.testing.assert_array_equal(a.events.d31, b.events.d31)
+    np.testing.assert_array_equal(a.series.body_pos_m, b.series.body_pos_m)
+    np.testing.assert_array_equal(a.series.stance, b.series.stance)
+    for x, y in zip(a.events.touchdowns_s, b.events.touchdowns_s, strict=True):
         np.testing.assert_array_equal(x, y)
 
 
@@ -37,7 +37,7 @@ def test_batch_equals_single_runs_bit_for_bit() -> None:
     batch = simulate_batch(specs, nthread=2)
     for spec, res in zip(specs, batch, strict=True):
         _same(simulate(spec), res)
-        assert res.times_s[-1] == pytest.approx(spec.duration_s, abs=2e-3)
+        assert res.series.times_s[-1] == pytest.approx(spec.duration_s, abs=2e-3)
 
 
 def test_reruns_are_bit_identical() -> None:
@@ -73,19 +73,19 @@ def test_it_walks_at_the_eq2_speed_without_slipping(beta: float) -> None:
     res = simulate(RunSpec(beta=beta, d31_init=math.pi, duration_s=2.0))
     v = nominal_speed(beta, P.stroke, P.swing_duration) * 100
     assert not res.diverged
-    assert res.speed_cm_s == pytest.approx(v, rel=0.10)
-    assert res.slip_fraction < 0.10
-    assert res.duty_factor_measured == pytest.approx(beta, abs=0.05)
+    assert res.measures.speed_cm_s == pytest.approx(v, rel=0.10)
+    assert res.measures.slip_fraction < 0.10
+    assert res.measures.duty_factor_measured == pytest.approx(beta, abs=0.05)
     # straight: sideways drift small against the distance walked
-    drift = abs(res.body_pos_m[-1, 1] - res.body_pos_m[0, 1])
-    assert drift < 0.1 * (res.body_pos_m[-1, 0] - res.body_pos_m[0, 0])
+    drift = abs(res.series.body_pos_m[-1, 1] - res.series.body_pos_m[0, 1])
+    assert drift < 0.1 * (res.series.body_pos_m[-1, 0] - res.series.body_pos_m[0, 0])
 
 
 @pytest.mark.parametrize("d31", [2.2, 3.0])
 def test_without_phase_reset_delta31_stays_where_it_started(d31: float) -> None:
     res = simulate(RunSpec(beta=0.62, d31_init=d31, duration_s=2.0, phase_reset=False))
-    assert len(res.d31) >= 15
-    np.testing.assert_allclose(res.d31, d31, atol=1e-6)
+    assert len(res.events.d31) >= 15
+    np.testing.assert_allclose(res.events.d31, d31, atol=1e-6)
 
 
 def test_live_simulation_matches_batch_and_acts_on_changes() -> None:
@@ -176,9 +176,15 @@ def test_the_default_model_lands_its_feet_near_the_aep_and_a_soft_foot_spring_do
     soft = ModelParams(tarsus_stiffness=15.0, tarsus_damping=0.04, swing_height=1e-3)
     spec = RunSpec(beta=0.62, d31_init=2.5, duration_s=1.5)
     stiff_res, soft_res = simulate(spec), simulate(spec, soft)
-    assert stiff_res.landing_swing_share is not None and stiff_res.landing_swing_share > 0.95
-    assert soft_res.landing_swing_share is not None and soft_res.landing_swing_share < 0.8
-    assert stiff_res.summary()["landing_swing_share"] == stiff_res.landing_swing_share
+    assert (
+        stiff_res.measures.landing_swing_share is not None
+        and stiff_res.measures.landing_swing_share > 0.95
+    )
+    assert (
+        soft_res.measures.landing_swing_share is not None
+        and soft_res.measures.landing_swing_share < 0.8
+    )
+    assert stiff_res.summary()["landing_swing_share"] == stiff_res.measures.landing_swing_share
 
 
 @pytest.mark.parametrize("settles", [True, False])
@@ -203,10 +209,13 @@ def test_a_run_that_stops_if_settled_is_the_short_run_or_the_long_one(
     (tried, plain) = both
     ref = simulate(short) if settles else simulate(long)
     _same(tried, ref)
-    np.testing.assert_array_equal(tried.times_s, ref.times_s)
-    assert tried.duration_s == pytest.approx(0.3 if settles else 0.5)
-    assert tried.speed_cm_s == ref.speed_cm_s and tried.slip_fraction == ref.slip_fraction
+    np.testing.assert_array_equal(tried.series.times_s, ref.series.times_s)
+    assert tried.measures.duration_s == pytest.approx(0.3 if settles else 0.5)
+    assert (
+        tried.measures.speed_cm_s == ref.measures.speed_cm_s
+        and tried.measures.slip_fraction == ref.measures.slip_fraction
+    )
     _same(plain, simulate(long))  # its batch neighbour runs on, untouched
-    assert seen == [len(simulate(short).d31)]
+    assert seen == [len(simulate(short).events.d31)]
     with pytest.raises(ValueError, match="stop_if_settled_s"):
         RunSpec(duration_s=1.0, stop_if_settled_s=2.0)

@@ -24,5 +24,12 @@ def test_walks_at_eq2_speed_from_every_start(beta: float) -> None:
     runs = simulate_batch([RunSpec(beta=beta, d31_init=x, duration_s=8.0) for x in STARTS], p)
     for x, r in zip(STARTS, runs, strict=True):
         assert not r.diverged, (x, r.error)
-        assert r.speed_cm_s is not None and abs(r.speed_cm_s - v) / v < 0.10, (x, r.speed_cm_s, v)
-        assert r.slip_fraction is not None and r.slip_fraction < 0.10, (x, r.slip_fraction)
+        assert r.measures.speed_cm_s is not None and abs(r.measures.speed_cm_s - v) / v < 0.10, (
+            x,
+            r.measures.speed_cm_s,
+            v,
+        )
+        assert r.measures.slip_fraction is not None and r.measures.slip_fraction < 0.10, (
+            x,
+            r.measures.slip_fraction,
+        )

@@ -5,7 +5,7 @@
         [--dt-s 2.5e-5]
 
 Prints the final Delta31 of each start, the median slip (share of the stroke), the median
-speed and where in the swing the feet land (`RunResult.landing_swing_share`, the median over
+speed and where in the swing the feet land (`RunMeasures.landing_swing_share`, the median over
 the runs; 1 = at the AEP, 0.5 = when the scuff window closes): an attractor reached with feet
 landing in mid-swing is set by the swing and scuff rule, not by walking mechanics.
 `--plot FILE` draws Delta31 per gait cycle, one panel per beta, with
@@ -46,16 +46,24 @@ def main() -> None:
     for b in a.betas:
         runs = [r for r in results if r.spec.beta == b]
         ok = [r for r in runs if r.error is None]
-        finals = [round(float(r.d31[-1]), 2) if r.error is None else "failed" for r in runs]
-        slip = np.median([r.slip_fraction for r in ok if r.slip_fraction is not None])
-        speed = np.median([r.speed_cm_s for r in ok if r.speed_cm_s is not None])
-        land = np.median([r.landing_swing_share for r in ok if r.landing_swing_share is not None])
+        finals = [round(float(r.events.d31[-1]), 2) if r.error is None else "failed" for r in runs]
+        slip = np.median(
+            [r.measures.slip_fraction for r in ok if r.measures.slip_fraction is not None]
+        )
+        speed = np.median([r.measures.speed_cm_s for r in ok if r.measures.speed_cm_s is not None])
+        land = np.median(
+            [
+                r.measures.landing_swing_share
+                for r in ok
+                if r.measures.landing_swing_share is not None
+            ]
+        )
         print(
             f"beta {b}: finals {finals}  slip {slip:.3f}  speed {speed:.2f} cm/s  "
             f"feet land at {land:.2f} of the swing"
         )
     if a.plot:
-        series = [{"beta": r.spec.beta, "d31_init": r.spec.d31_init, "d31": r.d31.tolist(),
+        series = [{"beta": r.spec.beta, "d31_init": r.spec.d31_init, "d31": r.events.d31.tolist(),
                    "error": r.error} for r in results]  # fmt: skip
         fig5({"runs": series}, Path(a.plot))
 

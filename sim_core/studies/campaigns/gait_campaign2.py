@@ -60,7 +60,7 @@ def parse_sets(items: list[str]) -> dict[str, Any]:
 def tail_stats(r: RunResult) -> dict[str, Any]:
     """Final Delta31, its drift per gait cycle over the last quarter and THE settled rule
     (`gait.settling`; this campaign's own rule, |drift| < SETTLE_SLOPE, is the rule's core)."""
-    s = settling(r.d31)
+    s = settling(r.events.d31)
     if s.final is None:
         return {"final": None, "slope": None, "settled": False}
     return {"final": s.final, "slope": s.drift, "settled": s.settled}
@@ -73,9 +73,9 @@ def row(r: RunResult, p: ModelParams) -> dict[str, Any]:
         return out
     out.update(tail_stats(r))
     v0 = nominal_speed(s.beta, p.stroke, p.swing_duration) * 100
-    out["speed_rel"] = None if r.speed_cm_s is None else r.speed_cm_s / v0 - 1
-    out["landing"] = r.landing_swing_share
-    out["slip"] = r.slip_fraction
+    out["speed_rel"] = None if r.measures.speed_cm_s is None else r.measures.speed_cm_s / v0 - 1
+    out["landing"] = r.measures.landing_swing_share
+    out["slip"] = r.measures.slip_fraction
     return out
 
 
@@ -122,10 +122,10 @@ def diagnose(r: RunResult) -> dict[str, Any]:
     landed early), the predicted drift 1/4[(e5+e6)-(e1+e2)], and the mean touchdown delay of
     each hind leg after its diagonal fore leg's touchdown and before that fore leg's lift-off."""
     aep = phi_aep(r.spec.beta)
-    t_end = float(r.d31_times_s[-1]) if r.d31_times_s.size else 0.0
+    t_end = float(r.events.d31_times_s[-1]) if r.events.d31_times_s.size else 0.0
     t0 = t_end * 0.75
     e = []
-    for td, ph in zip(r.touchdowns, r.touchdown_phases, strict=True):
+    for td, ph in zip(r.events.touchdowns_s, r.events.touchdown_phases, strict=True):
         m = td > t0
         e.append(float(np.mean(angle_diff(aep, ph[m]))) if m.any() else float("nan"))
     drift = 0.25 * ((e[4] + e[5]) - (e[0] + e[1]))
@@ -133,9 +133,9 @@ def diagnose(r: RunResult) -> dict[str, Any]:
     # diagonal of hind 5 (left) is fore 2 (right), of hind 6 is fore 1
     delays = {}
     for hind, fore in ((4, 1), (5, 0)):
-        th = r.touchdowns[hind][r.touchdowns[hind] > t0]
-        tf = r.touchdowns[fore]
-        lf = r.liftoffs[fore]
+        th = r.events.touchdowns_s[hind][r.events.touchdowns_s[hind] > t0]
+        tf = r.events.touchdowns_s[fore]
+        lf = r.events.liftoffs_s[fore]
         after_td, before_lo = [], []
         for t in th:
             prev = tf[tf <= t]
@@ -166,7 +166,7 @@ def run_openloop(args: argparse.Namespace) -> list[dict[str, Any]]:
             continue
         aep = phi_aep(r.spec.beta)
         e = []
-        for td, ph in zip(r.touchdowns, r.touchdown_phases, strict=True):
+        for td, ph in zip(r.events.touchdowns_s, r.events.touchdown_phases, strict=True):
             m = td > args.duration / 3
             e.append(float(np.mean(angle_diff(aep, ph[m]))) if m.any() else float("nan"))
         fore, hind = (e[0] + e[1]) / 2, (e[4] + e[5]) / 2
@@ -179,7 +179,7 @@ def run_openloop(args: argparse.Namespace) -> list[dict[str, Any]]:
                 "e_mid": (e[2] + e[3]) / 2,
                 "e_hind": hind,
                 "drift": 0.5 * (hind - fore),
-                "landing": r.landing_swing_share,
+                "landing": r.measures.landing_swing_share,
             }
         )
     return out

@@ -30,9 +30,13 @@ import numpy as np
 
 from sim_core.model.params import ModelParams
 from sim_core.model.probes import open_loop_drift
+from sim_core.model.ramp import Ramp
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import RunSpec
 from sim_core.paper.sweep import sweep
+from sim_core.runs.backends import Backend, get_backend, run_tasks
+from sim_core.runs.cache import ResultCache
+from sim_core.runs.tasks import Task, ramp_task
 from sim_core.studies.campaigns.gait_campaign2 import binned_legs, crossings, row, table_finals
 
 # The step-one candidate of issue 22 (fact 7, first row): lift joints 0.6x as stiff with
@@ -312,27 +316,38 @@ def run_sweep(args: argparse.Namespace) -> dict[str, Any]:
     }
 
 
-def _border_sweep(job: tuple[dict[str, Any], float, float, float, float, str]) -> dict[str, Any]:
-    """One triangle sweep in its own process: 'up' starts as a tripod (3.0 rad) at `low` and
-    ramps beta to `high` and back; 'down' starts as a metachronal gait (1.8 rad) at `high`."""
-    from sim_core.model.ramp import Ramp
-    from sim_core.runs.tasks import execute_chunk, ramp_task
+SweepJob = tuple[dict[str, Any], float, float, float, float, str]
 
+
+def _sweep_task(job: SweepJob) -> Task:
+    """One triangle sweep as a task: 'up' starts as a tripod (3.0 rad) at `low` and ramps beta
+    to `high` and back; 'down' starts as a metachronal gait (1.8 rad) at `high`."""
     sets, low, high, rate, hold, direction = job
     begin, turn, d0 = (low, high, 3.0) if direction == "up" else (high, low, 1.8)
     ramp = Ramp("beta", begin, turn, hold, (high - low) / rate)
-    task = ramp_task(ramp, RunSpec(beta=begin, d31_init=d0), ModelParams(**sets))
-    (res,) = execute_chunk([task])
-    return {
-        "sets": sets,
-        "direction": direction,
-        "values": res["value"],
-        "d31": res["d31"],
-        "times": res["d31_times_s"],
-        "hold": hold,
-        "ramp_s": ramp.ramp_s,
-        "error": res["error"],
-    }
+    return ramp_task(ramp, RunSpec(beta=begin, d31_init=d0), ModelParams(**sets))
+
+
+def border_sweeps(
+    jobs: list[SweepJob], backend: Backend, cache: ResultCache
+) -> list[dict[str, Any]]:
+    """The sweeps of `jobs` through `sim_core.runs`: each a content-addressed task in `cache`
+    (a rerun reads it back, an interrupted campaign resumes) on `backend` (the local pool or a
+    Dask cluster), as every `reproduce` run."""
+    tasks = [_sweep_task(j) for j in jobs]
+    results, _ = run_tasks(tasks, cache, backend, chunk_size=1)
+    out = []
+    for (sets, _, _, _, hold, direction), t in zip(jobs, tasks, strict=True):
+        res = results[t.key]
+        assert t.ramp is not None
+        out.append({"sets": sets, "direction": direction, "values": res.get("value", []),
+                    "d31": res["d31"], "times": res["d31_times_s"], "hold": hold,
+                    "ramp_s": t.ramp.ramp_s, "error": res["error"]})  # fmt: skip
+    return out
+
+
+def _backend(args: argparse.Namespace) -> tuple[Backend, ResultCache]:
+    return get_backend(args.backend, args.nthread, args.address), ResultCache(args.cache)
 
 
 def fold_estimates(sw: dict[str, Any], level: float = 2.45, leave: float = 0.15) -> dict[str, Any]:
@@ -367,9 +382,7 @@ def fold_estimates(sw: dict[str, Any], level: float = 2.45, leave: float = 0.15)
 
 
 def run_borders(args: argparse.Namespace) -> list[dict[str, Any]]:
-    """How each fold moves with each lever: one triangle sweep per lever value, two at once."""
-    from concurrent.futures import ProcessPoolExecutor
-
+    """How each fold moves with each lever: one triangle sweep per lever value."""
     base = parse_sets(args.set, STEP_ONE)
     jobs: list[tuple[str, float, dict[str, Any]]] = [("base", 0.0, base)]
     for item in args.levers:
@@ -377,20 +390,21 @@ def run_borders(args: argparse.Namespace) -> list[dict[str, Any]]:
         for val in (float(x) for x in values.split(",")):
             jobs.append((name, val, {**base, name: val}))
     out = []
-    with ProcessPoolExecutor(max_workers=args.nthread) as pool:
-        results = pool.map(
-            _border_sweep,
+    backend, cache = _backend(args)
+    try:
+        sweeps = border_sweeps(
             [(j[2], args.low, args.high, args.rate, args.hold, args.direction) for j in jobs],
+            backend,
+            cache,
         )
-        for (name, val, _), sw in zip(jobs, results, strict=True):
-            est = fold_estimates(sw)
-            out.append({"lever": name, "value": val, **est, "error": sw["error"], "sweep": sw})
-            print(
-                f"{name} = {val:g}: " + ", ".join(f"{k} {v}" for k, v in est.items()),
-                flush=True,
-            )
-            if args.out:
-                args.out.write_text(json.dumps(out))
+    finally:
+        backend.close()
+    for (name, val, _), sw in zip(jobs, sweeps, strict=True):
+        est = fold_estimates(sw)
+        out.append({"lever": name, "value": val, **est, "error": sw["error"], "sweep": sw})
+        print(f"{name} = {val:g}: " + ", ".join(f"{k} {v}" for k, v in est.items()), flush=True)
+        if args.out:
+            args.out.write_text(json.dumps(out))
     return out
 
 
@@ -422,8 +436,6 @@ def search_score(est: dict[str, Any], low: float, high: float) -> float:
 
 def run_search(args: argparse.Namespace) -> list[dict[str, Any]]:
     """TPE over SEARCH, two sweeps at a time; each trial is one triangle sweep from a tripod."""
-    from concurrent.futures import ProcessPoolExecutor
-
     import optuna
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
@@ -431,12 +443,14 @@ def run_search(args: argparse.Namespace) -> list[dict[str, Any]]:
     study = optuna.create_study(sampler=optuna.samplers.TPESampler(seed=args.seed))
     study.enqueue_trial({k: base.get(k, getattr(ModelParams(), k)) for k in SEARCH})
     out: list[dict[str, Any]] = []
-    with ProcessPoolExecutor(max_workers=args.nthread) as pool:
-        for _ in range(0, args.trials, args.nthread):
-            trials = [study.ask() for _ in range(args.nthread)]
+    backend, cache = _backend(args)
+    try:
+        for _ in range(0, args.trials, backend.workers):
+            trials = [study.ask() for _ in range(backend.workers)]
             sets = [{**base, **{k: t.suggest_float(k, *SEARCH[k]) for k in SEARCH}} for t in trials]
-            jobs = [(st, args.low, args.high, args.rate, args.hold, "up") for st in sets]
-            for t, st, sw in zip(trials, sets, pool.map(_border_sweep, jobs), strict=True):
+            jobs: list[SweepJob] = [(st, args.low, args.high, args.rate, args.hold, "up")
+                                    for st in sets]  # fmt: skip
+            for t, st, sw in zip(trials, sets, border_sweeps(jobs, backend, cache), strict=True):
                 est = fold_estimates(sw) if not sw["error"] else {}
                 score = search_score(est, args.low, args.high) if est else 1.0
                 study.tell(t, score)
@@ -444,6 +458,8 @@ def run_search(args: argparse.Namespace) -> list[dict[str, Any]]:
                 print(f"trial {t.number}: score {score:.4f} {est}", flush=True)
             if args.out:
                 args.out.write_text(json.dumps(out))
+    finally:
+        backend.close()
     best = min(out, key=lambda r: r["score"])
     print("best:", json.dumps(best))
     return out
@@ -501,6 +517,10 @@ def main(argv: list[str] | None = None) -> int:
     pm = sub.add_parser("plotmap", help="table and figure again from a map's JSON")
     pm.add_argument("json", type=Path)
     pm.add_argument("--figure", type=Path, required=True)
+    for x in (b, q):  # sweeps through sim_core.runs: cached, on the local pool or Dask
+        x.add_argument("--backend", choices=["local", "dask", "inline"], default="local")
+        x.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
+        x.add_argument("--cache", type=Path, default=Path("out/cache"))
     for x in (f, m, r, s, b, q):
         x.add_argument("--set", nargs="*", default=[], help="name=value over STEP_ONE")
         x.add_argument("--nthread", type=int, default=2)

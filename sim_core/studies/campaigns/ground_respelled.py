@@ -49,7 +49,9 @@ def rate(p: ModelParams, spec: RunSpec, respelled: bool) -> tuple[float, RunResu
 def finals(specs: list[RunSpec], respelled: bool) -> list[float]:
     r = BatchRunner(specs, nthread=2, build=direct if respelled else build_model)
     r.run()
-    return [np.nan if (f := r.result(i).d31_final) is None else f for i in range(len(specs))]
+    return [
+        np.nan if (f := r.result(i).measures.d31_final) is None else f for i in range(len(specs))
+    ]
 
 
 def main() -> None:
@@ -61,7 +63,8 @@ def main() -> None:
             ("penalty ground", ModelParams(ground="penalty"), False),
         ):
             x, res = rate(p, spec, respelled)
-            print(rep, f"{name:36s} {x:5.2f} x real time, final {res.d31_final}, {res.gait}")
+            m = res.measures
+            print(rep, f"{name:36s} {x:5.2f} x real time, final {m.d31_final}, {m.gait}")
     # outcome equality of the re-spelling at beta 0.62 / 0.70 from 1.9 / 3.0, 10 s
     specs = [RunSpec(beta=b, d31_init=x, duration_s=10.0) for b in (0.62, 0.7) for x in (1.9, 3.0)]
     print("finals timeconst:", np.round(finals(specs, False), 4).tolist())

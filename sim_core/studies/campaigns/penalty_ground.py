@@ -38,12 +38,12 @@ def main() -> None:
         wall = time.perf_counter() - t
         rows = []
         for s, r in zip(specs, runs, strict=True):
-            td = None if r.failure else settling(r.d31)
-            rows.append({"beta": s.beta, "start": s.d31_init, "final": r.d31_final,
-                         "gait": r.gait, "drift": None if td is None else td.drift,
-                         "slip": r.slip_fraction,
-                         "landing": r.landing_swing_share, "retouch": r.retouches_per_stance,
-                         "speed": r.speed_cm_s,
+            td = None if r.failure else settling(r.events.d31)
+            m = r.measures
+            rows.append({"beta": s.beta, "start": s.d31_init, "final": m.d31_final,
+                         "gait": m.gait, "drift": None if td is None else td.drift,
+                         "slip": m.slip_fraction, "landing": m.landing_swing_share,
+                         "retouch": m.retouches_per_stance, "speed": m.speed_cm_s,
                          "failure": r.failure and r.failure.kind})  # fmt: skip
         out[label] = {"wall_s": wall, "rows": rows}
         print(label, f"{wall:.0f} s", [(x["beta"], x["start"], x["final"]) for x in rows])
