@@ -74,7 +74,7 @@ def test_a_coarse_run_says_so() -> None:
 def test_a_sound_run_has_no_warnings() -> None:
     from sim_core import RunSpec, simulate
 
-    assert simulate(RunSpec(beta=0.62, duration_s=1.5)).warnings == ()
+    assert simulate(RunSpec(beta=0.62, duration_s=1.5)).measures.warnings == ()
 
 
 def test_landing_share_above_one_is_explained() -> None:

@@ -93,7 +93,7 @@ def test_live_simulation_matches_batch_and_acts_on_changes() -> None:
     sim = Simulation(spec)
     sim.advance(0.3)
     batch = simulate(spec)
-    assert [v for _, v in sim.d31_events] == pytest.approx(batch.d31.tolist(), abs=0)
+    assert [v for _, v in sim.d31_events] == pytest.approx(batch.events.d31.tolist(), abs=0)
     sim.set_beta(0.62)
     sim.set_body_mass_g(4.0)
     sim.set_slope_deg(5.0)
