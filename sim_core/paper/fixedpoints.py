@@ -247,8 +247,9 @@ class CellResult(_Model):
 
     @property
     def unsettled(self) -> list[RunOutcome]:
-        """Runs that did not settle and were not re-run longer from the same start (a 20 s
-        bisection or kick run that is re-run at 40 s is a screen, not a finding)."""
+        """Runs that did not settle and were not re-run longer from the same start (a short
+        try that was re-run longer is a screen, not a finding; since the finder's tries go on
+        in one run, `Probe.stop_if_settled_s`, this matters for outputs written before)."""
         longest: dict[tuple[float, str], float] = {}
         for r in self.runs:
             key = (r.d31_init, r.role)
