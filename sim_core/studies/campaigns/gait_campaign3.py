@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from sim_core.model.gait import classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.model.probes import open_loop_drift
 from sim_core.model.ramp import Ramp
@@ -48,22 +49,18 @@ STEP_ONE: dict[str, Any] = {
     "stand_height": 6.5e-3,
     "com_offset_x": 1.0e-3,
 }
-# Which attractor a final belongs to (rad); everything else is "other". Wide on purpose: the
-# map asks which states exist, the finals tables give the values.
-KINDS = {"metachronal": (1.45, 2.45), "tripod": (2.65, 3.45), "retrograde": (3.6, 4.8)}
 # The map's runs are short (15-20 s); a start sliding through a ghost past a fold moves only
 # 0.002-0.004 rad per cycle, under the issue's 0.005 rule. The map calls a state an attractor
 # only below this drift (true attractors measured 0.0000-0.0007 rad per cycle).
 MAP_SETTLED = 0.001
 
 
-def kind(final: float | None) -> str:
-    if final is None:
-        return "none"
-    for name, (lo, hi) in KINDS.items():
-        if lo <= final <= hi:
-            return name
-    return "other"
+def kind(final: float | None, beta: float) -> str:
+    """The gait a final implies at beta: the core's one definition (`classify_gait`, the
+    footfall pattern), "none" for a run with no final. (Until session 14 the campaign named
+    finals by Delta31 windows of its own, 1.45-2.45 metachronal, 2.65-3.45 tripod, 3.6-4.8
+    retrograde: the tables in docs/studies/gait_campaign3.md were made with those.)"""
+    return "none" if final is None else classify_gait(final, beta)
 
 
 def parse_sets(items: list[str], base: dict[str, Any] | None = None) -> dict[str, Any]:
@@ -99,7 +96,7 @@ def finals(
     ]
     rows = [row(r, p) for r in simulate_batch(specs, p, nthread=nthread)]
     for r in rows:
-        r["kind"] = kind(r.get("final"))
+        r["kind"] = kind(r.get("final"), r["beta"])
     return rows
 
 
