@@ -309,6 +309,14 @@ def _add_readings(sub: Any) -> None:
                    default=["constraint", "penalty"], help="(default %(default)s)")  # fmt: skip
     p.add_argument("--betas", type=float, nargs="+", default=[0.62, 0.70])
     p.add_argument("--duration-s", type=float, default=40.0)
+    p.add_argument("--stop-if-settled-s", type=float, default=None,
+                   help="a run settled by then stops there (a cheaper screen)")  # fmt: skip
+    p.add_argument(
+        "--params",
+        default="{}",
+        help="JSON overrides on top of every reading (a lever screened under it), e.g. "
+        "'{\"com_offset_x\": 5e-4}'",
+    )
     p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
     p.add_argument("--backend", choices=["local", "dask"], default="local")
     p.add_argument("--workers", type=int, default=None)
@@ -327,6 +335,21 @@ def _cmd_readings(args: argparse.Namespace) -> int:
         print("insect-gait readings: error: --duration-s in (0, 600], betas in (0.5, 1)",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
+    stop = args.stop_if_settled_s
+    if stop is not None and not 0 < stop <= args.duration_s:
+        print("insect-gait readings: error: --stop-if-settled-s in (0, --duration-s]",
+              file=sys.stderr)  # fmt: skip
+        return EXIT_USAGE
+    from pydantic import ValidationError
+
+    from sim_core.model.params import ModelParams
+
+    try:
+        over = json.loads(args.params)
+        ModelParams(**over)
+    except (ValueError, TypeError, ValidationError) as exc:
+        print(f"insect-gait readings: error: --params: {exc}", file=sys.stderr)
+        return EXIT_USAGE
     names = args.readings or list(READINGS)
     unknown = [n for n in names if n not in READINGS]
     if unknown:
@@ -341,7 +364,8 @@ def _cmd_readings(args: argparse.Namespace) -> int:
             for ground in args.grounds:
                 t0 = time.perf_counter()
                 got = screen(reading, ground, args.betas, cache, backend,
-                             duration_s=args.duration_s)  # fmt: skip
+                             duration_s=args.duration_s, stop_if_settled_s=stop,
+                             over=over)  # fmt: skip
                 rows += got
                 print("\n".join(table(got)[2:]), f"({time.perf_counter() - t0:.0f} s)",
                       flush=True)  # fmt: skip

@@ -31,7 +31,17 @@ from numba import njit
 
 from sim_core.model.cpg import advance_phases, reset_phase
 from sim_core.model.gait import TWO_PI
-from sim_core.model.legs import G_AEP, G_LPZ, inverse_kinematics, stance_point, swing_point
+from sim_core.model.legs import (
+    G_AEP,
+    G_ATTACH,
+    G_LEVEL,
+    G_LPZ,
+    inverse_kinematics,
+    stance_point,
+    swing_point,
+    tilt_matrix,
+    to_body,
+)
 
 
 class LegState(NamedTuple):
@@ -87,11 +97,20 @@ def _leg_target(
     lp: np.ndarray,
     tip: np.ndarray,
     q: np.ndarray,
+    tilt: np.ndarray,
+    level: bool,
 ) -> None:
     if in_stance:
         stance_point(geo, leg, phi, phi_td, lp, tip)
     else:
         swing_point(geo, leg, phi, phi_aep, tip)
+    if level:  # ModelParams.trajectory_frame "level": the curves do not pitch or roll
+        c = G_ATTACH + 3 * leg  # about the leg's own hip: the hip keeps its height over the foot
+        for m in range(3):
+            tip[m] -= geo[c + m]
+        to_body(tilt, tip)
+        for m in range(3):
+            tip[m] += geo[c + m]
     inverse_kinematics(geo, leg, tip, q)
 
 
@@ -107,27 +126,35 @@ def plan_block(
     lead: np.ndarray,
     act: np.ndarray,
     ctrl: np.ndarray,
+    qpos: np.ndarray,
 ) -> None:
     """For the simulations in ids: the set-points q*(t0) + lead dq*/dt into MuJoCo's actuator
     states act (n, 18) (lead = kd/kp per joint folds the feed-forward into the set-point, see
     mjspec.py), the velocities dq*/dt into its controls ctrl (n, 18), and the phases
     st.phi_next (n, 6) at the end of the period without resetting. Writing MuJoCo's arrays
-    here, not through numpy, saves a few microseconds a period (one simulation)."""
+    here, not through numpy, saves a few microseconds a period (one simulation). qpos (n, nq)
+    is read only for trajectories in the level frame (the body's attitude at t0, held over
+    the period)."""
     scratch = np.empty((2, 6))
     tip = np.empty(3)
     q0 = np.empty(3)
     q1 = np.empty(3)
+    tilt = np.eye(3)
+    level = geo[G_LEVEL] != 0.0
     phi, phi_next, stance, lp, phi_td = st.phi, st.phi_next, st.stance, st.lp, st.phi_td
     phi_aep = drive.phi_aep
     for r in range(ids.shape[0]):
         s = ids[r]
         advance_phases(phi[s], drive.omega[s], k_contra, k_ipsi, h, phi_next[s], scratch)
+        if level:
+            tilt_matrix(qpos[s, 3:7], tilt)
         for leg in range(6):
             on = stance[s, leg] != 0
-            _leg_target(geo, leg, phi[s, leg], on, phi_td[s, leg], phi_aep[s], lp[s, leg], tip, q0)
-            _leg_target(
-                geo, leg, phi_next[s, leg], on, phi_td[s, leg], phi_aep[s], lp[s, leg], tip, q1
-            )
+            ph_td = phi_td[s, leg]
+            _leg_target(geo, leg, phi[s, leg], on, ph_td, phi_aep[s], lp[s, leg], tip, q0, tilt,
+                        level)  # fmt: skip
+            _leg_target(geo, leg, phi_next[s, leg], on, ph_td, phi_aep[s], lp[s, leg], tip, q1,
+                        tilt, level)  # fmt: skip
             for m in range(3):
                 a = 3 * leg + m
                 v = (q1[m] - q0[m]) / h
@@ -250,9 +277,9 @@ def initial_targets(
 ) -> None:
     """Joint angles q (18,) and tip targets (6, 3) of one simulation's current phases."""
     qq = np.empty(3)
+    level = np.eye(3)  # a new walk starts level: both frames agree
     for leg in range(6):
-        _leg_target(
-            geo, leg, phi[leg], stance[leg] != 0, phi_td[leg], phi_aep, lp[leg], tips[leg], qq
-        )
+        _leg_target(geo, leg, phi[leg], stance[leg] != 0, phi_td[leg], phi_aep, lp[leg],
+                    tips[leg], qq, level, False)  # fmt: skip
         for m in range(3):
             q[3 * leg + m] = qq[m]

@@ -39,7 +39,8 @@ G_HSW = 63
 G_SHAPE = 64
 G_LPZ = 65  # share of the landing height kept by the stance line
 G_DESC = 66  # descent below the line past the AEP, m per unit of s = phi / phi_AEP
-G_SIZE = 67
+G_LEVEL = 67  # 1: trajectories in the level frame of the body's heading, 0: in the body frame
+G_SIZE = 68
 
 
 def pack_geometry(p: ModelParams) -> np.ndarray:
@@ -56,7 +57,46 @@ def pack_geometry(p: ModelParams) -> np.ndarray:
     g[G_SHAPE] = p.swing_shape
     g[G_LPZ] = p.landing_height_kept
     g[G_DESC] = p.late_swing_descent * p.swing_height * math.pi * p.swing_shape
+    g[G_LEVEL] = 1.0 if p.trajectory_frame == "level" else 0.0
     return g
+
+
+@njit(cache=True)
+def tilt_matrix(quat: np.ndarray, out: np.ndarray) -> None:
+    """The body's tilt without its heading, R_tilt = R_z(-yaw) R for the body's rotation R
+    (body -> ground frame, from its unit quaternion w, x, y, z): a vector v given in the level
+    frame of the body's heading is R_tilt^T v in the body frame (`to_body`)."""
+    w, x, y, z = quat[0], quat[1], quat[2], quat[3]
+    r00 = 1.0 - 2.0 * (y * y + z * z)
+    r01 = 2.0 * (x * y - w * z)
+    r02 = 2.0 * (x * z + w * y)
+    r10 = 2.0 * (x * y + w * z)
+    r11 = 1.0 - 2.0 * (x * x + z * z)
+    r12 = 2.0 * (y * z - w * x)
+    yaw = math.atan2(r10, r00)
+    c = math.cos(yaw)
+    s = math.sin(yaw)
+    out[0, 0] = c * r00 + s * r10
+    out[0, 1] = c * r01 + s * r11
+    out[0, 2] = c * r02 + s * r12
+    out[1, 0] = -s * r00 + c * r10
+    out[1, 1] = -s * r01 + c * r11
+    out[1, 2] = -s * r02 + c * r12
+    out[2, 0] = 2.0 * (x * z - w * y)
+    out[2, 1] = 2.0 * (y * z + w * x)
+    out[2, 2] = 1.0 - 2.0 * (x * x + y * y)
+
+
+@njit(cache=True)
+def to_body(tilt: np.ndarray, v: np.ndarray) -> None:
+    """Rewrite v (a vector in the level frame of the heading) in the body frame, in place:
+    v <- R_tilt^T v."""
+    a = tilt[0, 0] * v[0] + tilt[1, 0] * v[1] + tilt[2, 0] * v[2]
+    b = tilt[0, 1] * v[0] + tilt[1, 1] * v[1] + tilt[2, 1] * v[2]
+    c = tilt[0, 2] * v[0] + tilt[1, 2] * v[1] + tilt[2, 2] * v[2]
+    v[0] = a
+    v[1] = b
+    v[2] = c
 
 
 @njit(cache=True)

@@ -162,6 +162,15 @@ class ModelParams(BaseModel):
         le=2,
     )
 
+    trajectory_frame: Literal["body", "level"] = Field(
+        "body",
+        description="[invented] frame of the tip trajectories (Fig. 3): 'body' = they pitch and "
+        "roll with the body (our reading of 'the line segment between the AEP and the PEP is "
+        "parallel to the body'); 'level' = the ground's frame turned to the body's heading, "
+        "about each leg's hip (issue 31's audit, row 4; about the body's origin the legs "
+        "would give the body no attitude stiffness: it flips within 1 s)",
+    )
+
     # --- Joint control (PD) the paper leaves open -------------------------------------------------
     kp_yaw: float = _ours(5e-3, "joint 1 stiffness, N m/rad: ~0.01 rad sag under stance load", gt=0)
     kp_lift: float = _ours(

@@ -299,7 +299,8 @@ class BatchRunner:
         clock = time.perf_counter
         t_start = clock()
         plan_args = (ids, self.legs, self.drive, p.k_contralateral, p.k_ipsilateral,
-                     self.control_dt, self.geo, self._lead, self.act, self.ctrl)  # fmt: skip
+                     self.control_dt, self.geo, self._lead, self.act, self.ctrl,
+                     self.qpos)  # fmt: skip
         if self._plan is None:
             self._plan = bind_kernel(plan_block, plan_args)
         self._plan(*plan_args)

@@ -37,6 +37,12 @@ READINGS: dict[str, dict[str, Any]] = {
     # "The stance phase is a straight line from the landing position (LP) to the PEP": LP as
     # the tip's place at touchdown with its height, not only its fore-aft place on the line
     "landing height kept": {"landing_height_kept": 1.0},
+    # "The line segment between the AEP and the PEP is parallel to the body": the trajectories
+    # in the level frame of the heading, so that the body's pitch and roll move no target
+    "level frame": {"trajectory_frame": "level"},
+    # "the leg tips" touch the ground: a point, not our 0.25 mm sphere; a 0.05 mm sphere with
+    # the contact's impedance width kept at 0.1 mm (solimp width is a share of the radius)
+    "point foot": {"foot_radius": 0.05e-3, "contact_width_share": 2.0},
 }
 STARTS = 8  # the issue's acceptance: "every one of 8 starts over the circle"
 
@@ -63,18 +69,30 @@ def screen(
     backend: Backend,
     *,
     duration_s: float = 40.0,
+    stop_if_settled_s: float | None = None,
+    over: dict[str, Any] | None = None,
     starts: int = STARTS,
     progress: bool = True,
 ) -> list[Census]:
     """The census of `reading` on `ground` at each beta (see the module docstring); the runs go
-    through the result cache on `backend`, so a repeated screen reads them back."""
+    through the result cache on `backend`, so a repeated screen reads them back.
+
+    over: further ModelParams values on top of the reading's (a lever screened under it; the
+    census is then named after both). stop_if_settled_s: a run that has settled by then stops
+    there (`RunSpec.stop_if_settled_s`), a cheaper screen with the same settled verdicts."""
     if reading not in READINGS:
         raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
-    p = ModelParams(ground=ground, **READINGS[reading])
+    extra = over or {}
+    p = ModelParams(**{"ground": ground, **READINGS[reading], **extra})
+    name = reading + "".join(f", {k} {v:g}" if isinstance(v, float) else f", {k} {v}"
+                             for k, v in extra.items())  # fmt: skip
     x0 = [float(x) for x in initial_values(starts)]
-    tasks = [
-        run_task(RunSpec(beta=b, d31_init=x, duration_s=duration_s), p) for b in betas for x in x0
+    specs = [
+        RunSpec(beta=b, d31_init=x, duration_s=duration_s, stop_if_settled_s=stop_if_settled_s)
+        for b in betas
+        for x in x0
     ]
+    tasks = [run_task(s, p) for s in specs]
     results, _ = run_tasks(tasks, cache, backend, chunk_size=4, progress=progress)
     done = [results[t.key] for t in tasks]
     out = []
@@ -86,7 +104,7 @@ def screen(
         states = [(v, n, classify_gait(v, b)) for v, n in cluster_finals(finals)]
         land = [r["landing_swing_share"] for r in ok if r["landing_swing_share"] is not None]
         slip = [r["slip_fraction"] for r in ok if r["slip_fraction"] is not None]
-        out.append(Census(reading, ground, b, states,
+        out.append(Census(name, ground, b, states,
                           [s.final for s in sts if not s.settled], len(rs) - len(ok),
                           float(np.median(land)) if land else None,
                           float(np.median(slip)) if slip else None))  # fmt: skip

@@ -1,12 +1,21 @@
-"""Touch handling: touchdown, the scuff rule, resetting (eq. 4), lift-off."""
+"""Touch handling: touchdown, the scuff rule, resetting (eq. 4), lift-off; the frame of the
+tip targets."""
 
 import math
 
+import mujoco
 import numpy as np
 
 from sim_core import ModelParams
-from sim_core.model.controller import Drive, EventLog, LegState, TouchRules, apply_events
-from sim_core.model.legs import pack_geometry
+from sim_core.model.controller import (
+    Drive,
+    EventLog,
+    LegState,
+    TouchRules,
+    apply_events,
+    plan_block,
+)
+from sim_core.model.legs import forward_kinematics, pack_geometry
 
 P = ModelParams()
 GEO = pack_geometry(P)
@@ -118,3 +127,52 @@ def test_a_stance_foot_that_leaves_the_ground_and_comes_back_is_a_retouch() -> N
     # hovering below the lift clearance, or leaving without coming back, is no re-touch
     assert _retouches(np.full(NSUB, 0.5 * P.lift_clearance) * np.resize([1, -1], NSUB)) == 0
     assert _retouches(np.array([pressed] * 5 + [up] * 5)) == 0
+
+
+def _plan(p: ModelParams, quat: np.ndarray) -> np.ndarray:
+    """plan_block's set-points (18,) for one simulation with the body at attitude `quat`."""
+    geo = pack_geometry(p)
+    phi = np.linspace(0.3, 5.9, 6)[None]
+    st = LegState(phi.copy(), np.zeros((1, 6)), (phi >= PHI_AEP).astype(np.int8),
+                  np.tile(geo[:18].reshape(1, 6, 3), (1, 1, 1)), np.full((1, 6), PHI_AEP),
+                  np.zeros((1, 6)), np.zeros((1, 6), np.bool_), np.zeros(1, np.int64))  # fmt: skip
+    act, ctrl = np.zeros((1, 18)), np.zeros((1, 18))
+    qpos = np.zeros((1, 25))
+    qpos[0, 3:7] = quat
+    plan_block(np.array([0]), st, _drive(True), p.k_contralateral, p.k_ipsilateral, 1e-3, geo,
+               np.zeros(18), act, ctrl, qpos)  # fmt: skip
+    return act[0]
+
+
+def test_level_frame_trajectories_keep_each_foot_target_level_under_the_hip() -> None:
+    """trajectory_frame 'level' (audit row 4): the tip targets do not pitch or roll with the
+    body; 'body' (the default) ignores the body's attitude entirely."""
+    roll, pitch, yaw = 0.05, -0.03, 0.4
+    quat = np.empty(4)
+    mujoco.mju_euler2Quat(quat, np.array([roll, pitch, yaw]), "xyz")
+    level = ModelParams(trajectory_frame="level")
+    upright = np.array([1.0, 0.0, 0.0, 0.0])
+    heading_only = np.empty(4)
+    mujoco.mju_euler2Quat(heading_only, np.array([0.0, 0.0, yaw]), "xyz")
+    # the body frame's targets never read the attitude; level ones agree with them when level
+    np.testing.assert_array_equal(_plan(P, quat), _plan(P, upright))
+    np.testing.assert_allclose(_plan(level, heading_only), _plan(P, upright), atol=1e-12)
+    # tilted: each commanded tip, seen from the ground's frame turned to the heading, sits
+    # where the body frame's target sits on a level body, relative to its own hip
+    tilted = _plan(level, quat)
+    mat = np.empty(9)
+    mujoco.mju_quat2Mat(mat, quat)
+    rot = mat.reshape(3, 3)
+    heading = math.atan2(rot[1, 0], rot[0, 0])  # the body's x axis seen from above
+    c, si = math.cos(heading), math.sin(heading)
+    zrot = np.array([[c, -si, 0.0], [si, c, 0.0], [0.0, 0.0, 1.0]])
+    geo = pack_geometry(P)
+    attach = geo[36:54].reshape(6, 3)
+    flat = _plan(P, upright)
+    for leg in range(6):
+        tip_t, tip_f = np.empty(3), np.empty(3)
+        forward_kinematics(geo, leg, tilted[3 * leg : 3 * leg + 3], tip_t)
+        forward_kinematics(geo, leg, flat[3 * leg : 3 * leg + 3], tip_f)
+        seen = zrot.T @ rot @ (tip_t - attach[leg])
+        np.testing.assert_allclose(seen, tip_f - attach[leg], atol=1e-9)
+        assert np.abs(tip_t - tip_f).max() > 1e-5  # the tilt did move the body-frame target

@@ -42,3 +42,15 @@ def test_the_census_counts_every_start_and_reads_repeats_from_the_cache(tmp_path
     assert again == first
     with pytest.raises(ValueError, match="unknown reading"):
         screen("nope", "penalty", [0.66], cache, InlineBackend())
+
+
+def test_a_lever_screened_under_a_reading_is_named_and_used(tmp_path: Path) -> None:
+    """`over` (the CLI's --params) reaches the runs and names the census."""
+    cache = ResultCache(tmp_path)
+    kw = {"duration_s": 1.0, "starts": 1, "progress": False}
+    base = screen("ours", "penalty", [0.66], cache, InlineBackend(), **kw)
+    (c,) = screen("ours", "penalty", [0.66], cache, InlineBackend(),
+                  over={"support_ratio": 2.0}, **kw)  # fmt: skip
+    assert c.reading == "ours, support_ratio 2"
+    assert c.landing is not None and base[0].landing is not None
+    assert c.landing != base[0].landing  # stiffer middle legs: the walk changed
