@@ -317,6 +317,9 @@ def _add_readings(sub: Any) -> None:
         help="JSON overrides on top of every reading (a lever screened under it), e.g. "
         "'{\"com_offset_x\": 5e-4}'",
     )
+    p.add_argument("--finder", action="store_true",
+                   help="run the settled fixed-point finder (kicks, borders) instead of the "
+                   "census: the instrument behind Fig. 8")  # fmt: skip
     p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
     p.add_argument("--backend", choices=["local", "dask"], default="local")
     p.add_argument("--workers", type=int, default=None)
@@ -329,7 +332,14 @@ def _cmd_readings(args: argparse.Namespace) -> int:
 
     from sim_core.runs.backends import get_backend
     from sim_core.runs.cache import ResultCache
-    from sim_core.studies.readings import READINGS, screen, table
+    from sim_core.studies.readings import (
+        READINGS,
+        find_states,
+        finder_table,
+        screen,
+        settings_name,
+        table,
+    )
 
     if not 0 < args.duration_s <= 600 or not all(0.5 < b < 1.0 for b in args.betas):
         print("insect-gait readings: error: --duration-s in (0, 600], betas in (0.5, 1)",
@@ -356,20 +366,24 @@ def _cmd_readings(args: argparse.Namespace) -> int:
         print(f"insect-gait readings: error: unknown reading(s) {unknown}; choose from "
               f"{list(READINGS)}", file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
-    rows = []
+    rows: list[str] = []
     cache = ResultCache(Path(args.cache))
     backend = get_backend(args.backend, args.workers)
     try:
         for reading in names:
             for ground in args.grounds:
                 t0 = time.perf_counter()
-                got = screen(reading, ground, args.betas, cache, backend,
-                             duration_s=args.duration_s, stop_if_settled_s=stop,
-                             over=over)  # fmt: skip
-                rows += got
-                print("\n".join(table(got)[2:]), f"({time.perf_counter() - t0:.0f} s)",
-                      flush=True)  # fmt: skip
+                if args.finder:
+                    cells = find_states(reading, ground, args.betas, cache, backend, over=over)
+                    got = finder_table(settings_name(reading, over), ground, cells)
+                else:
+                    got = table(screen(reading, ground, args.betas, cache, backend,
+                                       duration_s=args.duration_s, stop_if_settled_s=stop,
+                                       over=over))  # fmt: skip
+                head, body = got[:2], got[2:]
+                rows += body
+                print("\n".join(body), f"({time.perf_counter() - t0:.0f} s)", flush=True)
     finally:
         backend.close()
-    print("\n".join(table(rows)))
+    print("\n".join(head + rows))
     return 0

@@ -7,7 +7,9 @@ Each reading that can be built is a `ModelParams` option (default: our reading, 
 `duration_s`, and reports where the settled runs end (clustered as the fixed-point finder does),
 each state's gait, the runs that did not settle, and the median landing share and slip: does the
 metachronal-side state at 0.62 go (the fold the issue needs) while the tripod stays, and the
-metachronal gait stay at 0.70?
+metachronal gait stay at 0.70? A lever can be screened under a reading (`over`), and a
+census's claim checked with the reproduction's own instrument, the settled fixed-point finder
+(`find_states`).
 """
 
 from __future__ import annotations
@@ -21,8 +23,9 @@ import numpy as np
 from sim_core.model.gait import classify_gait, settling
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec
-from sim_core.paper.fixedpoints import cluster_finals
+from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, cluster_finals, find
 from sim_core.paper.returnmap import initial_values
+from sim_core.paper.search import task_runner
 from sim_core.runs.backends import Backend, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import run_task
@@ -84,8 +87,7 @@ def screen(
         raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
     extra = over or {}
     p = ModelParams(**{"ground": ground, **READINGS[reading], **extra})
-    name = reading + "".join(f", {k} {v:g}" if isinstance(v, float) else f", {k} {v}"
-                             for k, v in extra.items())  # fmt: skip
+    name = settings_name(reading, extra)
     x0 = [float(x) for x in initial_values(starts)]
     specs = [
         RunSpec(beta=b, d31_init=x, duration_s=duration_s, stop_if_settled_s=stop_if_settled_s)
@@ -125,4 +127,52 @@ def table(rows: Sequence[Census]) -> list[str]:
         slip = "–" if c.slip is None else f"{100 * c.slip:.1f}%"
         out.append(f"| {c.reading} | {c.ground} | {c.beta:g} | {st} | {un} | {c.failed} | "
                    f"{land} | {slip} |")  # fmt: skip
+    return out
+
+
+def settings_name(reading: str, over: dict[str, Any] | None) -> str:
+    """A reading's name with the lever values screened under it."""
+    return reading + "".join(
+        f", {k} {v:g}" if isinstance(v, float) else f", {k} {v}" for k, v in (over or {}).items()
+    )
+
+
+def find_states(
+    reading: str,
+    ground: str,
+    betas: Sequence[float],
+    cache: ResultCache,
+    backend: Backend,
+    *,
+    over: dict[str, Any] | None = None,
+    cfg: FinderConfig | None = None,
+    progress: bool = True,
+) -> list[CellResult]:
+    """The settled fixed-point finder (the reproduction's instrument: starts, kicks, bisected
+    borders, neighbours' seeds) on one reading and ground at each beta: a census's claim
+    about a fold checked with the instrument that reads Fig. 8."""
+    if reading not in READINGS:
+        raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
+    p = ModelParams(**{"ground": ground, **READINGS[reading], **(over or {})})
+    run = task_runner(cache, backend, p, progress=progress)
+    return find([Cell(b) for b in betas], cfg or FinderConfig(), run)
+
+
+def finder_table(name: str, ground: str, cells: Sequence[CellResult]) -> list[str]:
+    """A markdown table of the finder's answer per beta (stable = kicks came back from both
+    sides; the unstable borders by bisection; failed and unsettled runs counted)."""
+    out = [
+        "| setting | ground | β | stable states (starts, gait) | other settled states (kicks) "
+        "| borders | not settled | failed |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for c in cells:
+        stable = [a for a in c.attractors if a.stable]
+        rest = [a for a in c.attractors if not a.stable]
+        st = ", ".join(f"{a.d31:.3f} ({a.starts}, {a.gait})" for a in stable) or "none"
+        ot = ", ".join(f"{a.d31:.3f} ({a.confirmed})" for a in rest) or "none"
+        bo = ", ".join("?" if b.d31 is None else f"{b.d31:.3f}" for b in c.borders) or "none"
+        failed = sum(1 for r in c.runs if r.failure is not None)
+        out.append(f"| {name} | {ground} | {c.beta:g} | {st} | {ot} | {bo} | "
+                   f"{len(c.unsettled)} | {failed} |")  # fmt: skip
     return out

@@ -8,9 +8,17 @@ from pathlib import Path
 import pytest
 
 from sim_core import ModelParams, RunSpec, simulate
+from sim_core.paper.fixedpoints import FinderConfig
 from sim_core.runs.backends import InlineBackend
 from sim_core.runs.cache import ResultCache
-from sim_core.studies.readings import READINGS, screen, table
+from sim_core.studies.readings import (
+    READINGS,
+    find_states,
+    finder_table,
+    screen,
+    settings_name,
+    table,
+)
 
 
 def test_a_reading_changes_the_walk_and_ours_is_the_default() -> None:
@@ -54,3 +62,17 @@ def test_a_lever_screened_under_a_reading_is_named_and_used(tmp_path: Path) -> N
     assert c.reading == "ours, support_ratio 2"
     assert c.landing is not None and base[0].landing is not None
     assert c.landing != base[0].landing  # stiffer middle legs: the walk changed
+
+
+def test_the_finder_reads_a_setting_and_its_table_counts_each_beta(tmp_path: Path) -> None:
+    """`readings --finder`: the reproduction's finder on a reading plus a lever (quick sizes:
+    the machinery, not science), one table row per beta, and repeats read from the cache."""
+    cache = ResultCache(tmp_path)
+    kw = {"over": {"com_offset_x": -1e-3}, "cfg": FinderConfig.quick(), "progress": False}
+    cells = find_states("ours", "penalty", [0.62, 0.70], cache, InlineBackend(), **kw)
+    assert [c.beta for c in cells] == [0.62, 0.70]
+    assert all(c.runs for c in cells)
+    rows = finder_table(settings_name("ours", kw["over"]), "penalty", cells)
+    assert len(rows) == 4 and rows[2].startswith("| ours, com_offset_x -0.001 | penalty | 0.62 |")
+    again = find_states("ours", "penalty", [0.62, 0.70], cache, InlineBackend(), **kw)
+    assert again == cells
