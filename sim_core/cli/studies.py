@@ -147,6 +147,21 @@ def register(sub: Any) -> None:
     _add_readings(sub)
 
 
+def _param_overrides(command: str, text: str) -> dict[str, Any] | None:
+    """The --params JSON as ModelParams overrides, or None after printing why they are not."""
+    from pydantic import ValidationError
+
+    from sim_core.model.params import ModelParams
+
+    try:
+        over = json.loads(text)
+        ModelParams(**over)
+    except (ValueError, TypeError, ValidationError) as exc:
+        print(f"insect-gait {command}: error: --params: {exc}", file=sys.stderr)
+        return None
+    return dict(over)
+
+
 def _add_slope_heading(sub: Any) -> None:
     p = sub.add_parser(
         "slope-heading",
@@ -186,15 +201,12 @@ def _cmd_slope_heading(args: argparse.Namespace) -> int:
     if any(f <= 0 for f in args.friction) or any(n < 0 for n in args.noslip):
         print("insect-gait slope-heading: error: --friction > 0, --noslip >= 0", file=sys.stderr)
         return EXIT_USAGE
-    from pydantic import ValidationError
-
-    try:
-        over = json.loads(args.params)
-        ModelParams(**over)
-    except (ValueError, TypeError, ValidationError) as exc:
-        print(f"insect-gait slope-heading: error: --params: {exc}", file=sys.stderr)
+    over = _param_overrides("slope-heading", args.params)
+    if over is None:
         return EXIT_USAGE
-    tag = "".join(f", {k} {v:g}" if isinstance(v, float) else f", {k} {v}" for k, v in over.items())
+    from sim_core.studies.readings import settings_name
+
+    tag = settings_name("", over)
     default_mu = ModelParams().friction
     settings = [
         (
@@ -350,15 +362,8 @@ def _cmd_readings(args: argparse.Namespace) -> int:
         print("insect-gait readings: error: --stop-if-settled-s in (0, --duration-s]",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
-    from pydantic import ValidationError
-
-    from sim_core.model.params import ModelParams
-
-    try:
-        over = json.loads(args.params)
-        ModelParams(**over)
-    except (ValueError, TypeError, ValidationError) as exc:
-        print(f"insect-gait readings: error: --params: {exc}", file=sys.stderr)
+    over = _param_overrides("readings", args.params)
+    if over is None:
         return EXIT_USAGE
     names = args.readings or list(READINGS)
     unknown = [n for n in names if n not in READINGS]

@@ -82,12 +82,10 @@ def screen(
 
     over: further ModelParams values on top of the reading's (a lever screened under it; the
     census is then named after both). stop_if_settled_s: a run that has settled by then stops
-    there (`RunSpec.stop_if_settled_s`), a cheaper screen with the same settled verdicts."""
-    if reading not in READINGS:
-        raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
-    extra = over or {}
-    p = ModelParams(**{"ground": ground, **READINGS[reading], **extra})
-    name = settings_name(reading, extra)
+    there (`RunSpec.stop_if_settled_s`): a cheaper screen, whose early verdicts can include a
+    ghost that a 40 s run leaves (why the finder runs 40 s)."""
+    p = setting(reading, ground, over)
+    name = settings_name(reading, over)
     x0 = [float(x) for x in initial_values(starts)]
     specs = [
         RunSpec(beta=b, d31_init=x, duration_s=duration_s, stop_if_settled_s=stop_if_settled_s)
@@ -130,6 +128,13 @@ def table(rows: Sequence[Census]) -> list[str]:
     return out
 
 
+def setting(reading: str, ground: str, over: dict[str, Any] | None) -> ModelParams:
+    """The model of a reading on a ground with a lever's values on top."""
+    if reading not in READINGS:
+        raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
+    return ModelParams(**{"ground": ground, **READINGS[reading], **(over or {})})
+
+
 def settings_name(reading: str, over: dict[str, Any] | None) -> str:
     """A reading's name with the lever values screened under it."""
     return reading + "".join(
@@ -151,9 +156,7 @@ def find_states(
     """The settled fixed-point finder (the reproduction's instrument: starts, kicks, bisected
     borders, neighbours' seeds) on one reading and ground at each beta: a census's claim
     about a fold checked with the instrument that reads Fig. 8."""
-    if reading not in READINGS:
-        raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
-    p = ModelParams(**{"ground": ground, **READINGS[reading], **(over or {})})
+    p = setting(reading, ground, over)
     run = task_runner(cache, backend, p, progress=progress)
     return find([Cell(b) for b in betas], cfg or FinderConfig(), run)
 

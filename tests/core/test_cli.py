@@ -44,3 +44,20 @@ def test_run_json_has_the_documented_keys() -> None:
     assert keys <= obj.keys() and "error" in obj
     assert obj["diverged"] is False and obj["error"] is None
     assert all(0 <= x < 6.2832 for x in obj["d31"])
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["readings", "--params", "[1]"],
+        ["readings", "--params", "{bad json"],
+        ["readings", "--stop-if-settled-s", "50"],
+        ["slope-heading", "--params", "[1]"],
+    ],
+)
+def test_study_overrides_are_checked_before_anything_runs(args: list[str], capsys) -> None:
+    """--params must be ModelParams overrides (one helper checks both commands), and a
+    screen's settled stop must lie inside its runs."""
+    assert main(args) == 2
+    err = capsys.readouterr().err.strip()
+    assert err.startswith(f"insect-gait {args[0]}: error:") and "Traceback" not in err
