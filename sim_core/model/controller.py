@@ -277,9 +277,9 @@ def initial_targets(
 ) -> None:
     """Joint angles q (18,) and tip targets (6, 3) of one simulation's current phases."""
     qq = np.empty(3)
-    upright = np.eye(3)  # a new walk starts upright: both frames agree
+    level = np.eye(3)  # a new walk starts level: both frames agree
     for leg in range(6):
         _leg_target(geo, leg, phi[leg], stance[leg] != 0, phi_td[leg], phi_aep, lp[leg],
-                    tips[leg], qq, upright, False)  # fmt: skip
+                    tips[leg], qq, level, False)  # fmt: skip
         for m in range(3):
             q[3 * leg + m] = qq[m]
