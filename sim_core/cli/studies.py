@@ -332,6 +332,10 @@ def _add_readings(sub: Any) -> None:
     p.add_argument("--finder", action="store_true",
                    help="run the settled fixed-point finder (kicks, borders) instead of the "
                    "census: the instrument behind Fig. 8")  # fmt: skip
+    p.add_argument("--robust", action="store_true",
+                   help="also a census with each calibrated parameter at 0.9x and 1.1x of "
+                   "the setting's value: do the same states live, how far does a fold "
+                   "move")  # fmt: skip
     p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
     p.add_argument("--backend", choices=["local", "dask"], default="local")
     p.add_argument("--workers", type=int, default=None)
@@ -351,6 +355,7 @@ def _cmd_readings(args: argparse.Namespace) -> int:
         screen,
         settings_name,
         table,
+        variants,
     )
 
     if not 0 < args.duration_s <= 600 or not all(0.5 < b < 1.0 for b in args.betas):
@@ -365,6 +370,10 @@ def _cmd_readings(args: argparse.Namespace) -> int:
     over = _param_overrides("readings", args.params)
     if over is None:
         return EXIT_USAGE
+    if args.robust and args.finder:
+        print("insect-gait readings: error: --robust is a census per variant; run --finder on "
+              "the setting alone", file=sys.stderr)  # fmt: skip
+        return EXIT_USAGE
     names = args.readings or list(READINGS)
     unknown = [n for n in names if n not in READINGS]
     if unknown:
@@ -377,17 +386,20 @@ def _cmd_readings(args: argparse.Namespace) -> int:
     try:
         for reading in names:
             for ground in args.grounds:
-                t0 = time.perf_counter()
-                if args.finder:
-                    cells = find_states(reading, ground, args.betas, cache, backend, over=over)
-                    got = finder_table(settings_name(reading, over), ground, cells)
-                else:
-                    got = table(screen(reading, ground, args.betas, cache, backend,
-                                       duration_s=args.duration_s, stop_if_settled_s=stop,
-                                       over=over))  # fmt: skip
-                head, body = got[:2], got[2:]
-                rows += body
-                print("\n".join(body), f"({time.perf_counter() - t0:.0f} s)", flush=True)
+                levers = variants(reading, ground, over) if args.robust else [over]
+                for lever in levers:
+                    t0 = time.perf_counter()
+                    if args.finder:
+                        cells = find_states(reading, ground, args.betas, cache, backend,
+                                            over=lever)  # fmt: skip
+                        got = finder_table(settings_name(reading, lever), ground, cells)
+                    else:
+                        got = table(screen(reading, ground, args.betas, cache, backend,
+                                           duration_s=args.duration_s, stop_if_settled_s=stop,
+                                           over=lever))  # fmt: skip
+                    head, body = got[:2], got[2:]
+                    rows += body
+                    print("\n".join(body), f"({time.perf_counter() - t0:.0f} s)", flush=True)
     finally:
         backend.close()
     print("\n".join(head + rows))

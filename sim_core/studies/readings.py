@@ -9,7 +9,8 @@ each state's gait, the runs that did not settle, and the median landing share an
 metachronal-side state at 0.62 go (the fold the issue needs) while the tripod stays, and the
 metachronal gait stay at 0.70? A lever can be screened under a reading (`over`), and a
 census's claim checked with the reproduction's own instrument, the settled fixed-point finder
-(`find_states`).
+(`find_states`), and its robustness read by a census of each calibrated parameter at +-10% of
+the setting's value (`variants`).
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ import numpy as np
 from sim_core.model.gait import classify_gait, settling
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec
+from sim_core.paper.claims import CALIBRATED, SCALES
 from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, cluster_finals, find
 from sim_core.paper.returnmap import initial_values
 from sim_core.paper.search import task_runner
@@ -178,4 +180,22 @@ def finder_table(name: str, ground: str, cells: Sequence[CellResult]) -> list[st
         failed = sum(1 for r in c.runs if r.failure is not None)
         out.append(f"| {name} | {ground} | {c.beta:g} | {st} | {ot} | {bo} | "
                    f"{len(c.unsettled)} | {failed} |")  # fmt: skip
+    return out
+
+
+def variants(
+    reading: str,
+    ground: str,
+    over: dict[str, Any] | None,
+    names: Sequence[str] = CALIBRATED,
+    scales: Sequence[float] = SCALES,
+) -> list[dict[str, Any]]:
+    """The lever values of the setting itself, then of each calibrated parameter at each scale
+    of the setting's own value (the guide's +-10% check of a structure): a census of each
+    says whether the same states live and how far a fold moves."""
+    base = setting(reading, ground, over)
+    out = [dict(over or {})]
+    for n in names:
+        for s in scales:
+            out.append({**(over or {}), n: float(getattr(base, n)) * s})
     return out

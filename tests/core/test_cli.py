@@ -52,6 +52,7 @@ def test_run_json_has_the_documented_keys() -> None:
         ["readings", "--params", "[1]"],
         ["readings", "--params", "{bad json"],
         ["readings", "--stop-if-settled-s", "50"],
+        ["readings", "--robust", "--finder"],
         ["slope-heading", "--params", "[1]"],
     ],
 )

@@ -18,6 +18,7 @@ from sim_core.studies.readings import (
     screen,
     settings_name,
     table,
+    variants,
 )
 
 
@@ -76,3 +77,21 @@ def test_the_finder_reads_a_setting_and_its_table_counts_each_beta(tmp_path: Pat
     assert len(rows) == 4 and rows[2].startswith("| ours, com_offset_x -0.001 | penalty | 0.62 |")
     again = find_states("ours", "penalty", [0.62, 0.70], cache, InlineBackend(), **kw)
     assert again == cells
+
+
+def test_the_robustness_variants_scale_the_settings_own_values() -> None:
+    """--robust: the setting first, then each calibrated parameter at 0.9x and 1.1x of its
+    value under the setting (a lever's value, not the default's), the lever kept."""
+    from sim_core.paper.claims import CALIBRATED
+
+    over = {"com_offset_x": -1e-3, "support_ratio": 2.0}
+    vs = variants("ours", "penalty", over)
+    assert vs[0] == over and len(vs) == 1 + 2 * len(CALIBRATED)
+    assert {"com_offset_x": -0.9e-3, "support_ratio": 2.0} in [
+        {k: pytest.approx(v) for k, v in x.items()} for x in vs
+    ]
+    stand = ModelParams().stand_height
+    assert [x["stand_height"] for x in vs if "stand_height" in x] == pytest.approx(
+        [0.9 * stand, 1.1 * stand]
+    )
+    assert all(x["support_ratio"] == 2.0 for x in vs)
