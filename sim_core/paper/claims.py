@@ -126,6 +126,15 @@ class Variant:
         return f"{betas[last]:g}-{betas[last + 1]:g}{gaps}"
 
 
+def scaled_values(
+    base: ModelParams, names: Sequence[str] = CALIBRATED, scales: Sequence[float] = SCALES
+) -> list[tuple[str, dict[str, float]]]:
+    """The +-10% check's variants: each of `names` at each scale of its value in `base`, as
+    ("<param> x<scale>", {param: value}) (one definition for `robustness` and the readings
+    screen's `--robust`)."""
+    return [(f"{n} x{s:g}", {n: getattr(base, n) * s}) for n in names for s in scales]
+
+
 def robustness(
     params: ModelParams | None = None,
     names: Sequence[str] = CALIBRATED,
@@ -138,10 +147,8 @@ def robustness(
     """The tripod's fold bracket and the metachronal side's ends under +-10% of each
     calibrated parameter (and on the default, first)."""
     base = params or ModelParams()
-    variants: list[tuple[str, ModelParams]] = [("default", base)]
-    for n in names:
-        for s in scales:
-            variants.append((f"{n} x{s:g}", base.model_copy(update={n: getattr(base, n) * s})))
+    scaled = scaled_values(base, names, scales)
+    variants = [("default", base)] + [(name, base.model_copy(update=u)) for name, u in scaled]
     runs = [(b, TRIPOD_START) for b in FOLD_BETAS] + [(b, METACHRONAL_START)
                                                        for b in METACHRONAL_BETAS]  # fmt: skip
     out: list[Variant] = []

@@ -24,7 +24,7 @@ import numpy as np
 from sim_core.model.gait import classify_gait, settling
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec
-from sim_core.paper.claims import CALIBRATED, SCALES
+from sim_core.paper.claims import CALIBRATED, SCALES, scaled_values
 from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, cluster_finals, find
 from sim_core.paper.returnmap import initial_values
 from sim_core.paper.search import task_runner
@@ -194,8 +194,5 @@ def variants(
     of the setting's own value (the guide's +-10% check of a structure): a census of each
     says whether the same states live and how far a fold moves."""
     base = setting(reading, ground, over)
-    out = [dict(over or {})]
-    for n in names:
-        for s in scales:
-            out.append({**(over or {}), n: float(getattr(base, n)) * s})
-    return out
+    return [dict(over or {})] + [{**(over or {}), **u} for _, u in
+                                 scaled_values(base, names, scales)]  # fmt: skip
