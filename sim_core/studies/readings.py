@@ -172,10 +172,8 @@ def finder_table(name: str, ground: str, cells: Sequence[CellResult]) -> list[st
         "|---|---|---|---|---|---|---|---|",
     ]
     for c in cells:
-        stable = [a for a in c.attractors if a.stable]
-        rest = [a for a in c.attractors if not a.stable]
-        st = ", ".join(f"{a.d31:.3f} ({a.starts}, {a.gait})" for a in stable) or "none"
-        ot = ", ".join(f"{a.d31:.3f} ({a.confirmed})" for a in rest) or "none"
+        st = ", ".join(f"{a.d31:.3f} ({a.starts}, {a.gait})" for a in c.stable()) or "none"
+        ot = ", ".join(f"{a.d31:.3f} ({a.confirmed})" for a in c.one_sided()) or "none"
         bo = ", ".join("?" if b.d31 is None else f"{b.d31:.3f}" for b in c.borders) or "none"
         failed = sum(1 for r in c.runs if r.failure is not None)
         out.append(f"| {name} | {ground} | {c.beta:g} | {st} | {ot} | {bo} | "
