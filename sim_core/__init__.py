@@ -47,23 +47,29 @@ _HOME: dict[str, str] = {
     "AtlasConfig": "sim_core.paper.atlas",
     "atlas_search": "sim_core.paper.atlas",
     "sweep": "sim_core.paper.sweep",
+    "DriftSurface": "sim_core.paper.surface_types",
+    "SurfaceConfig": "sim_core.paper.surface_types",
+    "drift_surface": "sim_core.paper.surface",
 }
 
 __all__ = [
     "INTEGRATORS",
     "MAX_STABLE_DT_S",
     "AtlasConfig",
+    "DriftSurface",
     "ModelParams",
     "RunFailure",
     "RunResult",
     "RunSpec",
     "Simulation",
     "SimulationDiverged",
+    "SurfaceConfig",
     "SweepResult",
     "atlas_search",
     "build_model",
     "circular_mean",
     "classify_gait",
+    "drift_surface",
     "leg_names",
     "nominal_speed",
     "parameter_table",
@@ -110,4 +116,6 @@ if TYPE_CHECKING:  # what type checkers and IDEs see: the same names, eagerly
         spec_grid,
     )
     from sim_core.paper.atlas import AtlasConfig, atlas_search
+    from sim_core.paper.surface import drift_surface
+    from sim_core.paper.surface_types import DriftSurface, SurfaceConfig
     from sim_core.paper.sweep import SweepResult, sweep

@@ -59,6 +59,7 @@ from sim_core.model.spec import (
     RunSpec,
     cost_problem,
     numerics_problem,
+    pin_problem,
     resolve_numerics,
 )
 from sim_core.paper.fixedpoints import (
@@ -83,6 +84,8 @@ from sim_core.paper.results import (
     atlas_file,
 )
 from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
+from sim_core.paper.surface_types import DriftSurface, SurfaceConfig
+from sim_core.paper.surface_types import grid as surface_grid
 
 _DEFAULTS = ModelParams()
 DEFAULT_INTEGRATOR: Integrator = _DEFAULTS.integrator
@@ -125,6 +128,7 @@ __all__ = [
     "AtlasOutput",
     "Cell",
     "CellResult",
+    "DriftSurface",
     "FailureKind",
     "FinderConfig",
     "FinderOutput",
@@ -139,6 +143,7 @@ __all__ = [
     "RunMeasures",
     "RunSpec",
     "Settling",
+    "SurfaceConfig",
     "atlas_file",
     "circular_mean",
     "classify_gait",
@@ -148,11 +153,13 @@ __all__ = [
     "mean_after",
     "numerics_problem",
     "parameter_table",
+    "pin_problem",
     "region_of",
     "resolve_numerics",
     "return_map_from_series",
     "run_cost",
     "settling",
     "step_problem",
+    "surface_grid",
     "window_gait",
 ]

@@ -28,6 +28,7 @@ NAMES = (
     "bifurcation",
     "hysteresis",
     "atlas",
+    "surface",
 )
 
 

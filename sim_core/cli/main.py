@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 from importlib.metadata import entry_points
 
-from sim_core.cli import numerics, paper, studies, walk
+from sim_core.cli import numerics, paper, studies, surface, walk
 from sim_core.cli.common import EXIT_USAGE, Parser
 
 __all__ = ["EXIT_USAGE", "build_parser", "main"]
@@ -21,7 +21,7 @@ __all__ = ["EXIT_USAGE", "build_parser", "main"]
 def build_parser() -> argparse.ArgumentParser:
     parser = Parser(prog="insect-gait", description=__doc__.splitlines()[0] if __doc__ else "")
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for family in (walk, numerics, paper, studies):
+    for family in (walk, numerics, paper, surface, studies):
         family.register(sub)
     for ep in entry_points(group="insect_gait.commands"):
         try:

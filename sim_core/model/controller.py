@@ -60,11 +60,14 @@ class LegState(NamedTuple):
 
 
 class Drive(NamedTuple):
-    """Per simulation, what beta sets through eq. 2 and whether eq. 4 is on (n,)."""
+    """Per simulation, what beta sets through eq. 2, whether eq. 4 is on, and the drift
+    surface's pin (`cpg.pin`; an instrument, off where pin_gain is 0) (n,)."""
 
     omega: np.ndarray  # basic frequency, rad/s
     phi_aep: np.ndarray  # 2 pi (1 - beta), rad
     reset: np.ndarray  # bool: phase resetting at touchdown
+    pin_d31: np.ndarray  # the held Delta31 = Delta53, rad
+    pin_gain: np.ndarray  # the pin's K, 1/s; 0: no pin
 
 
 class TouchRules(NamedTuple):
@@ -145,7 +148,8 @@ def plan_block(
     phi_aep = drive.phi_aep
     for r in range(ids.shape[0]):
         s = ids[r]
-        advance_phases(phi[s], drive.omega[s], k_contra, k_ipsi, h, phi_next[s], scratch)
+        advance_phases(phi[s], drive.omega[s], k_contra, k_ipsi, drive.pin_d31[s],
+                       drive.pin_gain[s], h, phi_next[s], scratch)  # fmt: skip
         if level:
             tilt_matrix(qpos[s, 3:7], tilt)
         for leg in range(6):

@@ -74,11 +74,31 @@ def coupling(phi: np.ndarray, k_contra: float, k_ipsi: float, g: np.ndarray) -> 
 
 
 @njit(cache=True)
+def pin(phi: np.ndarray, d: float, gain: float, g: np.ndarray) -> None:
+    """The drift surface's pin (an instrument, not the paper's model), added to g:
+
+    fore i in {1, 2}, middle m = i + 2:  dphi_i/dt += K sin(phi_m - phi_i - D)
+    hind h in {5, 6}, middle m = h - 2:  dphi_h/dt += K sin(phi_m + D - phi_h)
+
+    Delta31 > D speeds the fore leg up (Delta31 falls), Delta53 > D slows the hind leg (Delta53
+    falls). The middle oscillators keep eq. 7 alone, so S = (phi5 + phi6 - phi1 - phi2) / 4,
+    which eqs. 3-7 and omega leave alone, moves only by the resets and by the pin: on a
+    periodic pinned walk the pin cancels exactly the resets' drift at D.
+    """
+    g[0] += gain * math.sin(phi[2] - phi[0] - d)
+    g[1] += gain * math.sin(phi[3] - phi[1] - d)
+    g[4] += gain * math.sin(phi[2] + d - phi[4])
+    g[5] += gain * math.sin(phi[3] + d - phi[5])
+
+
+@njit(cache=True)
 def advance_phases(
     phi: np.ndarray,
     omega: float,
     k_contra: float,
     k_ipsi: float,
+    pin_d31: float,
+    pin_gain: float,
     h: float,
     out: np.ndarray,
     scratch: np.ndarray,
@@ -86,14 +106,20 @@ def advance_phases(
     """One explicit-midpoint step of eq. 1 without resetting (g2 acts only at touchdowns).
 
     Phases are not wrapped here: the caller needs the unwrapped advance to locate events.
-    scratch: (2, 6) work space.
+    pin_gain > 0 adds the drift surface's `pin` at pin_d31; at 0 the step is eq. 1 alone, the
+    same operations as before the pin existed (bit for bit). scratch: (2, 6) work space.
     """
     g = scratch[0]
     mid = scratch[1]
+    pinned = pin_gain > 0.0
     coupling(phi, k_contra, k_ipsi, g)
+    if pinned:
+        pin(phi, pin_d31, pin_gain, g)
     for i in range(6):
         mid[i] = phi[i] + 0.5 * h * (omega + g[i])
     coupling(mid, k_contra, k_ipsi, g)
+    if pinned:
+        pin(mid, pin_d31, pin_gain, g)
     for i in range(6):
         out[i] = phi[i] + h * (omega + g[i])
 

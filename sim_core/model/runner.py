@@ -143,7 +143,8 @@ class BatchRunner:
         self.beta = np.zeros(n)
         # the controller's state, what beta drives (eq. 2) and the last period's events: each
         # array under one name, in the NamedTuples the compiled kernels take
-        self.drive = Drive(omega=np.zeros(n), phi_aep=np.zeros(n), reset=np.ones(n, np.bool_))
+        self.drive = Drive(omega=np.zeros(n), phi_aep=np.zeros(n), reset=np.ones(n, np.bool_),
+                           pin_d31=np.zeros(n), pin_gain=np.zeros(n))  # fmt: skip
         self.legs = LegState(
             phi=np.zeros((n, 6)),
             phi_next=np.zeros((n, 6)),
@@ -210,6 +211,9 @@ class BatchRunner:
         for i, spec in enumerate(specs):
             self.set_beta(i, spec.beta)
             self.drive.reset[i] = spec.phase_reset
+            if spec.pin_d31 is not None:  # the drift surface's instrument (cpg.pin)
+                self.drive.pin_d31[i] = spec.pin_d31
+                self.drive.pin_gain[i] = spec.pin_gain_per_s
             if spec.body_mass_g != p.body_mass * 1e3:
                 self.set_body_mass_g(i, spec.body_mass_g)
             if spec.slope_deg != 0.0:

@@ -207,8 +207,11 @@ def run_tasks(
     chunk_size: int = 8,
     progress: bool = True,
     executor: Executor = execute_chunk,
+    on_progress: Callable[[float], None] | None = None,
 ) -> tuple[dict[str, dict[str, Any]], RunStats]:
-    """Results of every task by key: from the cache, or computed on `backend` and cached."""
+    """Results of every task by key: from the cache, or computed on `backend` and cached;
+    `on_progress`, if given, hears the share of tasks done (0..1) after every chunk (a job's
+    progress, where `progress` draws a bar on a terminal)."""
     from tqdm import tqdm
 
     unique = list({t.key: t for t in tasks}.values())
@@ -233,5 +236,7 @@ def run_tasks(
                 results[t.key] = r
             stats.computed += len(chunk)
             bar.update(len(chunk))
+            if on_progress is not None:
+                on_progress((stats.cached + stats.computed) / max(1, len(unique)))
     stats.compute_s = sum(float(r.get("compute_s", 0.0)) for r in results.values())
     return results, stats

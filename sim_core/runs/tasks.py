@@ -184,6 +184,12 @@ def execute_chunk(
             k: _finite(v) if isinstance(v, float) else v for k, v in res.summary().items()
         }
         item |= {"d31_times_s": ev.d31_times_s.tolist(), "compute_s": share}
+        if specs[i].pin_d31 is not None:
+            # a drift-surface probe (`sim_core.paper.surface`): its touchdowns and the phase
+            # at each before eq. 4, from which the per-leg jumps and the drift are read (its
+            # Delta31 samples are the summary's d31)
+            item["touchdowns_s"] = [t.tolist() for t in ev.touchdowns_s]
+            item["touchdown_phases"] = [p.tolist() for p in ev.touchdown_phases]
         if task.ramp is not None:
             item["value"] = [float(task.ramp.value(float(t))) for t in ev.d31_times_s]
             # the body's heading at each leg-1 touchdown, deg (a slope sweep must still walk up

@@ -143,7 +143,7 @@ def _run(
         _solve3(lhs, rhs, v)
         for m in range(3):
             q[m] += dt * v[m]
-        advance_phases(phi, omega, kc, ki, dt, nxt, scratch)
+        advance_phases(phi, omega, kc, ki, 0.0, 0.0, dt, nxt, scratch)
         for i in range(6):
             pn = nxt[i]
             if stance[i]:

@@ -28,7 +28,7 @@ RULES = TouchRules(0.0, P.touch_depth, P.scuff_fraction, True, P.lift_clearance)
 
 
 def _drive(reset: bool) -> Drive:
-    return Drive(np.array([1.0]), np.array([PHI_AEP]), np.array([reset]))
+    return Drive(np.array([1.0]), np.array([PHI_AEP]), np.array([reset]), np.zeros(1), np.zeros(1))
 
 
 def _log() -> EventLog:

@@ -45,7 +45,7 @@ def _integrate(phi: np.ndarray, seconds: float, omega: float = 40.0) -> np.ndarr
     scratch = np.empty((2, 6))
     h = 2e-4
     for _ in range(int(seconds / h)):
-        advance_phases(out, omega, KC, KI, h, nxt, scratch)
+        advance_phases(out, omega, KC, KI, 0.0, 0.0, h, nxt, scratch)
         out[:] = nxt
     return out
 

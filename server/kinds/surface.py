@@ -1,0 +1,164 @@
+"""`surface`: the drift surface over a beta grid (`sim_core.paper.surface.drift_surface`, the
+function `insect-gait surface` and `surface-check` use): the drift of Delta31 per gait cycle
+at every held Delta31, its zeros (gaits, stable and unstable), near-zero bands and folds."""
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING, Any, Literal
+
+from pydantic import ValidationInfo, field_validator
+
+from server.kinds.base import BetaRange, Kind, Physics, Progress
+from server.kinds.bounds import bounded, core_bounds, core_default
+from server.kinds.common import core
+from sim_core.contract import SurfaceConfig, pin_problem, surface_grid
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
+
+DEFAULT = SurfaceConfig()
+COLUMNS = ("beta", "kind", "pin_d31", "d31", "drift", "drift_se", "stable", "resolved", "why")
+GRID_ENDS = (min(DEFAULT.d31_grid), max(DEFAULT.d31_grid))
+
+
+class SurfaceJob(Physics):
+    """The drift surface (issue 39): walks held at each Delta31 by a weak pin on the fore and
+    hind oscillators, resets on; per probe the drift per gait cycle with its standard error,
+    per beta the zeros and near-zero bands, over beta the stable branches and folds."""
+
+    kind: Literal["surface"] = "surface"
+    beta_range: BetaRange
+    d31_lo: float = bounded(GRID_ENDS[0], "d31_lo", "lowest held Delta31, rad", ge=0.5, le=6.0)
+    d31_hi: float = bounded(GRID_ENDS[1], "d31_hi", "highest held Delta31, rad", ge=0.6, lt=6.2832)
+    d31_step: float = bounded(
+        0.05, "d31_step", "spacing of the held Delta31 values, rad", ge=0.01, le=1.0
+    )
+    gain_per_s: float = bounded(
+        core_default("pin_gain_per_s"),
+        "gain_per_s",
+        "the pin's gain K, 1/s",
+        **core_bounds("pin_gain_per_s"),
+    )
+
+    @field_validator("phase_reset")
+    @classmethod
+    def _resets_on(cls, v: bool) -> bool:
+        problem = pin_problem(DEFAULT.d31_grid[0], v)  # the core's words (RunSpec.pin_d31)
+        if problem:
+            raise ValueError(problem)
+        return v
+
+    @field_validator("d31_hi")
+    @classmethod
+    def _above_lo(cls, v: float, info: ValidationInfo) -> float:
+        lo = info.data.get("d31_lo")
+        if lo is not None and v <= lo:
+            raise ValueError(f"d31_hi ({v:g}) must be above d31_lo ({lo:g})")
+        return v
+
+    def config(self) -> SurfaceConfig:
+        from dataclasses import replace
+
+        return replace(
+            DEFAULT,
+            d31_grid=surface_grid(self.d31_lo, self.d31_hi, self.d31_step),
+            gain_per_s=self.gain_per_s,
+        )
+
+    def run_count(self) -> int:
+        return self.beta_range.steps * len(self.config().d31_grid)
+
+    def sim_seconds_per_run(self) -> float:
+        return DEFAULT.duration_s
+
+
+def run(job: SurfaceJob, progress: Progress, nthread: int) -> dict[str, Any]:
+    """The surface by the core's `drift_surface`, in this worker (a private cache: the job's
+    probes are its own), refined as `insect-gait surface` refines it, with flat rows: one per
+    probe, zero and near-zero band."""
+    s = core().drift_surface(
+        job.beta_range.values(), config=job.config(), params=job.model_params(),
+        body_mass_g=job.body_mass_g, slope_deg=job.slope_deg, numerics=job.spec_numerics(),
+        progress=False, on_progress=lambda x: progress(min(0.99, x)),
+    )  # fmt: skip
+    rows: list[dict[str, Any]] = [
+        {
+            "beta": p.beta,
+            "kind": "probe",
+            "pin_d31": p.pin_d31,
+            "d31": p.d31,
+            "drift": p.drift,
+            "drift_se": p.drift_se,
+            "stable": None,
+            "resolved": None,
+            "why": p.why,
+        }
+        for p in s.points
+    ]
+    rows += [
+        {
+            "beta": z.beta,
+            "kind": "zero",
+            "pin_d31": None,
+            "d31": z.d31,
+            "drift": 0.0,
+            "drift_se": None,
+            "stable": z.stable,
+            "resolved": z.resolved,
+            "why": "",
+        }
+        for z in s.zeros
+    ]
+    rows += [
+        {
+            "beta": n.beta,
+            "kind": "near_zero",
+            "pin_d31": None,
+            "d31": 0.5 * (n.lo + n.hi),
+            "drift": n.min_abs_drift * n.sign,
+            "drift_se": None,
+            "stable": None,
+            "resolved": False,
+            "why": f"|drift| inside the noise floor from {n.lo:.3f} to {n.hi:.3f}",
+        }
+        for n in s.near_zeros
+    ]
+    return {"kind": "surface", "surface": s.model_dump(mode="json"), "records": rows}
+
+
+def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
+    """The drift per cycle against the sampled Delta31, one curve per beta, zeros marked
+    (stable solid, unstable open)."""
+    ax = fig.add_subplot()
+    rows = result.get("records", [])
+    for b in sorted({r["beta"] for r in rows}):
+        pts = sorted(
+            (r["d31"], r["drift"])
+            for r in rows
+            if r["beta"] == b
+            and r["kind"] == "probe"
+            and r["d31"] is not None
+            and r["drift"] is not None
+        )
+        if pts:
+            (line,) = ax.plot(
+                [x for x, _ in pts], [1e3 * y for _, y in pts], lw=1, label=f"β {b:g}"
+            )
+            for z in (r for r in rows if r["beta"] == b and r["kind"] == "zero"):
+                ax.plot(
+                    z["d31"],
+                    0.0,
+                    "o",
+                    color=line.get_color(),
+                    mfc=line.get_color() if z["stable"] else "white",
+                )
+    ax.axhline(0.0, color="grey", lw=0.8)
+    ax.set_xlabel("Δ31 sampled at leg-1 touchdown (rad)")
+    ax.set_ylabel("drift per gait cycle (mrad)")
+    ax.set_title("drift surface: zeros are gaits (filled: stable, open: unstable)")
+    ax.grid(alpha=0.3)
+    if rows:
+        ax.legend(fontsize="small")
+
+
+KIND = Kind(model=SurfaceJob, run=run, columns=COLUMNS, draw=draw)

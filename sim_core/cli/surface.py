@@ -1,0 +1,210 @@
+"""`surface` (the drift surface: every gait, stable and unstable, from walks held at each
+Delta31) and `surface-check` (the surface against the fixed-point finder's settled runs)."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import sys
+from pathlib import Path
+from typing import Any
+
+from sim_core.cli.common import EXIT_USAGE
+from sim_core.cli.paper import _add_backend_args
+from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
+
+# the betas issue 39 validates at: the Fig. 7 betas and the two ends of the paper's window
+CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
+
+
+def _grid(text: str) -> tuple[float, float, float]:
+    """argparse type for LO:HI:STEP (rad)."""
+    try:
+        lo, hi, step = (float(x) for x in text.split(":"))
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not LO:HI:STEP, e.g. 1.3:3.5:0.05") from None
+    if not (0.0 <= lo < hi < 6.2832 and 0.0 < step <= hi - lo):
+        raise argparse.ArgumentTypeError(
+            f"{text!r}: need 0 <= LO < HI < 2 pi and 0 < STEP <= HI - LO (rad)"
+        )
+    return lo, hi, step
+
+
+def _add_surface_args(p: Any) -> None:
+    from sim_core.runs import BACKENDS
+
+    p.add_argument(
+        "--d31",
+        type=_grid,
+        default=None,
+        metavar="LO:HI:STEP",
+        help="the held Delta31 values, rad (default 1.3:3.5:0.05)",
+    )
+    p.add_argument(
+        "--ground",
+        choices=["constraint", "penalty"],
+        default="constraint",
+        help="constraint: today's default contact; penalty: the paper's ground",
+    )
+    p.add_argument(
+        "--gain-per-s",
+        type=float,
+        default=None,
+        help="the pin's gain K, 1/s (default 30: see docs/MODEL.md, Instruments)",
+    )
+    _add_backend_args(p, [b for b in BACKENDS if b != "ray"])
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def register(sub: Any) -> None:
+    p = sub.add_parser(
+        "surface",
+        help="the drift surface: zeros of Delta31's drift per cycle (gaits, stable and "
+        "unstable) and folds, from walks held at each Delta31",
+    )
+    p.add_argument("--beta", type=float, nargs="+", required=True, help="duty factors")
+    p.add_argument("--body-mass-g", type=float, default=3.0, help="body mass, g, 0.5..30")
+    p.add_argument("--slope-deg", type=float, default=0.0, help="ground slope, deg, uphill +")
+    _add_surface_args(p)
+    p.add_argument("--json", action="store_true", help="print the whole surface as JSON")
+    p.add_argument("--out", default=None, help="also write the surface's JSON to this file")
+    p.set_defaults(func=_cmd_surface)
+
+    c = sub.add_parser(
+        "surface-check",
+        help="the drift surface against the finder's settled runs (docs/figures/"
+        "bifurcation.json): stable zeros within 0.03 rad, borders within 0.05",
+    )
+    c.add_argument("--beta", type=float, nargs="+", default=list(CHECK_BETAS))
+    c.add_argument(
+        "--finder",
+        default=str(RESULTS_DIR / BIFURCATION_FILE),
+        help="the finder's output (default %(default)s)",
+    )
+    _add_surface_args(c)
+    c.add_argument("--out", default=None, help="also write the surface's JSON to this file")
+    c.set_defaults(func=_cmd_check)
+
+
+def _config(args: argparse.Namespace) -> Any:
+    from dataclasses import replace
+
+    from sim_core.paper.surface import SurfaceConfig, grid
+
+    cfg = SurfaceConfig()
+    if args.d31 is not None:
+        cfg = replace(cfg, d31_grid=grid(*args.d31))
+    if args.gain_per_s is not None:
+        cfg = replace(cfg, gain_per_s=args.gain_per_s)
+    return cfg
+
+
+def _run(args: argparse.Namespace, prog: str, **fields: Any) -> Any:
+    """The surface the arguments ask for, or None after printing why not (exit 2)."""
+    from pydantic import ValidationError
+
+    from sim_core.model.params import ModelParams
+    from sim_core.paper.surface import Probe, drift_surface, probe_spec
+    from sim_core.runs.backends import BackendUnavailable, get_backend
+    from sim_core.runs.cache import ResultCache
+
+    cfg = _config(args)
+    try:  # every probe's spec is valid before anything runs: the same words as the API's
+        for b in args.beta:
+            for d in (cfg.d31_grid[0], cfg.d31_grid[-1]):
+                probe_spec(Probe(b, d, cfg.average_s), cfg, **fields)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        where = ".".join(str(x) for x in err["loc"]) or "spec"
+        print(f"{prog}: error: {where}: {err['msg']}", file=sys.stderr)
+        return None
+    if args.workers is not None and args.workers < 1:
+        print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
+        return None
+    try:
+        backend = get_backend(args.backend, args.workers, args.address)
+    except BackendUnavailable as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return None
+    try:
+        return drift_surface(
+            sorted(args.beta),
+            cache=ResultCache(args.cache),
+            backend=backend,
+            config=cfg,
+            params=ModelParams(ground=args.ground),
+            progress=not args.no_progress,
+            **fields,
+        )
+    except KeyboardInterrupt:
+        print(
+            f"{prog}: interrupted; finished probes are cached in {args.cache}: run the same "
+            "command again to resume",
+            file=sys.stderr,
+        )
+        raise SystemExit(130) from None
+    finally:
+        backend.close()
+
+
+def describe(surface: Any) -> str:
+    """Zeros per beta, then folds, in words."""
+    lines = []
+    for b in surface.betas:
+        zs = surface.zeros_at(b)
+        parts = [
+            f"{'S' if z.stable else 'U'} {z.d31:.3f}"
+            + ("" if z.resolved else f" (unresolved, {z.lo:.2f}-{z.hi:.2f})")
+            for z in zs
+        ]
+        parts += [
+            f"near-zero band {n.lo:.2f}-{n.hi:.2f} (|d| >= {n.min_abs_drift * 1e3:.2f} mrad)"
+            for n in surface.near_zeros
+            if abs(n.beta - b) < 1e-9
+        ]
+        bad = [p for p in surface.points_at(b) if not p.usable]
+        tail = f"; {len(bad)} probe(s) not used" if bad else ""
+        lines.append(f"beta {b:g}: " + (", ".join(parts) or "no zero") + tail)
+    for f in surface.folds:
+        lines.append(
+            f"fold: the branch at {f.d31:.3f} {f.side} between beta {f.beta_lo:g} and "
+            f"{f.beta_hi:g}" + ("" if f.resolved else " (its last zero unresolved)")
+        )
+    lines.append(f"{surface.sim_s:.0f} simulated s in {len(surface.points)} probes")
+    return "\n".join(lines)
+
+
+def _cmd_surface(args: argparse.Namespace) -> int:
+    prog = "insect-gait surface"
+    surface = _run(args, prog, body_mass_g=args.body_mass_g, slope_deg=args.slope_deg)
+    if surface is None:
+        return EXIT_USAGE
+    text = surface.model_dump_json()
+    if args.out:
+        Path(args.out).write_text(text)
+    print(json.dumps(json.loads(text)) if args.json else describe(surface))
+    return 0
+
+
+def _cmd_check(args: argparse.Namespace) -> int:
+    from sim_core.paper.fixedpoints import FinderOutput
+    from sim_core.paper.surface_check import check, table
+
+    prog = "insect-gait surface-check"
+    try:
+        finder = FinderOutput.model_validate_json(Path(args.finder).read_text())
+    except (OSError, ValueError) as exc:
+        print(f"{prog}: error: --finder {args.finder}: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    surface = _run(args, prog)
+    if surface is None:
+        return EXIT_USAGE
+    if args.out:
+        Path(args.out).write_text(surface.model_dump_json())
+    rows = check(surface, finder)
+    if not rows:
+        print(f"{prog}: error: the finder has none of the betas {args.beta}", file=sys.stderr)
+        return EXIT_USAGE
+    print(table(rows))
+    print(describe(surface))
+    return 0 if all(r.ok for r in rows) else 1

@@ -1,0 +1,105 @@
+"""The drift surface against the fixed-point finder: two independent readings of one model.
+
+The finder (`paper.fixedpoints`) reads stable states from settled free runs and borders by
+bisecting starts; the surface (`paper.surface`) reads zeros of the drift at held Delta31. They
+agree when (issue 39, point 3):
+- every resolved stable zero of the surface has a stable state of the finder within
+  `STABLE_TOL` rad, and every stable state of the finder inside the window has a stable zero
+  within `STABLE_TOL`, unless the surface marks that place unresolved (an unresolved zero or a
+  near-zero band reaching within `STABLE_TOL`);
+- every resolved border of the finder has an unstable zero within `BORDER_TOL` rad (or an
+  unresolved mark there).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from sim_core.paper.fixedpoints import CellResult, FinderOutput
+from sim_core.paper.surface import DriftSurface
+
+STABLE_TOL = 0.03  # rad
+BORDER_TOL = 0.05  # rad
+WINDOW = (1.4, 3.4)  # the finder's window (FinderConfig.window)
+
+
+@dataclass
+class BetaCheck:
+    """One beta's comparison; `misses` says every disagreement in words."""
+
+    beta: float
+    surface_stable: list[float]
+    surface_unstable: list[float]
+    surface_unresolved: list[tuple[float, float]]  # brackets of unresolved zeros and bands
+    finder_stable: list[float]
+    finder_borders: list[float]
+    misses: list[str] = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        return not self.misses
+
+
+def _near(x: float, xs: list[float], tol: float) -> bool:
+    return any(abs(x - y) <= tol for y in xs)
+
+
+def _covered(x: float, bands: list[tuple[float, float]], tol: float) -> bool:
+    return any(lo - tol <= x <= hi + tol for lo, hi in bands)
+
+
+def check_beta(surface: DriftSurface, cell: CellResult) -> BetaCheck:
+    """Compare the surface's zeros at `cell.beta` with the finder's states there."""
+    lo, hi = WINDOW
+    zs = [z for z in surface.zeros_at(cell.beta) if lo <= z.d31 <= hi]
+    stable = [z.d31 for z in zs if z.stable and z.resolved]
+    unstable = [z.d31 for z in zs if not z.stable and z.resolved]
+    unresolved = [(z.lo, z.hi) for z in zs if not z.resolved]
+    unresolved += [(n.lo, n.hi) for n in surface.near_zeros if abs(n.beta - cell.beta) < 1e-9]
+    f_stable = [a.d31 for a in cell.stable() if lo <= a.d31 <= hi]
+    f_borders = [
+        b.d31 for b in cell.borders if b.resolved and b.d31 is not None and lo <= b.d31 <= hi
+    ]
+    out = BetaCheck(cell.beta, stable, unstable, unresolved, f_stable, f_borders)
+    for x in stable:
+        if not _near(x, f_stable, STABLE_TOL):
+            out.misses.append(
+                f"surface stable zero {x:.3f} has no finder state within {STABLE_TOL}"
+            )
+    for x in f_stable:
+        if not _near(x, stable, STABLE_TOL) and not _covered(x, unresolved, STABLE_TOL):
+            out.misses.append(f"finder state {x:.3f} has no stable zero within {STABLE_TOL}")
+    for x in f_borders:
+        if not _near(x, unstable, BORDER_TOL) and not _covered(x, unresolved, BORDER_TOL):
+            out.misses.append(f"finder border {x:.3f} has no unstable zero within {BORDER_TOL}")
+    return out
+
+
+def check(surface: DriftSurface, finder: FinderOutput) -> list[BetaCheck]:
+    """Every beta the surface and the finder (at the surface's mass and slope) share."""
+    cells = {
+        round(c.beta, 6): c
+        for c in finder.cells
+        if c.body_mass_g == surface.body_mass_g and c.slope_deg == surface.slope_deg
+    }
+    return [check_beta(surface, cells[round(b, 6)]) for b in surface.betas if round(b, 6) in cells]
+
+
+def table(rows: list[BetaCheck]) -> str:
+    """The comparison as a markdown table (docs/REPRODUCTION.md)."""
+
+    def xs(v: list[float]) -> str:
+        return ", ".join(f"{x:.3f}" for x in v) or "none"
+
+    lines = [
+        "| β | surface: stable | unstable | unresolved | finder: stable | borders | agree? |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+        unres = ", ".join(f"{a:.2f}-{b:.2f}" for a, b in r.surface_unresolved) or "none"
+        verdict = "yes" if r.ok else "**no**: " + "; ".join(r.misses)
+        lines.append(
+            f"| {r.beta:g} | {xs(r.surface_stable)} | {xs(r.surface_unstable)} | "
+            f"{unres} | {xs(r.finder_stable)} | {xs(r.finder_borders)} | {verdict} |"
+        )
+    return "\n".join(lines)

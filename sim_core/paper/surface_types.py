@@ -1,0 +1,140 @@
+"""The drift surface's protocol and its result's schema (`sim_core.paper.surface` computes it),
+light enough for the edges: the REST kind validates and prices a job, and the viewer validates
+a surface file, without loading the physics engine."""
+
+from __future__ import annotations
+
+from dataclasses import asdict, dataclass, field
+from typing import Any
+
+from pydantic import BaseModel, ConfigDict
+
+from sim_core.model.spec import PIN_GAIN_PER_S
+
+
+def grid(lo: float, hi: float, step: float) -> tuple[float, ...]:
+    """lo, lo + step, ..., hi (inclusive, rounded to 1e-6 so the task keys are stable)."""
+    n = round((hi - lo) / step)
+    return tuple(round(lo + k * step, 6) for k in range(n + 1))
+
+
+@dataclass(frozen=True)
+class SurfaceConfig:
+    """The probes' protocol: chosen from measurement (docs/REPRODUCTION.md, "The drift
+    surface"; shared/notes/drift-surface.md for the first measurements)."""
+
+    # K = 30 per s settles in about a gait cycle (K T ~ 3) and agrees with K = 10 within
+    # 0.3 mrad per cycle; K >= 100 biases the 2.3-2.6 band by 1-2 mrad
+    gain_per_s: float = PIN_GAIN_PER_S
+    settle_s: float = 1.0  # the pinned walk is periodic after ~1 s: touchdowns before it skipped
+    average_s: float = 2.0  # +-0.06-0.1 mrad against a 24 s reference at K 30
+    block_s: float = 0.5  # the standard error comes from the scatter of these windows' drifts
+    # below this a drift is zero within the pin's own bias (0.1-0.3 mrad per cycle at K 30)
+    floor_rad: float = 3e-4
+    # a probe whose sampled Delta31 spreads more than this over the averaging window did not
+    # walk a periodic orbit: kept, not used for zeros
+    periodic_tol_rad: float = 0.02
+    # a probe whose sampled Delta31 left D by more than this (fore legs landing late, D <= 1.5)
+    # is kept, not used for zeros: it measures somewhere else than the grid says
+    off_pin_tol_rad: float = 0.1
+    d31_grid: tuple[float, ...] = field(default_factory=lambda: grid(1.3, 3.5, 0.05))
+    # a zero is resolved when floor-clearing probes of opposite sign bracket it this closely
+    # (the first pass's spacing) and the drift crosses zero once between them
+    resolve_width_rad: float = 0.05
+    # the second pass (`surface.refinement_probes`): inside every unresolved bracket and
+    # near-zero band, probes this far apart, averaged this long (4 s: half the first pass's
+    # standard error on a 2 s window)
+    refine_step: float = 0.01
+    refine_average_s: float = 4.0
+    link_tol_rad: float = 0.12  # a stable zero continues a branch at the next beta within this
+    chunk_size: int = 8
+
+    @property
+    def duration_s(self) -> float:
+        return self.settle_s + self.average_s
+
+    def to_dict(self) -> dict[str, Any]:
+        return asdict(self)
+
+
+class _Model(BaseModel):
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+
+class SurfacePoint(_Model):
+    """One pinned probe at (beta, D)."""
+
+    beta: float
+    pin_d31: float  # D, rad
+    d31: float | None  # Delta31 sampled after leg-1 touchdowns (circular mean), rad
+    spread: float | None  # max |sample - mean| over the averaging window, rad
+    drift: float | None  # rad per gait cycle, 1/4 [(e5 + e6) - (e1 + e2)]
+    drift_se: float | None  # its standard error from `SurfaceConfig.block_s` windows, rad
+    jumps: list[float | None]  # mean e1..e6, rad (e > 0: the leg landed early)
+    cycles: int  # leg-1 touchdowns averaged
+    usable: bool  # periodic, near its pin, not failed: used for zeros
+    why: str = ""  # why not usable
+
+
+class SurfaceZero(_Model):
+    """A zero of d at one beta."""
+
+    beta: float
+    d31: float  # where the raw drift crosses zero (if once), else the bracket's middle, rad
+    lo: float  # the bracket: the probes on either side, rad
+    hi: float
+    stable: bool  # d falls through zero as Delta31 rises
+    slope: float | None  # dd / dDelta31, the secant over the bracket; return map 1 + 4 slope
+    resolved: bool
+
+
+class NearZero(_Model):
+    """A band where |d| stays inside the noise floor and returns to its sign: a tangency, a
+    ghost, or a narrow pair of zeros the surface cannot separate."""
+
+    beta: float
+    lo: float
+    hi: float
+    sign: int  # the sign of d on both sides
+    min_abs_drift: float  # the smallest |d| in the band, rad per cycle
+
+
+class Branch(_Model):
+    """Stable zeros linked across neighbouring betas (each within `link_tol_rad`)."""
+
+    betas: list[float]
+    d31: list[float]
+    resolved: list[bool]
+
+
+class Fold(_Model):
+    """Where a stable branch ends between two grid betas (resolution: their distance)."""
+
+    beta_lo: float
+    beta_hi: float
+    d31: float  # the branch's last value, rad
+    side: str  # "ends as beta rises" or "ends as beta falls"
+    resolution: float  # beta_hi - beta_lo
+    resolved: bool  # the branch's last zero was resolved
+
+
+class DriftSurface(_Model):
+    """The drift surface over betas x D, with what it says."""
+
+    config: dict[str, Any]
+    betas: list[float]
+    points: list[SurfacePoint]
+    zeros: list[SurfaceZero]
+    near_zeros: list[NearZero]
+    branches: list[Branch]
+    folds: list[Fold]
+    sim_s: float  # simulated seconds behind it
+    body_mass_g: float
+    slope_deg: float
+    ground: str
+
+    def zeros_at(self, beta: float) -> list[SurfaceZero]:
+        return [z for z in self.zeros if abs(z.beta - beta) < 1e-9]
+
+    def points_at(self, beta: float) -> list[SurfacePoint]:
+        return [p for p in self.points if abs(p.beta - beta) < 1e-9]
