@@ -6,7 +6,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Literal
 
-from pydantic import ValidationInfo, field_validator
+from pydantic import Field, ValidationInfo, field_validator
 
 from server.kinds.base import BetaRange, Kind, Physics, Progress
 from server.kinds.bounds import bounded, core_bounds, core_default
@@ -38,6 +38,13 @@ class SurfaceJob(Physics):
         "gain_per_s",
         "the pin's gain K, 1/s",
         **core_bounds("pin_gain_per_s"),
+    )
+
+    refine: bool = Field(
+        True,
+        description="a second pass of finer (0.01 rad), longer (4 s) probes inside every "
+        "unresolved zero's bracket and near-zero band, as `insect-gait surface` does; its "
+        "probes are not in the size estimate (typically 30-60% more simulated time)",
     )
 
     @field_validator("phase_reset")
@@ -74,12 +81,12 @@ class SurfaceJob(Physics):
 
 def run(job: SurfaceJob, progress: Progress, nthread: int) -> dict[str, Any]:
     """The surface by the core's `drift_surface`, in this worker (a private cache: the job's
-    probes are its own), refined as `insect-gait surface` refines it, with flat rows: one per
-    probe, zero and near-zero band."""
+    probes are its own), refined (`refine`) as `insect-gait surface` refines it, with flat
+    rows: one per probe, zero and near-zero band."""
     s = core().drift_surface(
         job.beta_range.values(), config=job.config(), params=job.model_params(),
         body_mass_g=job.body_mass_g, slope_deg=job.slope_deg, numerics=job.spec_numerics(),
-        progress=False, on_progress=lambda x: progress(min(0.99, x)),
+        refine=job.refine, progress=False, on_progress=lambda x: progress(min(0.99, x)),
     )  # fmt: skip
     rows: list[dict[str, Any]] = [
         {

@@ -15,6 +15,11 @@ from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
 
 # the betas issue 39 validates at: the Fig. 7 betas and the two ends of the paper's window
 CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
+# Fig. 8 from the surface: 25 betas, 0.005 apart, around the paper's window 0.62-0.70
+FIG8_BETAS = tuple(round(0.60 + 0.005 * k, 3) for k in range(25))
+MAP_BETAS = (0.64, 0.655, 0.675)  # Fig. 7
+MECHANISM_BETAS = (0.62, 0.655, 0.70)
+SURFACE_FILE = "surface.json"
 
 
 def _grid(text: str) -> tuple[float, float, float]:
@@ -52,6 +57,18 @@ def _add_surface_args(p: Any) -> None:
         default=None,
         help="the pin's gain K, 1/s (default 30: see docs/MODEL.md, Instruments)",
     )
+    p.add_argument(
+        "--dt-s",
+        type=float,
+        default=None,
+        help="physics timestep, s (default: the model's; the dt/2 check halves it)",
+    )
+    p.add_argument(
+        "--no-refine",
+        action="store_true",
+        help="skip the second pass of finer, longer probes inside unresolved zeros "
+        "and near-zero bands",
+    )
     _add_backend_args(p, [b for b in BACKENDS if b != "ray"])
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
@@ -84,6 +101,28 @@ def register(sub: Any) -> None:
     _add_surface_args(c)
     c.add_argument("--out", default=None, help="also write the surface's JSON to this file")
     c.set_defaults(func=_cmd_check)
+    _add_figures(sub)
+
+
+def _add_figures(sub: Any) -> None:
+    f = sub.add_parser(
+        "surface-figures",
+        help="Figs. 7 and 8 and the mechanism from the drift surface (25 betas 0.60-0.72), "
+        "with their reproduction rows",
+    )
+    f.add_argument(
+        "--out",
+        default=str(RESULTS_DIR),
+        help="folder for surface.json and the PNGs (default %(default)s)",
+    )
+    f.add_argument(
+        "--doc",
+        default="docs/REPRODUCTION.md",
+        help="markdown file whose 'surface' section to rewrite (default %(default)s)",
+    )
+    f.add_argument("--no-doc", action="store_true", help="do not touch any markdown file")
+    _add_surface_args(f)
+    f.set_defaults(func=_cmd_figures, beta=list(FIG8_BETAS), ground="constraint")
 
 
 def _config(args: argparse.Namespace) -> Any:
@@ -99,8 +138,19 @@ def _config(args: argparse.Namespace) -> Any:
     return cfg
 
 
-def _run(args: argparse.Namespace, prog: str, **fields: Any) -> Any:
-    """The surface the arguments ask for, or None after printing why not (exit 2)."""
+def _run(
+    args: argparse.Namespace,
+    prog: str,
+    *,
+    sample: tuple[float, ...] | None = None,
+    dt_s: float | None = None,
+    stats: Any = None,
+    **fields: Any,
+) -> Any:
+    """The surface the arguments ask for, or None after printing why not (exit 2); `sample`
+    replaces the held Delta31 grid, `dt_s` the physics step."""
+    from dataclasses import replace
+
     from pydantic import ValidationError
 
     from sim_core.model.params import ModelParams
@@ -109,10 +159,14 @@ def _run(args: argparse.Namespace, prog: str, **fields: Any) -> Any:
     from sim_core.runs.cache import ResultCache
 
     cfg = _config(args)
+    if sample is not None:
+        cfg = replace(cfg, d31_grid=sample)
+    dt_s = dt_s if dt_s is not None else getattr(args, "dt_s", None)
+    numerics = None if dt_s is None else {"dt_s": dt_s}
     try:  # every probe's spec is valid before anything runs: the same words as the API's
         for b in args.beta:
             for d in (cfg.d31_grid[0], cfg.d31_grid[-1]):
-                probe_spec(Probe(b, d, cfg.average_s), cfg, **fields)
+                probe_spec(Probe(b, d, cfg.average_s), cfg, **fields, **(numerics or {}))
     except ValidationError as exc:
         err = exc.errors()[0]
         where = ".".join(str(x) for x in err["loc"]) or "spec"
@@ -133,7 +187,10 @@ def _run(args: argparse.Namespace, prog: str, **fields: Any) -> Any:
             backend=backend,
             config=cfg,
             params=ModelParams(ground=args.ground),
+            numerics=numerics,
+            refine=not args.no_refine,
             progress=not args.no_progress,
+            stats=stats,
             **fields,
         )
     except KeyboardInterrupt:
@@ -208,3 +265,99 @@ def _cmd_check(args: argparse.Namespace) -> int:
     print(table(rows))
     print(describe(surface))
     return 0 if all(r.ok for r in rows) else 1
+
+
+def _cmd_figures(args: argparse.Namespace) -> int:
+    import time
+    from datetime import date
+
+    from sim_core.docsections import replace_section
+    from sim_core.model.params import ModelParams
+    from sim_core.paper.reproduce import BETA_TOL
+    from sim_core.paper.surface_check import SAMPLE_BETAS, SAMPLE_D31, variant_rows, variant_table
+    from sim_core.paper.surface_figures import fig7_surface, fig8_surface, mechanism, table_rows
+    from sim_core.paper.values import PAPER
+    from sim_core.runs.backends import RunStats
+
+    prog = "insect-gait surface-figures"
+    out = Path(args.out)
+    doc = None if args.no_doc else Path(args.doc)
+    if doc is not None and not doc.is_file():
+        print(f"{prog}: error: --doc {doc}: no such file", file=sys.stderr)
+        return EXIT_USAGE
+    t0 = time.perf_counter()
+    stats = RunStats()
+    surface = _run(args, prog, stats=stats)
+    if surface is None:
+        return EXIT_USAGE
+    t_fig8 = time.perf_counter() - t0
+    paper_args = argparse.Namespace(
+        **{**vars(args), "ground": "penalty", "beta": list(MECHANISM_BETAS)}
+    )
+    paper_ground = _run(paper_args, prog)
+    if paper_ground is None:
+        return EXIT_USAGE
+    # the protocol's own checks on a sample: the pin at a third of its gain, half the step
+    cfg = _config(args)
+    k3 = argparse.Namespace(
+        **{
+            **vars(args),
+            "beta": list(SAMPLE_BETAS),
+            "no_refine": True,
+            "d31": None,
+            "gain_per_s": cfg.gain_per_s / 3,
+        }
+    )
+    half = argparse.Namespace(**{**vars(k3), "gain_per_s": cfg.gain_per_s})
+    sample = {
+        "K/3": _run(k3, prog, sample=SAMPLE_D31),
+        "dt/2": _run(half, prog, sample=SAMPLE_D31, dt_s=ModelParams().dt / 2),
+    }
+    if any(v is None for v in sample.values()):
+        return EXIT_USAGE
+    checks, checks_ok = variant_rows(surface, {k: v for k, v in sample.items() if v}, cfg.floor_rad)
+    wall = time.perf_counter() - t0
+    out.mkdir(parents=True, exist_ok=True)
+    (out / SURFACE_FILE).write_text(surface.model_dump_json())
+    (out / "surface_penalty.json").write_text(paper_ground.model_dump_json())
+    sweeps = _read_data(out / "fig8.json")
+    fig8_surface(surface, out / "fig8_surface.png", PAPER, sweeps)
+    maps = (_read_data(out / "fig7.json") or {}).get("maps", [])
+    free = {float(m["beta"]): m for m in maps}
+    fig7_surface(surface, out / "fig7_surface.png", MAP_BETAS, free)
+    mechanism(
+        {"constraint": surface, "penalty": paper_ground}, MECHANISM_BETAS, out / "mechanism.png"
+    )
+    rows = table_rows(surface, PAPER, BETA_TOL)
+    lines = ["| paper states | paper | ours (drift surface) | reproduced? |", "|---|---|---|---|"]
+    lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
+    lines += [
+        "",
+        f"Generated by `insect-gait surface-figures`: {len(surface.points)} probes "
+        f"({surface.sim_s:.0f} simulated s) for Fig. 8 ({stats.computed} computed, "
+        f"{stats.cached} read from the cache) in {t_fig8:.0f} s wall, {wall:.0f} s with the "
+        f"paper's ground's mechanism surfaces and the sample checks, on the `{args.backend}` "
+        f"backend ({date.today().isoformat()}).",
+    ]
+    lines += [
+        "",
+        f"The protocol on a sample (every difference within the {cfg.floor_rad * 1e3:g} "
+        f"mrad noise floor: {'yes' if checks_ok else '**no**'}):",
+        "",
+        variant_table(checks),
+    ]
+    table = "\n".join(lines)
+    if doc is not None:
+        doc.write_text(replace_section(doc.read_text(), "surface", table))
+    print(table)
+    print(describe(surface))
+    return 0
+
+
+def _read_data(path: Path) -> dict[str, Any] | None:
+    """The `data` of a reproduce figure file (the free runs Figs. 7-8 are checked against)."""
+    try:
+        data = json.loads(path.read_text()).get("data")
+    except (OSError, ValueError):
+        return None
+    return data if isinstance(data, dict) else None

@@ -103,3 +103,57 @@ def table(rows: list[BetaCheck]) -> str:
             f"{unres} | {xs(r.finder_stable)} | {xs(r.finder_borders)} | {verdict} |"
         )
     return "\n".join(lines)
+
+
+# --- the protocol's own checks: the pin's gain and the step ---------------------------------------
+# a sample of the surface re-measured with the pin at a third of its gain and at half the step
+SAMPLE_BETAS = (0.64, 0.675)
+SAMPLE_D31 = (1.75, 1.9, 2.3, 2.6, 2.9)
+
+
+@dataclass
+class VariantRow:
+    """One sampled probe measured by the surface's protocol and by a variant of it."""
+
+    variant: str
+    beta: float
+    d31: float
+    drift: float | None  # rad per cycle, the surface's protocol
+    other: float | None  # the variant's
+
+    @property
+    def diff(self) -> float | None:
+        return None if self.drift is None or self.other is None else self.other - self.drift
+
+
+def variant_rows(
+    base: DriftSurface, variants: dict[str, DriftSurface], floor_rad: float
+) -> tuple[list[VariantRow], bool]:
+    """Each variant's probes beside the same (beta, D) of `base`; ok when every difference is
+    within `floor_rad` (the noise floor the surface claims)."""
+    rows: list[VariantRow] = []
+    for name, s in variants.items():
+        for p in s.points:
+            q = next((x for x in base.points_at(p.beta) if abs(x.pin_d31 - p.pin_d31) < 1e-9), None)
+            rows.append(
+                VariantRow(name, p.beta, p.pin_d31, None if q is None else q.drift, p.drift)
+            )
+    ok = all(r.diff is not None and abs(r.diff) <= floor_rad for r in rows)
+    return rows, ok
+
+
+def variant_table(rows: list[VariantRow]) -> str:
+    lines = [
+        "| variant | β | D | drift (mrad/cycle) | variant's | difference |",
+        "|---|---|---|---|---|---|",
+    ]
+    for r in rows:
+
+        def m(x: float | None) -> str:
+            return "n/a" if x is None else f"{1e3 * x:+.2f}"
+
+        lines.append(
+            f"| {r.variant} | {r.beta:g} | {r.d31:.2f} | {m(r.drift)} | {m(r.other)} | "
+            f"{m(r.diff)} |"
+        )
+    return "\n".join(lines)
