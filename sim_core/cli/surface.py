@@ -28,7 +28,7 @@ def _grid(text: str) -> tuple[float, float, float]:
         lo, hi, step = (float(x) for x in text.split(":"))
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not LO:HI:STEP, e.g. 1.3:3.5:0.05") from None
-    if not (0.0 <= lo < hi < 6.2832 and 0.0 < step <= hi - lo):
+    if not (0.0 <= lo < hi < 6.2832 and 0.0 < step <= hi - lo + 1e-9):
         raise argparse.ArgumentTypeError(
             f"{text!r}: need 0 <= LO < HI < 2 pi and 0 < STEP <= HI - LO (rad)"
         )

@@ -214,7 +214,7 @@ def zeros_of(
                         hi=xp,
                         stable=dq > 0 > d,
                         slope=(d - dq) / (xp - xq) if xp > xq else None,
-                        resolved=cross is not None and xp - xq <= cfg.resolve_width_rad,
+                        resolved=cross is not None and xp - xq <= cfg.resolve_width_rad + 1e-9,
                     )
                 )
             elif j > last + 1:

@@ -98,8 +98,13 @@ def _result(beta: float, jumps: list[float], d31: float, spread: float = 0.0) ->
     tds = [t.tolist() for _ in range(6)]
     phases = [[(aep - e) % TWO_PI] * t.size for e in jumps]
     wobble = spread * np.sin(np.arange(t.size))
-    return {"touchdowns_s": tds, "touchdown_phases": phases, "d31": (d31 + wobble).tolist(),
-            "d31_times_s": t.tolist(), "failure": None}  # fmt: skip
+    return {
+        "touchdowns_s": tds,
+        "touchdown_phases": phases,
+        "d31": (d31 + wobble).tolist(),
+        "d31_times_s": t.tolist(),
+        "failure": None,
+    }
 
 
 def test_a_probe_reads_the_drift_of_its_jumps() -> None:
@@ -124,14 +129,32 @@ def test_a_probe_that_wanders_or_leaves_its_pin_is_kept_but_not_used() -> None:
 
 # --- zeros, bands, branches, folds --------------------------------------------------------------
 def _pt(beta: float, x: float, d_mrad: float, se_mrad: float = 0.0) -> SurfacePoint:
-    return SurfacePoint(beta=beta, pin_d31=x, d31=x, spread=0.0, drift=d_mrad * 1e-3,
-                        drift_se=se_mrad * 1e-3, jumps=[0.0] * 6, cycles=20, usable=True)  # fmt: skip
+    return SurfacePoint(
+        beta=beta,
+        pin_d31=x,
+        d31=x,
+        spread=0.0,
+        drift=d_mrad * 1e-3,
+        drift_se=se_mrad * 1e-3,
+        jumps=[0.0] * 6,
+        cycles=20,
+        usable=True,
+    )
 
 
 def test_zeros_are_resolved_only_between_clear_neighbours() -> None:
     cfg = SurfaceConfig()
-    curve = [(1.70, 4.0), (1.75, -2.0), (1.80, 0.1), (1.85, 0.05), (1.90, 3.0),
-             (1.95, 2.0), (2.00, 0.1), (2.05, 1.5), (2.10, -2.0)]  # fmt: skip
+    curve = [
+        (1.70, 4.0),
+        (1.75, -2.0),
+        (1.80, 0.1),
+        (1.85, 0.05),
+        (1.90, 3.0),
+        (1.95, 2.0),
+        (2.00, 0.1),
+        (2.05, 1.5),
+        (2.10, -2.0),
+    ]
     zeros, near = zeros_of([_pt(0.64, x, d) for x, d in curve], cfg)
     z = {round(z.d31, 3): z for z in zeros}
     s1 = z[round(1.70 + 0.05 * 4 / 6, 3)]  # + to - between neighbours: resolved, stable
@@ -156,12 +179,20 @@ def test_branches_link_stable_zeros_and_folds_mark_their_ends() -> None:
     cfg = SurfaceConfig()
 
     def zero(b: float, x: float) -> SurfaceZero:
-        return SurfaceZero(beta=b, d31=x, lo=x - 0.02, hi=x + 0.02, stable=True, slope=-0.1,
-                           resolved=True)  # fmt: skip
+        return SurfaceZero(
+            beta=b, d31=x, lo=x - 0.02, hi=x + 0.02, stable=True, slope=-0.1, resolved=True
+        )
 
     betas = [0.62, 0.63, 0.64, 0.65]
-    zs = [zero(0.62, 1.76), zero(0.63, 1.75), zero(0.64, 1.74), zero(0.65, 1.74),
-          zero(0.62, 2.95), zero(0.63, 2.94), zero(0.64, 2.30)]  # fmt: skip
+    zs = [
+        zero(0.62, 1.76),
+        zero(0.63, 1.75),
+        zero(0.64, 1.74),
+        zero(0.65, 1.74),
+        zero(0.62, 2.95),
+        zero(0.63, 2.94),
+        zero(0.64, 2.30),
+    ]
     branches, folds = branches_of(zs, betas, cfg)
     assert sorted(len(b.betas) for b in branches) == [1, 2, 4]
     ends = {(f.beta_lo, f.beta_hi, f.side) for f in folds}
@@ -180,7 +211,7 @@ def test_the_check_fails_a_surface_that_misses_a_finder_state() -> None:
     cfg = SurfaceConfig()
     cell = _finder_cell(0.70)  # one stable state, 1.685
     x = cell.stable()[0].d31
-    curve = [(x - 0.1, 5.0), (x - 0.05, 2.0), (x + 0.05, -2.0), (x + 0.1, -5.0)]
+    curve = [(x - 0.07, 5.0), (x - 0.02, 2.0), (x + 0.02, -2.0), (x + 0.07, -5.0)]
     good = assemble([0.70], [_pt(0.70, a, d) for a, d in curve], cfg, sim_s=0.0)
     assert check_beta(good, cell).ok
     shift = 2 * STABLE_TOL
@@ -193,31 +224,54 @@ def test_the_check_fails_a_surface_that_misses_a_finder_state() -> None:
 def test_drift_surface_runs_through_the_cache_and_resumes(tmp_path: Path) -> None:
     cfg = SurfaceConfig(d31_grid=(1.9, 2.3), settle_s=0.5, average_s=0.5, block_s=0.25)
     seen: list[float] = []
-    s = drift_surface([0.655], cache=ResultCache(tmp_path), config=cfg, refine=False,
-                      progress=False, on_progress=seen.append)  # fmt: skip
+    s = drift_surface(
+        [0.655],
+        cache=ResultCache(tmp_path),
+        config=cfg,
+        refine=False,
+        progress=False,
+        on_progress=seen.append,
+    )
     assert len(s.points) == 2 and s.sim_s == pytest.approx(2.0)
     assert all(p.drift is not None for p in s.points) and seen[-1] == pytest.approx(1.0)
     # the metachronal side attracts at 0.655: d falls from 1.9 to 2.3 through a stable zero
     assert s.points[0].drift is not None and s.points[1].drift is not None
     assert s.points[0].drift > 0 > s.points[1].drift
     assert [z.stable for z in s.zeros] == [True]
-    again = drift_surface([0.655], cache=ResultCache(tmp_path), config=cfg, refine=False,
-                          progress=False)  # fmt: skip
+    again = drift_surface(
+        [0.655], cache=ResultCache(tmp_path), config=cfg, refine=False, progress=False
+    )
     assert again.model_dump() == s.model_dump()
 
 
 def test_the_surface_command_prints_zeros_and_refuses_bad_grids(tmp_path: Path) -> None:
-    cmd = [sys.executable, "-m", "sim_core.cli", "surface", "--no-progress", "--no-refine",
-           "--backend", "inline", "--cache", str(tmp_path)]  # fmt: skip
-    bad = subprocess.run([*cmd, "--beta", "0.64", "--d31", "3:2:0.1"], capture_output=True,
-                         text=True, cwd=REPO)  # fmt: skip
-    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "LO:HI:STEP" in bad.stderr
+    cmd = [
+        sys.executable,
+        "-m",
+        "sim_core.cli",
+        "surface",
+        "--no-progress",
+        "--no-refine",
+        "--backend",
+        "inline",
+        "--cache",
+        str(tmp_path),
+    ]
+    bad = subprocess.run(
+        [*cmd, "--beta", "0.64", "--d31", "3:2:0.1"], capture_output=True, text=True, cwd=REPO
+    )
+    assert bad.returncode == 2 and bad.stderr.count("\n") == 1 and "LO < HI" in bad.stderr
     bad = subprocess.run([*cmd, "--beta", "0.4"], capture_output=True, text=True, cwd=REPO)
     assert bad.returncode == 2 and "beta" in bad.stderr and bad.stderr.count("\n") == 1
     grid_text = "1.9:2.3:0.4"
     assert grid(1.9, 2.3, 0.4) == (1.9, 2.3)
-    ok = subprocess.run([*cmd, "--beta", "0.655", "--d31", grid_text, "--json"],
-                        capture_output=True, text=True, cwd=REPO, check=True)  # fmt: skip
+    ok = subprocess.run(
+        [*cmd, "--beta", "0.655", "--d31", grid_text, "--json"],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+        check=True,
+    )
     surface = json.loads(ok.stdout)
     assert [z["stable"] for z in surface["zeros"]] == [True]
 
@@ -226,7 +280,18 @@ def test_the_surface_command_prints_zeros_and_refuses_bad_grids(tmp_path: Path) 
 def test_surface_check_agrees_with_the_finder_at_five_betas() -> None:
     """Issue 39, point 3: stable zeros within 0.03 rad of the finder's states and borders
     within 0.05, at 0.62, 0.64, 0.655, 0.675 and 0.70 (about 1,300 simulated s)."""
-    out = subprocess.run([sys.executable, "-m", "sim_core.cli", "surface-check",
-                          "--no-progress", "--cache", "out/cache"],
-                         capture_output=True, text=True, cwd=REPO)  # fmt: skip
+    out = subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "sim_core.cli",
+            "surface-check",
+            "--no-progress",
+            "--cache",
+            "out/cache",
+        ],
+        capture_output=True,
+        text=True,
+        cwd=REPO,
+    )
     assert out.returncode == 0, out.stdout + out.stderr
