@@ -81,6 +81,7 @@ from sim_core.paper.results import (
     BIFURCATION_FILE,
     RESULTS_DIR,
     RESULTS_ENV,
+    SURFACE_FILE,
     atlas_file,
 )
 from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
@@ -121,6 +122,7 @@ __all__ = [
     "RETURN_MAP_SKIP",
     "SLIDE_BACK_SPEED_M_S",
     "SLIDE_WINDOW_S",
+    "SURFACE_FILE",
     "TAIL_DRIFT_SETTLED",
     "TRIPOD",
     "TWO_PI",

@@ -38,6 +38,7 @@ from sim_core.contract import (
     AXIS_LABEL,
     RETURN_MAP_SKIP,
     AtlasOutput,
+    DriftSurface,
     FinderOutput,
     Ramp,
     atlas_file,
@@ -47,7 +48,7 @@ from web import controls, export
 from web.bifurcation import WatchedFile, finder_points
 from web.pacing import RateMeter, SimClock
 from web.panels import Panels, Readouts
-from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION
+from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, DEFAULT_SURFACE
 from web.record import Conditions, D31Conditions, d31_since, footfall_bars
 from web.requests import (
     PARAMS,
@@ -66,6 +67,7 @@ from web.requests import (
     StopRamp,
 )
 from web.scene import HexapodScene
+from web.surface_svg import surface_svg
 from web.svg import atlas_svg, bifurcation_svg, d31_svg, footfall_svg, return_map_svg
 
 log = logging.getLogger(__name__)
@@ -105,6 +107,7 @@ class ViewerApp:
         spec: RunSpec | None = None,
         config: LoopConfig | None = None,
         bifurcation_path: Path = DEFAULT_BIFURCATION,
+        surface_path: Path = DEFAULT_SURFACE,
         api_url: str = DEFAULT_API_URL,
     ) -> None:
         self.cfg = config or LoopConfig()
@@ -141,6 +144,7 @@ class ViewerApp:
             axis: WatchedFile(atlas_file(bifurcation_path.parent, axis), AtlasOutput, "atlas")
             for axis in ATLAS_AXES
         }
+        self.surface = WatchedFile(surface_path, DriftSurface, "drift surface")
         self.playing = True
         self.speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
         self.ramp: Ramp | None = None
@@ -504,6 +508,18 @@ class ViewerApp:
                 (self.sim.beta, value),
                 (controls.BETA.lo, controls.BETA.hi),
             ),
+        )
+        surface, snote = self.surface.get()
+        # the map (~80 kB of SVG) is rebuilt only when the file changes or the live point
+        # enters another cell of the surface's grid (0.005 in beta, 0.05 rad): a walk that
+        # drifts slowly costs the browser a redraw every few seconds, not every 0.4 s
+        d31 = live[1]
+        cell = (round(self.sim.beta / 0.005), None if d31 is None else round(d31 / 0.05))
+        beta_range = (controls.BETA.lo, controls.BETA.hi)
+        self._redraw(
+            self.panels.surface,
+            (self.surface.version, cell, beta_range),
+            lambda: surface_svg(surface, snote, live, beta_range),
         )
 
     def _ramp_draws_on_beta(self) -> bool:

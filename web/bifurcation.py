@@ -54,6 +54,8 @@ class WatchedFile(Generic[M]):
         self.what = what
         self._mtime: float | None = -1.0
         self._value: tuple[M | None, str] = (None, "")
+        # bumps on every (re)read: a redraw key that cannot collide, as an object's id can
+        self.version = 0
 
     def get(self) -> tuple[M | None, str]:
         try:
@@ -63,6 +65,7 @@ class WatchedFile(Generic[M]):
         if mtime != self._mtime:
             self._mtime = mtime
             self._value = load_validated(self.path, self.model, self.what)
+            self.version += 1
         return self._value
 
 

@@ -14,7 +14,7 @@ from pathlib import Path
 
 from sim_core.cli import EXIT_USAGE, port_number, port_taken
 from sim_core.contract import RESULTS_ENV
-from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION
+from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, SURFACE_FILE
 
 
 def register(subparsers: argparse._SubParsersAction) -> None:
@@ -36,6 +36,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="the finder's results (a FinderOutput, `insect-gait reproduce`) to draw, if "
         "present; atlas_mass.json and atlas_slope.json are read from the same folder "
         f"(default %(default)s; {RESULTS_ENV} sets the folder)",
+    )
+    p.add_argument(
+        "--surface",
+        type=Path,
+        default=None,
+        help="the drift surface (a DriftSurface, `insect-gait surface-figures`) to draw, if "
+        f"present (default: {SURFACE_FILE} next to the bifurcation file)",
     )
     p.add_argument(
         "--api-url",
@@ -63,7 +70,14 @@ def run(args: argparse.Namespace) -> int:
     from web.app import ViewerApp
 
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
-    app = ViewerApp(args.host, args.port, bifurcation_path=args.bifurcation, api_url=args.api_url)
+    surface = args.surface or args.bifurcation.parent / SURFACE_FILE
+    app = ViewerApp(
+        args.host,
+        args.port,
+        bifurcation_path=args.bifurcation,
+        surface_path=surface,
+        api_url=args.api_url,
+    )
     if app.port != args.port:  # taken in the instant between the check and viser's bind
         app.server.stop()
         return _refuse_busy(args)

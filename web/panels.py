@@ -245,6 +245,8 @@ class Panels:
             self._disabled: str | None = None  # the slider a running ramp has disabled
         with gui.add_folder("Bifurcation"):
             self.bifurcation = gui.add_html("<em>bifurcation diagram</em>")
+        with gui.add_folder("Drift surface"):
+            self.surface = gui.add_html("<em>drift surface</em>")
         with gui.add_folder("Atlas"):
             self.atlas_axis_buttons = gui.add_button_group("atlas over", ("mass", "slope"))
             self.atlas_axis = "mass"  # read by the loop; a str store is atomic

@@ -11,7 +11,7 @@ from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE
 from sim_core.cli.paper import _add_backend_args
-from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
+from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR, SURFACE_FILE
 
 # the betas issue 39 validates at: the Fig. 7 betas and the two ends of the paper's window
 CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
@@ -19,7 +19,9 @@ CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
 FIG8_BETAS = tuple(round(0.60 + 0.005 * k, 3) for k in range(25))
 MAP_BETAS = (0.64, 0.655, 0.675)  # Fig. 7
 MECHANISM_BETAS = (0.62, 0.655, 0.70)
-SURFACE_FILE = "surface.json"
+# the atlas from the surface: 7 betas across the paper's window and past it, 0.02 apart
+ATLAS_BETAS = tuple(round(0.60 + 0.02 * k, 2) for k in range(7))
+ATLAS_VALUES = {"mass": (1.0, 2.0, 3.0, 4.5, 6.0, 8.0), "slope": (-20.0, -10.0, 0.0, 10.0, 20.0)}
 
 
 def _grid(text: str) -> tuple[float, float, float]:
@@ -102,6 +104,33 @@ def register(sub: Any) -> None:
     c.add_argument("--out", default=None, help="also write the surface's JSON to this file")
     c.set_defaults(func=_cmd_check)
     _add_figures(sub)
+    a = sub.add_parser(
+        "surface-atlas",
+        help="the gait atlas from the drift surface: which gaits are stable over beta x body "
+        "mass (or slope), and where their branches fold",
+    )
+    a.add_argument("--axis", choices=["mass", "slope"], required=True)
+    a.add_argument(
+        "--beta",
+        type=float,
+        nargs="+",
+        default=list(ATLAS_BETAS),
+        help="duty factors (default %(default)s)",
+    )
+    a.add_argument(
+        "--values",
+        type=float,
+        nargs="+",
+        default=None,
+        help="body masses (g) or slopes (deg) (default: mass 1 2 3 4.5 6 8; slope -20 -10 0 10 20)",
+    )
+    a.add_argument(
+        "--out",
+        default=str(RESULTS_DIR),
+        help="folder for surface_atlas_<axis>_<ground>.json/png (default %(default)s)",
+    )
+    _add_surface_args(a)
+    a.set_defaults(func=_cmd_atlas)
 
 
 def _add_figures(sub: Any) -> None:
@@ -361,3 +390,81 @@ def _read_data(path: Path) -> dict[str, Any] | None:
     except (OSError, ValueError):
         return None
     return data if isinstance(data, dict) else None
+
+
+def _cmd_atlas(args: argparse.Namespace) -> int:
+    import time
+
+    from sim_core.model.params import ModelParams
+    from sim_core.paper.surface_atlas import draw_atlas, surface_atlas
+    from sim_core.runs.backends import BackendUnavailable, RunStats, get_backend
+    from sim_core.runs.cache import ResultCache
+
+    prog = "insect-gait surface-atlas"
+    values = args.values or list(ATLAS_VALUES[args.axis])
+    field = "body_mass_g" if args.axis == "mass" else "slope_deg"
+    for v in values:  # the spec's own bounds, before anything runs
+        if _run_check(args, prog, **{field: v}) is None:
+            return EXIT_USAGE
+    try:
+        backend = get_backend(args.backend, args.workers, args.address)
+    except BackendUnavailable as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return EXIT_USAGE
+    stats = RunStats()
+    t0 = time.perf_counter()
+    try:
+        atlas = surface_atlas(
+            args.axis,
+            sorted(args.beta),
+            values,
+            cache=ResultCache(args.cache),
+            backend=backend,
+            config=_config(args),
+            params=ModelParams(ground=args.ground),
+            refine=not args.no_refine,
+            progress=not args.no_progress,
+            stats=stats,
+        )
+    except KeyboardInterrupt:
+        print(
+            f"{prog}: interrupted; finished probes are cached in {args.cache}: run the same "
+            "command again to resume",
+            file=sys.stderr,
+        )
+        return 130
+    finally:
+        backend.close()
+    wall = time.perf_counter() - t0
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    stem = f"surface_atlas_{args.axis}_{args.ground}"
+    (out / f"{stem}.json").write_text(atlas.model_dump_json())
+    draw_atlas(atlas, out / f"{stem}.png")
+    for v in values:
+        row = [p for p in atlas.points if p.value == v]
+        cells = ", ".join(f"{p.beta:g}: {p.region}" + (" (?)" if p.unresolved else "") for p in row)
+        print(f"{args.axis} {v:g}: {cells}")
+    print(
+        f"{atlas.sim_s:.0f} simulated s ({stats.computed} probes computed, {stats.cached} "
+        f"cached) in {wall:.0f} s wall; wrote {out / stem}.json and .png"
+    )
+    return 0
+
+
+def _run_check(args: argparse.Namespace, prog: str, **fields: Any) -> bool | None:
+    """True when every probe's spec would be valid; else None after printing why."""
+    from pydantic import ValidationError
+
+    from sim_core.paper.surface import Probe, probe_spec
+
+    cfg = _config(args)
+    try:
+        for b in args.beta:
+            probe_spec(Probe(b, cfg.d31_grid[0], cfg.average_s), cfg, **fields)
+    except ValidationError as exc:
+        err = exc.errors()[0]
+        where = ".".join(str(x) for x in err["loc"]) or "spec"
+        print(f"{prog}: error: {where}: {err['msg']}", file=sys.stderr)
+        return None
+    return True

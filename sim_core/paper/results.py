@@ -24,6 +24,8 @@ RESULTS_ENV = "INSECT_GAIT_RESULTS"
 _CHECKOUT = Path(__file__).resolve().parents[2]
 # the finder's output over Fig. 8's betas (`reproduce`); the viewer validates it as such
 BIFURCATION_FILE = "bifurcation.json"
+# the drift surface over Fig. 8's betas (`insect-gait surface-figures`); a `DriftSurface`
+SURFACE_FILE = "surface.json"
 # the gait atlas's second axis beside beta (`sim_core.paper.atlas`): one file each
 AtlasAxis = Literal["mass", "slope"]
 ATLAS_AXES: tuple[str, ...] = get_args(AtlasAxis)

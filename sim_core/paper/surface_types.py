@@ -138,3 +138,30 @@ class DriftSurface(_Model):
 
     def points_at(self, beta: float) -> list[SurfacePoint]:
         return [p for p in self.points if abs(p.beta - beta) < 1e-9]
+
+
+class AtlasPoint(_Model):
+    """One (beta, axis value) of a surface atlas: its stable zeros in the window and what
+    they make of the paper's two gaits."""
+
+    beta: float
+    value: float
+    stable: list[float]  # stable zeros' Delta31, rad
+    gaits: list[str]  # classify_gait of each
+    unresolved: int  # zeros or near-zero bands the surface could not resolve here
+    region: str  # "both", "tripod only", "metachronal only", "other states", "none"
+
+
+class SurfaceAtlas(_Model):
+    """Drift surfaces over beta at each value of body mass (g) or slope (deg): which gaits are
+    stable where, and where their branches fold."""
+
+    axis: str  # "mass" or "slope"
+    param: str  # the RunSpec field: body_mass_g or slope_deg
+    ground: str
+    betas: list[float]
+    values: list[float]
+    points: list[AtlasPoint]  # value-major
+    folds: list[tuple[float, Fold]]  # (axis value, fold over beta at that value)
+    sim_s: float
+    config: dict[str, Any]

@@ -1,9 +1,11 @@
 """The viewer's new panels and exports, pure: the finder's bifurcation points, the gait atlas,
-the return map, the whole-run Delta31 record, stance intervals, CSV/JSON exports, job bodies."""
+the drift surface, the return map, the whole-run Delta31 record, stance intervals, CSV/JSON
+exports, job bodies."""
 
 from __future__ import annotations
 
 import csv
+import html
 import io
 import json
 import math
@@ -14,10 +16,11 @@ from typing import Any
 import numpy as np
 import pytest
 
-from sim_core.contract import AtlasOutput, FinderOutput
+from sim_core.contract import AtlasOutput, DriftSurface, FinderOutput
 from web import controls, export
 from web.bifurcation import WatchedFile, finder_points, load_validated
 from web.record import Conditions, D31Event, d31_since, stance_intervals
+from web.surface_svg import drift_colour, drift_level, surface_svg
 from web.svg import MAX_DRAWN, atlas_svg, bifurcation_svg, d31_svg, return_map_svg
 
 
@@ -98,6 +101,9 @@ def test_the_watched_file_rereads_when_it_changes(tmp_path: Path) -> None:
     assert w.get()[0] is None
     path.write_text(_finder().model_dump_json())
     assert w.get()[0] is not None
+    seen = w.version
+    w.get()
+    assert w.version == seen  # unchanged file: same object, same version (no redraw)
 
 
 def _atlas() -> AtlasOutput:
@@ -207,3 +213,99 @@ def test_the_viewer_reads_the_results_folder_the_writers_fill(
     assert results.atlas_file(tmp_path, "mass") in written
     assert AtlasOutput.model_validate_json(results.atlas_file(tmp_path, "mass").read_text())
     assert math.isfinite(controls.RAMP_HOLD_S.initial)
+
+
+SURFACE_JSON = Path(__file__).resolve().parents[2] / "docs" / "figures" / "surface.json"
+BETAS = (0.55, 0.80)  # the viewer's beta slider, the panel's x axis
+
+
+def _surface() -> DriftSurface:
+    surface, note = load_validated(SURFACE_JSON, DriftSurface, "drift surface")
+    assert surface is not None, note
+    return surface
+
+
+def _zeros(svg: str, kind: str, resolved: str = "(?:true|false)") -> int:
+    return len(re.findall(f'<circle class="zero" data-kind="{kind}" data-resolved="{resolved}"',
+                          svg))  # fmt: skip
+
+
+def test_the_drift_surface_draws_its_zeros_bands_folds_and_first_pass_cells() -> None:
+    surface = _surface()
+    svg = surface_svg(surface, "", (0.66, 2.3), BETAS)
+    assert 'data-plot="surface"' in svg and 'class="note"' not in svg
+    stable = [z for z in surface.zeros if z.stable]
+    unstable = [z for z in surface.zeros if not z.stable]
+    assert stable and unstable  # the file has both kinds, so the counts below can fail
+    assert _zeros(svg, "stable") == len(stable) and _zeros(svg, "unstable") == len(unstable)
+    faint = sum(not z.resolved for z in surface.zeros)
+    assert _zeros(svg, "(?:un)?stable", "false") == faint
+    assert svg.count('opacity="0.4"') == faint  # unresolved zeros drawn fainter
+    assert svg.count('class="near-zero"') == len(surface.near_zeros)
+    assert svg.count('class="fold"') == len(surface.folds)
+    # branches: solid lines between stable zeros, dashed between unstable ones
+    assert re.search(r'class="link" data-kind="stable"(?![^>]*dasharray)', svg)
+    assert re.search(r'class="link" data-kind="unstable"[^>]*stroke-dasharray', svg)
+    # one cell per usable probe of the first pass; refinement probes lie off its grid
+    grid = {round(d, 6) for d in surface.config["d31_grid"]}
+    cells = [p for p in surface.points
+             if p.usable and p.drift is not None and round(p.pin_d31, 6) in grid]  # fmt: skip
+    assert len(cells) < sum(p.usable for p in surface.points)
+    assert f'data-n-cells="{len(cells)}"' in svg
+    assert "drift per cycle, mrad" in svg
+
+
+def test_the_drift_colour_scale_is_symmetric_red_where_delta31_grows() -> None:
+    assert drift_level(0.009) == pytest.approx(1.0)  # 9 mrad: log10(1 + 9)
+    assert drift_level(-0.009) == pytest.approx(-1.0)
+    assert drift_colour(0.0, 2.0) == "#ffffff"
+    assert drift_colour(2.0, 2.0) == "#b2182b" and drift_colour(5.0, 2.0) == "#b2182b"
+    assert drift_colour(-2.0, 2.0) == "#2166ac"
+    half_up, half_down = drift_colour(1.0, 2.0), drift_colour(-1.0, 2.0)
+    assert int(half_up[1:3], 16) > int(half_up[5:7], 16)  # reddish
+    assert int(half_down[5:7], 16) > int(half_down[1:3], 16)  # bluish
+
+
+def _live(svg: str) -> tuple[float, float, str]:
+    m = re.search(r'<circle class="live" data-inside="(\w+)" cx="([\d.]+)" cy="([\d.]+)"', svg)
+    assert m, svg[-800:]
+    return float(m[2]), float(m[3]), m[1]
+
+
+def test_the_live_point_rings_at_its_beta_and_delta31() -> None:
+    surface = _surface()
+    # viewBox 300 wide, plot from x 34 to 286: beta 0.65 on 0.55-0.80 is 0.4 of the way
+    x, y, inside = _live(surface_svg(surface, "", (0.65, 2.0), BETAS))
+    assert x == pytest.approx(34 + 0.4 * 252, abs=0.06) and inside == "true"
+    # plot from y 16 (Delta31 3.5) to 130 (1.3): 2.0 is 0.7 / 2.2 of the way up
+    assert y == pytest.approx(130 - 0.7 / 2.2 * 114, abs=0.06)
+    x2, _, _ = _live(surface_svg(surface, "", (0.70, 2.0), BETAS))
+    assert x2 - x == pytest.approx(0.2 * 252, abs=0.1)
+    # outside the surface's Delta31 range: at the edge, and said so
+    _, y_top, inside = _live(surface_svg(surface, "", (0.65, 4.5), BETAS))
+    assert y_top == pytest.approx(16) and inside == "false"
+    assert 'class="live"' not in surface_svg(surface, "", (0.65, None), BETAS)
+
+
+@pytest.mark.parametrize(
+    ("content", "says"),
+    [(None, "no drift surface: "), ("{}", "surface.json is not a DriftSurface: config")],
+)
+def test_without_a_surface_file_the_panel_says_why(
+    tmp_path: Path, content: str | None, says: str
+) -> None:
+    path = tmp_path / "surface.json"
+    if content is not None:
+        path.write_text(content)
+    surface, note = WatchedFile(path, DriftSurface, "drift surface").get()
+    assert surface is None and says in note
+    svg = surface_svg(surface, note, (0.66, 2.0), BETAS)
+    assert 'data-plot="surface"' in svg and 'class="note"' in svg
+    assert html.escape(says) in svg and 'class="zero"' not in svg and 'class="live"' not in svg
+
+
+def test_the_viewer_looks_for_the_surface_where_surface_figures_writes_it() -> None:
+    from sim_core.contract import SURFACE_FILE
+    from web import paths
+
+    assert paths.DEFAULT_SURFACE == paths.DEFAULT_BIFURCATION.parent / SURFACE_FILE

@@ -1,0 +1,176 @@
+"""The gait atlas from the drift surface: at each body mass (or slope) a surface over beta
+(`drift_surface`), read as which of the paper's gaits have a stable zero in the window
+(`PAPER_WINDOW`) and where their branches fold. The finder's atlas (`paper.atlas`) reads the
+same question from settled free runs; this one also sees the folds, at a fixed price per cell.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt
+
+from sim_core.model.gait import classify_gait
+from sim_core.model.params import ModelParams
+from sim_core.paper.analysis import PAPER_WINDOW
+from sim_core.paper.fixedpoints import AXIS_LABEL, AXIS_PARAM
+from sim_core.paper.surface import drift_surface
+from sim_core.paper.surface_types import AtlasPoint, DriftSurface, SurfaceAtlas, SurfaceConfig
+from sim_core.runs.backends import Backend, RunStats
+from sim_core.runs.cache import ResultCache
+
+REGION_COLOURS = {
+    "both": "tab:purple",
+    "tripod only": "tab:red",
+    "metachronal only": "tab:blue",
+    "other states": "0.6",
+    "none": "white",
+}
+
+
+def region(gaits: Sequence[str]) -> str:
+    g = set(gaits)
+    if {"tripod", "metachronal"} <= g:
+        return "both"
+    if "tripod" in g:
+        return "tripod only"
+    if "metachronal" in g:
+        return "metachronal only"
+    return "other states" if g else "none"
+
+
+def atlas_points(surface: DriftSurface, value: float) -> list[AtlasPoint]:
+    lo, hi = PAPER_WINDOW
+    out = []
+    for b in surface.betas:
+        zs = [z for z in surface.zeros_at(b) if lo <= z.d31 <= hi]
+        stable = [z.d31 for z in zs if z.stable]
+        gaits = [classify_gait(x, b) for x in stable]
+        unresolved = sum(not z.resolved for z in zs)
+        unresolved += sum(1 for n in surface.near_zeros if abs(n.beta - b) < 1e-9)
+        out.append(
+            AtlasPoint(
+                beta=b,
+                value=value,
+                stable=stable,
+                gaits=gaits,
+                unresolved=unresolved,
+                region=region(gaits),
+            )
+        )
+    return out
+
+
+def surface_atlas(
+    axis: str,
+    betas: Sequence[float],
+    values: Sequence[float],
+    *,
+    cache: ResultCache,
+    backend: Backend,
+    config: SurfaceConfig | None = None,
+    params: ModelParams | None = None,
+    refine: bool = True,
+    progress: bool = True,
+    stats: RunStats | None = None,
+    on_value: Callable[[float, DriftSurface], None] | None = None,
+) -> SurfaceAtlas:
+    """A drift surface over `betas` at each of `values` of `axis` ("mass": body_mass_g, g;
+    "slope": slope_deg, deg), read as regions and folds. Every probe goes through the cache, so
+    an interrupted atlas resumes; `on_value` hears each value's surface as it is done."""
+    if axis not in AXIS_PARAM:
+        raise ValueError(f"unknown atlas axis {axis!r}; choose from {sorted(AXIS_PARAM)}")
+    cfg = config or SurfaceConfig()
+    p = params or ModelParams()
+    param = AXIS_PARAM[axis]
+    points: list[AtlasPoint] = []
+    folds = []
+    sim_s = 0.0
+    for v in values:
+        mass, slope = (v, 0.0) if param == "body_mass_g" else (ModelParams().body_mass * 1e3, v)
+        s = drift_surface(
+            betas,
+            cache=cache,
+            backend=backend,
+            config=cfg,
+            params=p,
+            refine=refine,
+            progress=progress,
+            stats=stats,
+            body_mass_g=mass,
+            slope_deg=slope,
+        )
+        points += atlas_points(s, v)
+        folds += [(v, f) for f in s.folds if PAPER_WINDOW[0] <= f.d31 <= PAPER_WINDOW[1]]
+        sim_s += s.sim_s
+        if on_value is not None:
+            on_value(v, s)
+    return SurfaceAtlas(
+        axis=axis,
+        param=param,
+        ground=p.ground,
+        betas=list(betas),
+        values=list(values),
+        points=points,
+        folds=folds,
+        sim_s=sim_s,
+        config=cfg.to_dict() | {"refine": refine},
+    )
+
+
+def draw_atlas(atlas: SurfaceAtlas, path: Path) -> None:
+    """Regions as coloured cells (hatched where something was unresolved), the folds of the
+    tripod and metachronal branches as markers at their (beta, value)."""
+    fig, ax = plt.subplots(figsize=(8.0, 4.8))
+    nb, nv = len(atlas.betas), len(atlas.values)
+    db = (atlas.betas[1] - atlas.betas[0]) if nb > 1 else 0.01
+    for k, pt in enumerate(atlas.points):
+        i = k // nb
+        y0 = i - 0.5
+        ax.add_patch(
+            plt.Rectangle(
+                (pt.beta - db / 2, y0),
+                db,
+                1.0,
+                color=REGION_COLOURS.get(pt.region, "0.8"),
+                alpha=0.55 if pt.unresolved else 0.85,
+                hatch="//" if pt.unresolved else None,
+                lw=0,
+            )
+        )
+    for v, f in atlas.folds:
+        gait = classify_gait(f.d31, f.beta_lo)
+        if gait not in ("tripod", "metachronal"):
+            continue
+        i = atlas.values.index(v)
+        marker = "<" if "rises" in f.side else ">"
+        ax.plot(
+            0.5 * (f.beta_lo + f.beta_hi),
+            i,
+            marker,
+            ms=7,
+            mec="k",
+            color=REGION_COLOURS["tripod only" if gait == "tripod" else "metachronal only"],
+        )
+    for name, colour in REGION_COLOURS.items():
+        ax.plot([], [], "s", color=colour, mec="0.5", label=name)
+    ax.plot([], [], "<", color="0.5", mec="k", label="a branch ends as β rises")
+    ax.plot([], [], ">", color="0.5", mec="k", label="a branch ends as β falls")
+    ax.set_xlim(atlas.betas[0] - db / 2, atlas.betas[-1] + db / 2)
+    ax.set_ylim(-0.5, nv - 0.5)
+    ax.set_yticks(range(nv), [f"{v:g}" for v in atlas.values])
+    ax.set_xlabel("duty factor β")
+    ax.set_ylabel(AXIS_LABEL.get(atlas.axis, atlas.axis))
+    ax.set_title(
+        f"gait atlas from the drift surface ({atlas.ground} ground): stable gaits in "
+        f"Δ31 {PAPER_WINDOW[0]}-{PAPER_WINDOW[1]}; hatched: unresolved zeros there",
+        fontsize=9,
+    )
+    ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
