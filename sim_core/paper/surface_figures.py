@@ -102,7 +102,8 @@ def table_rows(surface: DriftSurface, paper: PaperValues, beta_tol: float) -> li
         ranges = stable_ranges(surface, gait)
         segs = "; ".join(f"{_b(lo)}-{_b(hi)}" for lo, hi in ranges) or "nowhere on the grid"
         grid = sorted(surface.betas)
-        ours = f"{segs} (grid {_b(grid[0])}-{_b(grid[-1])} by {_b(grid[1] - grid[0])})"
+        step = f" by {_b(round(grid[1] - grid[0], 6))}" if len(grid) > 1 else ""
+        ours = f"{segs} (grid {_b(grid[0])}-{_b(grid[-1])}{step})"
         ok = len(ranges) == 1 and abs(ranges[0][0] - a) <= beta_tol
         ok = ok and abs(ranges[0][1] - b) <= beta_tol
         rows.append(
