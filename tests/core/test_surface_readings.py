@@ -81,7 +81,9 @@ def test_the_surface_atlas_runs_a_surface_per_value(tmp_path: Path) -> None:
         on_value=lambda v, s: seen.append(v),
     )
     assert seen == [2.0, 4.0] and [p.value for p in atlas.points] == [2.0, 4.0]
-    assert atlas.param == "body_mass_g" and atlas.sim_s == pytest.approx(4.0)  # 2 values x 2 probes x 1 s
+    assert atlas.param == "body_mass_g" and atlas.sim_s == pytest.approx(
+        4.0
+    )  # 2 values x 2 probes x 1 s
     draw_atlas(atlas, tmp_path / "atlas.png")
     assert (tmp_path / "atlas.png").read_bytes()[:4] == b"\x89PNG"
     with pytest.raises(ValueError, match="unknown atlas axis"):
