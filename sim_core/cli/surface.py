@@ -223,11 +223,7 @@ def _run(
             **fields,
         )
     except KeyboardInterrupt:
-        print(
-            f"{prog}: interrupted; finished probes are cached in {args.cache}: run the same "
-            "command again to resume",
-            file=sys.stderr,
-        )
+        _say_interrupted(prog, args.cache)
         raise SystemExit(130) from None
     finally:
         backend.close()
@@ -427,11 +423,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
             stats=stats,
         )
     except KeyboardInterrupt:
-        print(
-            f"{prog}: interrupted; finished probes are cached in {args.cache}: run the same "
-            "command again to resume",
-            file=sys.stderr,
-        )
+        _say_interrupted(prog, args.cache)
         return 130
     finally:
         backend.close()
@@ -468,3 +460,11 @@ def _run_check(args: argparse.Namespace, prog: str, **fields: Any) -> bool | Non
         print(f"{prog}: error: {where}: {err['msg']}", file=sys.stderr)
         return None
     return True
+
+
+def _say_interrupted(prog: str, cache: str) -> None:
+    print(
+        f"{prog}: interrupted; finished probes are cached in {cache}: run the same command "
+        "again to resume",
+        file=sys.stderr,
+    )

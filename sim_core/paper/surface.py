@@ -34,7 +34,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff, circular_mean, drift_per_cycle
+from sim_core.model.gait import angle_diff, circular_mean, drift_per_cycle, phase_jumps
 from sim_core.model.params import ModelParams, phi_aep
 from sim_core.model.spec import RunSpec
 from sim_core.paper.surface_types import (
@@ -103,14 +103,12 @@ def _jumps(
     a: float,
     b: float,
 ) -> np.ndarray:
-    """(6,) mean jump e = phi_AEP - phi_touchdown of each leg's touchdowns in [a, b)."""
-    out = np.full(6, np.nan)
-    for leg, (t, ph) in enumerate(zip(tds, phases, strict=True)):
-        t_arr, ph_arr = np.asarray(t, dtype=float), np.asarray(ph, dtype=float)
-        sel = ph_arr[(t_arr >= a) & (t_arr < b)]
-        if sel.size:
-            out[leg] = float(np.mean(angle_diff(aep, sel)))
-    return out
+    """(6,) mean jump of each leg's touchdowns after `a` and before `b` (`gait.phase_jumps`
+    on the touchdowns before `b`)."""
+    keep = [np.asarray(t, dtype=float) < b for t in tds]
+    times = [np.asarray(t, dtype=float)[k] for t, k in zip(tds, keep, strict=True)]
+    phis = [np.asarray(ph, dtype=float)[k] for ph, k in zip(phases, keep, strict=True)]
+    return phase_jumps(times, phis, aep, a)
 
 
 def read_probe(probe: Probe, result: dict[str, Any], cfg: SurfaceConfig) -> SurfacePoint:

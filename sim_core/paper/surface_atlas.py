@@ -166,8 +166,8 @@ def draw_atlas(atlas: SurfaceAtlas, path: Path) -> None:
     ax.set_xlabel("duty factor β")
     ax.set_ylabel(AXIS_LABEL.get(atlas.axis, atlas.axis))
     ax.set_title(
-        f"gait atlas from the drift surface ({atlas.ground} ground): stable gaits in "
-        f"Δ31 {PAPER_WINDOW[0]}-{PAPER_WINDOW[1]}; hatched: unresolved zeros there",
+        f"gait atlas from the drift surface ({atlas.ground} ground)\nstable gaits with Δ31 in "
+        f"{PAPER_WINDOW[0]}-{PAPER_WINDOW[1]} rad; hatched: unresolved zeros there",
         fontsize=9,
     )
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))

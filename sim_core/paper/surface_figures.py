@@ -29,7 +29,8 @@ import numpy as np
 from matplotlib.colors import SymLogNorm
 
 from sim_core.model.gait import classify_gait
-from sim_core.paper.analysis import PAPER_WINDOW
+from sim_core.paper.analysis import PAPER_WINDOW, FixedPoint
+from sim_core.paper.analysis import stable_ranges as analysis_stable_ranges
 from sim_core.paper.surface_types import DriftSurface, SurfaceZero
 from sim_core.paper.values import PaperValues
 
@@ -49,18 +50,17 @@ def pattern(zeros: Sequence[SurfaceZero]) -> str:
 
 
 def stable_ranges(surface: DriftSurface, gait: str) -> list[tuple[float, float]]:
-    """The grid's runs of betas with a stable zero of `gait` (`classify_gait`) in the window."""
-    ranges: list[tuple[float, float]] = []
-    run: list[float] = []
-    for b in sorted(surface.betas):
-        if any(z.stable and classify_gait(z.d31, b) == gait for z in window_zeros(surface, b)):
-            run.append(b)
-        elif run:
-            ranges.append((run[0], run[-1]))
-            run = []
-    if run:
-        ranges.append((run[0], run[-1]))
-    return ranges
+    """The grid's runs of betas with a stable zero of `gait` in the window: the finder's rule
+    (`analysis.stable_ranges`) on the surface's zeros (map slope 1 + 4 dd/dDelta31)."""
+    betas = sorted(surface.betas)
+    fixed = [
+        [
+            FixedPoint(z.d31, 1.0 + 4.0 * (z.slope or 0.0), z.stable)
+            for z in window_zeros(surface, b)
+        ]
+        for b in betas
+    ]
+    return analysis_stable_ranges(betas, fixed, gait)
 
 
 def _b(x: float) -> str:

@@ -13,20 +13,7 @@ from sim_core.paper.surface_figures import table_rows
 from sim_core.paper.surface_types import SurfaceConfig, SurfacePoint
 from sim_core.paper.values import PAPER
 from sim_core.runs.cache import ResultCache
-
-
-def _pt(beta: float, x: float, d_mrad: float) -> SurfacePoint:
-    return SurfacePoint(
-        beta=beta,
-        pin_d31=x,
-        d31=x,
-        spread=0.0,
-        drift=d_mrad * 1e-3,
-        drift_se=0.0,
-        jumps=[0.0] * 6,
-        cycles=20,
-        usable=True,
-    )
+from tests.core.test_surface import _pt
 
 
 def _curve(beta: float, zeros: list[tuple[float, bool]]) -> list[SurfacePoint]:
