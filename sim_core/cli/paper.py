@@ -21,6 +21,21 @@ def _add_backend_args(p: Any, backends: Sequence[str]) -> None:
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
 
 
+def backend_from_args(args: argparse.Namespace, prog: str) -> Any:
+    """The backend `_add_backend_args`' options name, or None after printing why not (a bad
+    --workers, or a backend that cannot run here) in one line."""
+    from sim_core.runs.backends import BackendUnavailable, get_backend
+
+    if args.workers is not None and args.workers < 1:
+        print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
+        return None
+    try:
+        return get_backend(args.backend, args.workers, args.address)
+    except BackendUnavailable as exc:
+        print(f"{prog}: error: {exc}", file=sys.stderr)
+        return None
+
+
 def _add_reproduce(sub: Any) -> None:
     from sim_core.paper.values import FIGURES
     from sim_core.runs import BACKENDS
@@ -49,12 +64,8 @@ def _add_reproduce(sub: Any) -> None:
 def _cmd_reproduce(args: argparse.Namespace) -> int:
     from sim_core.paper.figures import Config
     from sim_core.paper.reproduce import reproduce
-    from sim_core.runs.backends import BackendUnavailable, get_backend
 
     prog = "insect-gait reproduce"
-    if args.workers is not None and args.workers < 1:
-        print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
-        return EXIT_USAGE
     cfg = Config.quick() if args.quick else Config()
     out = Path(args.out or ("out/reproduce-quick" if args.quick else RESULTS_DIR))
     try:
@@ -62,10 +73,8 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     except FileNotFoundError as exc:
         print(f"{prog}: error: {exc}", file=sys.stderr)
         return EXIT_USAGE
-    try:
-        backend = get_backend(args.backend, args.workers, args.address)
-    except BackendUnavailable as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
+    backend = backend_from_args(args, prog)
+    if backend is None:
         return EXIT_USAGE
     try:
         report = reproduce(args.figure, cfg, out, Path(args.cache), backend, doc=doc,
@@ -130,19 +139,14 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     import time
 
     from sim_core.paper.atlas import AtlasConfig, run_atlas, summary_lines, write_atlas
-    from sim_core.runs.backends import BackendUnavailable, RunStats, get_backend
+    from sim_core.runs.backends import RunStats
     from sim_core.runs.cache import ResultCache
 
     prog = "insect-gait atlas"
-    if args.workers is not None and args.workers < 1:
-        print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
-        return EXIT_USAGE
     cfg = AtlasConfig.quick(args.axis) if args.quick else AtlasConfig(args.axis)
     out = Path(args.out or ("out/atlas-quick" if args.quick else RESULTS_DIR))
-    try:
-        backend = get_backend(args.backend, args.workers, args.address)
-    except BackendUnavailable as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
+    backend = backend_from_args(args, prog)
+    if backend is None:
         return EXIT_USAGE
     stats = RunStats()
     t0 = time.perf_counter()

@@ -10,7 +10,7 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE
-from sim_core.cli.paper import _add_backend_args
+from sim_core.cli.paper import _add_backend_args, backend_from_args
 from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR, SURFACE_FILE
 
 # the betas issue 39 validates at: the Fig. 7 betas and the two ends of the paper's window
@@ -180,11 +180,8 @@ def _run(
     replaces the held Delta31 grid, `dt_s` the physics step."""
     from dataclasses import replace
 
-    from pydantic import ValidationError
-
     from sim_core.model.params import ModelParams
-    from sim_core.paper.surface import Probe, drift_surface, probe_spec
-    from sim_core.runs.backends import BackendUnavailable, get_backend
+    from sim_core.paper.surface import drift_surface
     from sim_core.runs.cache import ResultCache
 
     cfg = _config(args)
@@ -192,22 +189,10 @@ def _run(
         cfg = replace(cfg, d31_grid=sample)
     dt_s = dt_s if dt_s is not None else getattr(args, "dt_s", None)
     numerics = None if dt_s is None else {"dt_s": dt_s}
-    try:  # every probe's spec is valid before anything runs: the same words as the API's
-        for b in args.beta:
-            for d in (cfg.d31_grid[0], cfg.d31_grid[-1]):
-                probe_spec(Probe(b, d, cfg.average_s), cfg, **fields, **(numerics or {}))
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        where = ".".join(str(x) for x in err["loc"]) or "spec"
-        print(f"{prog}: error: {where}: {err['msg']}", file=sys.stderr)
+    if not _specs_valid(args.beta, cfg, prog, **fields, **(numerics or {})):
         return None
-    if args.workers is not None and args.workers < 1:
-        print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
-        return None
-    try:
-        backend = get_backend(args.backend, args.workers, args.address)
-    except BackendUnavailable as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
+    backend = backend_from_args(args, prog)
+    if backend is None:
         return None
     try:
         return drift_surface(
@@ -393,19 +378,17 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
 
     from sim_core.model.params import ModelParams
     from sim_core.paper.surface_atlas import draw_atlas, surface_atlas
-    from sim_core.runs.backends import BackendUnavailable, RunStats, get_backend
+    from sim_core.runs.backends import RunStats
     from sim_core.runs.cache import ResultCache
 
     prog = "insect-gait surface-atlas"
     values = args.values or list(ATLAS_VALUES[args.axis])
     field = "body_mass_g" if args.axis == "mass" else "slope_deg"
-    for v in values:  # the spec's own bounds, before anything runs
-        if _run_check(args, prog, **{field: v}) is None:
-            return EXIT_USAGE
-    try:
-        backend = get_backend(args.backend, args.workers, args.address)
-    except BackendUnavailable as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
+    cfg = _config(args)
+    if not all(_specs_valid(args.beta, cfg, prog, **{field: v}) for v in values):
+        return EXIT_USAGE
+    backend = backend_from_args(args, prog)
+    if backend is None:
         return EXIT_USAGE
     stats = RunStats()
     t0 = time.perf_counter()
@@ -416,7 +399,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
             values,
             cache=ResultCache(args.cache),
             backend=backend,
-            config=_config(args),
+            config=cfg,
             params=ModelParams(ground=args.ground),
             refine=not args.no_refine,
             progress=not args.no_progress,
@@ -444,21 +427,22 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     return 0
 
 
-def _run_check(args: argparse.Namespace, prog: str, **fields: Any) -> bool | None:
-    """True when every probe's spec would be valid; else None after printing why."""
+def _specs_valid(betas: list[float], cfg: Any, prog: str, **fields: Any) -> bool:
+    """Whether every probe's spec is valid (checked before anything runs, in the words the API
+    uses: RunSpec's own); if not, says why in one line."""
     from pydantic import ValidationError
 
     from sim_core.paper.surface import Probe, probe_spec
 
-    cfg = _config(args)
     try:
-        for b in args.beta:
-            probe_spec(Probe(b, cfg.d31_grid[0], cfg.average_s), cfg, **fields)
+        for b in betas:
+            for d in (cfg.d31_grid[0], cfg.d31_grid[-1]):
+                probe_spec(Probe(b, d, cfg.average_s), cfg, **fields)
     except ValidationError as exc:
         err = exc.errors()[0]
         where = ".".join(str(x) for x in err["loc"]) or "spec"
         print(f"{prog}: error: {where}: {err['msg']}", file=sys.stderr)
-        return None
+        return False
     return True
 
 
