@@ -50,12 +50,16 @@ _HOME: dict[str, str] = {
     "DriftSurface": "sim_core.paper.surface_types",
     "SurfaceConfig": "sim_core.paper.surface_types",
     "drift_surface": "sim_core.paper.surface",
+    "Condition": "sim_core.paper.surface",
+    "SurfaceAtlas": "sim_core.paper.surface_types",
+    "surface_atlas": "sim_core.paper.surface_atlas",
 }
 
 __all__ = [
     "INTEGRATORS",
     "MAX_STABLE_DT_S",
     "AtlasConfig",
+    "Condition",
     "DriftSurface",
     "ModelParams",
     "RunFailure",
@@ -63,6 +67,7 @@ __all__ = [
     "RunSpec",
     "Simulation",
     "SimulationDiverged",
+    "SurfaceAtlas",
     "SurfaceConfig",
     "SweepResult",
     "atlas_search",
@@ -77,6 +82,7 @@ __all__ = [
     "simulate_batch",
     "spec_grid",
     "step_problem",
+    "surface_atlas",
     "sweep",
 ]
 
@@ -116,6 +122,7 @@ if TYPE_CHECKING:  # what type checkers and IDEs see: the same names, eagerly
         spec_grid,
     )
     from sim_core.paper.atlas import AtlasConfig, atlas_search
-    from sim_core.paper.surface import drift_surface
-    from sim_core.paper.surface_types import DriftSurface, SurfaceConfig
+    from sim_core.paper.surface import Condition, drift_surface
+    from sim_core.paper.surface_atlas import surface_atlas
+    from sim_core.paper.surface_types import DriftSurface, SurfaceAtlas, SurfaceConfig
     from sim_core.paper.sweep import SweepResult, sweep

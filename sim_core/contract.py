@@ -83,9 +83,10 @@ from sim_core.paper.results import (
     RESULTS_ENV,
     SURFACE_FILE,
     atlas_file,
+    surface_atlas_file,
 )
 from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
-from sim_core.paper.surface_types import DriftSurface, SurfaceConfig
+from sim_core.paper.surface_types import REGION_COLOURS, DriftSurface, SurfaceAtlas, SurfaceConfig
 from sim_core.paper.surface_types import grid as surface_grid
 
 _DEFAULTS = ModelParams()
@@ -117,6 +118,7 @@ __all__ = [
     "RAMP_PARAMS",
     "RECORD_DT_S",
     "REGIONS",
+    "REGION_COLOURS",
     "RESULTS_DIR",
     "RESULTS_ENV",
     "RETURN_MAP_SKIP",
@@ -145,6 +147,7 @@ __all__ = [
     "RunMeasures",
     "RunSpec",
     "Settling",
+    "SurfaceAtlas",
     "SurfaceConfig",
     "atlas_file",
     "circular_mean",
@@ -162,6 +165,7 @@ __all__ = [
     "run_cost",
     "settling",
     "step_problem",
+    "surface_atlas_file",
     "surface_grid",
     "window_gait",
 ]

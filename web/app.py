@@ -37,12 +37,12 @@ from sim_core.contract import (
     ATLAS_AXES,
     AXIS_LABEL,
     RETURN_MAP_SKIP,
-    AtlasOutput,
     DriftSurface,
     FinderOutput,
     Ramp,
-    atlas_file,
+    SurfaceAtlas,
     return_map_from_series,
+    surface_atlas_file,
 )
 from web import controls, export
 from web.bifurcation import WatchedFile, finder_points
@@ -141,8 +141,11 @@ class ViewerApp:
         self.bifurcation_path = bifurcation_path
         self.bifurcation = WatchedFile(bifurcation_path, FinderOutput, "finder results")
         self.atlases = {
-            axis: WatchedFile(atlas_file(bifurcation_path.parent, axis), AtlasOutput, "atlas")
+            (axis, g): WatchedFile(
+                surface_atlas_file(bifurcation_path.parent, axis, g), SurfaceAtlas, "atlas"
+            )
             for axis in ATLAS_AXES
+            for g in controls.GROUND_LABEL
         }
         self.surface = WatchedFile(surface_path, DriftSurface, "drift surface")
         self.playing = True
@@ -496,7 +499,7 @@ class ViewerApp:
             ),
         )
         axis = self.panels.atlas_axis if self.panels.atlas_axis in ATLAS_AXES else "mass"
-        atlas, anote = self.atlases[axis].get()
+        atlas, anote = self.atlases[(axis, self.ground)].get()
         value = self.sim.body_mass_g if axis == "mass" else self.sim.slope_deg
         self.panels.show_html(
             self.panels.atlas,

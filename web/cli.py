@@ -33,7 +33,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--bifurcation",
         type=Path,
         default=DEFAULT_BIFURCATION,
-        help="the finder's results (a FinderOutput, `insect-gait reproduce`) to draw, if "
+        help="the finder's results (a FinderOutput, `insect-gait finder`) to draw, if "
         "present; atlas_mass.json and atlas_slope.json are read from the same folder "
         f"(default %(default)s; {RESULTS_ENV} sets the folder)",
     )
@@ -41,7 +41,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "--surface",
         type=Path,
         default=None,
-        help="the drift surface (a DriftSurface, `insect-gait surface-figures`) to draw, if "
+        help="the drift surface (a DriftSurface, `insect-gait reproduce`) to draw, if "
         f"present (default: {SURFACE_FILE} next to the bifurcation file)",
     )
     p.add_argument(

@@ -1,4 +1,4 @@
-"""The drift surface panel: the core's `DriftSurface` (`insect-gait surface-figures`) as SVG.
+"""The drift surface panel: the core's `DriftSurface` (`insect-gait reproduce`) as SVG.
 
 A heat map of the first pass's drift of Delta31 per gait cycle over (beta, held Delta31 = D):
 the usable probes on the first-pass grid as <rect>s (refinement probes lie off it and are not

@@ -14,7 +14,7 @@ import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from sim_core.contract import LEG_NAMES, TWO_PI, AtlasOutput
+from sim_core.contract import LEG_NAMES, TWO_PI, SurfaceAtlas
 from web.bifurcation import FinderPoints
 from web.record import CoreEvents, D31Event
 
@@ -403,13 +403,13 @@ def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> lis
     return out
 
 
-# The atlas's regions (sim_core's REGIONS, issue 28): both gaits purple, one gait its colour
+# The atlas's regions (`surface_atlas.region`): both gaits purple, one gait its colour
 REGION_COLOURS = {
     "both": "#9467bd",
     "tripod only": GAIT_COLOURS["tripod"],
     "metachronal only": GAIT_COLOURS["metachronal"],
     "other states": "#c7c7c7",
-    "not settled": "#f4f4f4",
+    "none": "#f4f4f4",
 }
 
 
@@ -423,7 +423,7 @@ def _edges(centres: Sequence[float]) -> list[float]:
 
 
 def atlas_svg(
-    atlas: AtlasOutput | None,
+    atlas: SurfaceAtlas | None,
     note: str,
     axis: str,
     axis_label: str,
@@ -485,9 +485,8 @@ def atlas_svg(
         )
     regions = list(REGION_COLOURS.items())
     rows = [
-        [(f"■ {r}", c if r != "not settled" else "#999") for r, c in regions[:3]],
-        [(f"■ {r}", c if r != "not settled" else "#999") for r, c in regions[3:]]
-        + [("◯ now", "#e00")],
+        [(f"■ {r}", c if r != "none" else "#999") for r, c in regions[:3]],
+        [(f"■ {r}", c if r != "none" else "#999") for r, c in regions[3:]] + [("◯ now", "#e00")],
     ]
     out += _legend(f, rows)
     out.append("</svg>")

@@ -1,40 +1,30 @@
-"""`atlas`: which gaits are stable over beta x body mass or beta x slope, on a small grid, by the
-function `insect-gait atlas` uses."""
+"""`atlas`: which gaits are stable over beta x body mass or beta x slope, read from a drift
+surface at each value of the axis (`sim_core.surface_atlas`, the function `insect-gait atlas`
+and the viewer's atlas panel use): per cell the stable zeros in the paper's window and what
+they make of the two gaits, and where each branch folds."""
 
 from __future__ import annotations
 
-from dataclasses import replace
 from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import Field, ValidationInfo, field_validator
 
 from server.kinds.base import Kind, Progress
-from server.kinds.bounds import (
-    DURATION_BOUNDS,
-    SWEEP_RANGES,
-    IntLike,
-    bounded,
-    in_range,
-    range_text,
-)
+from server.kinds.bounds import SWEEP_RANGES, in_range, range_text
 from server.kinds.common import core
-from server.kinds.finder import (
-    FINDER_COLUMNS,
-    Finder,
-    draw_finder_points,
-    finder_rows,
-    finder_runner,
-)
-from sim_core.contract import AXIS_PARAM, AtlasAxis, AtlasOutput, region_of
+from server.kinds.surface import Held
+from sim_core.contract import AXIS_PARAM, AtlasAxis
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+COLUMNS = ("beta", "axis", "value", "region", "stable_d31", "gaits", "unresolved")
 
-class AtlasJob(Finder):
-    """The gait atlas on a small grid: which gaits are stable over beta x body mass or beta x
-    slope (the same function as `insect-gait atlas`), each cell seeded with its neighbours'
-    attractors; no bisection."""
+
+class AtlasJob(Held):
+    """The gait atlas from the drift surface: a surface over `betas` at each of `values` of
+    the axis (the other held at the job's body_mass_g or slope_deg), read as regions (both /
+    tripod only / metachronal only / other states / none) and folds."""
 
     kind: Literal["atlas"] = "atlas"
     axis: AtlasAxis = Field(
@@ -42,17 +32,13 @@ class AtlasJob(Finder):
         json_schema_extra={"allowed": "mass, slope"},
     )  # fmt: skip
     betas: list[Annotated[float, Field(gt=0.5, lt=1.0, allow_inf_nan=False)]] = Field(
-        [0.62, 0.70], min_length=1, max_length=8,
-        description="duty factors of the grid (1-8 values)",
+        [0.62, 0.70], min_length=1, max_length=25,
+        description="duty factors of the grid (1-25 values)",
     )  # fmt: skip
     values: list[Annotated[float, Field(allow_inf_nan=False)]] = Field(
-        [2.0, 5.0], min_length=1, max_length=8,
-        description="values of the axis (g for mass, deg for slope; 1-8 values)",
+        [2.0, 5.0], min_length=1, max_length=16,
+        description="values of the axis (g for mass, deg for slope; 1-16 values)",
     )  # fmt: skip
-    starts: IntLike = bounded(4, "starts", "starts spread over the circle per cell", ge=2, le=16)
-    duration_s: float = bounded(
-        30.0, "duration_s", "simulated time of each run, s", ge=2.0, le=DURATION_BOUNDS["le"]
-    )
 
     @field_validator("values")
     @classmethod
@@ -68,37 +54,44 @@ class AtlasJob(Finder):
                                  f"{range_text(param, **bounds)}")  # fmt: skip
         return v
 
-    def cells(self) -> int:
-        return len(self.betas) * len(self.values)
-
-    def extra_runs_per_cell(self) -> int:
-        return 3  # seeds: at most the attractors of three neighbours, one per place (~1-3)
-
-    def extra_sim_seconds_per_cell(self) -> float:
-        return self.extra_runs_per_cell() * self.duration_s
+    def run_count(self) -> int:
+        return len(self.betas) * len(self.values) * len(self.config().d31_grid)
 
 
 def run(job: AtlasJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    """The gait atlas on the job's grid: `atlas_search`, the function `insect-gait atlas`
-    uses; its typed output (`AtlasOutput`) plus flat rows with each cell's region."""
+    """The atlas by the core's `surface_atlas` in this worker (a private cache), with one flat
+    row per (beta, value)."""
     sim = core()
-    finder = replace(sim.AtlasConfig(job.axis).finder, starts=job.starts,
-                     duration_s=job.duration_s)  # fmt: skip
-    cfg = sim.AtlasConfig(job.axis, betas=tuple(job.betas), values=tuple(job.values),
-                          finder=finder)  # fmt: skip
-    atlas: AtlasOutput = sim.atlas_search(cfg, finder_runner(sim, job, progress, nthread))
-    rows = finder_rows(atlas.cells)
-    regions = {(c.beta, c.body_mass_g, c.slope_deg): region_of(c) for c in atlas.cells}
-    for r in rows:
-        r["region"] = regions[(r["beta"], r["body_mass_g"], r["slope_deg"])]
+    at = sim.Condition(job.body_mass_g, job.slope_deg)
+    atlas = sim.surface_atlas(
+        job.axis, sorted(set(job.betas)), sorted(set(job.values)), config=job.config(),
+        params=job.model_params(), at=at, numerics=job.spec_numerics(), refine=job.refine,
+        progress=False, on_progress=lambda x: progress(min(0.99, x)),
+    )  # fmt: skip
+    rows = [
+        {"beta": p.beta, "axis": job.axis, "value": p.value, "region": p.region,
+         "stable_d31": " ".join(f"{x:.3f}" for x in p.stable), "gaits": " ".join(p.gaits),
+         "unresolved": p.unresolved}
+        for p in atlas.points
+    ]  # fmt: skip
     return {"kind": "atlas", "atlas": atlas.model_dump(mode="json"), "records": rows}
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
-    """The finder's points of every cell against beta."""
+    """The regions as coloured cells over (beta, value)."""
+    from sim_core.contract import AXIS_LABEL, REGION_COLOURS
+
     ax = fig.add_subplot()
-    draw_finder_points(ax, result.get("records", []))
-    ax.grid(alpha=0.3)
+    rows = result.get("records", [])
+    for r in rows:
+        ax.scatter(r["beta"], r["value"], s=160, marker="s",
+                   color=REGION_COLOURS.get(r["region"], "0.8"))  # fmt: skip
+    for name, colour in REGION_COLOURS.items():
+        ax.scatter([], [], marker="s", color=colour, label=name)
+    ax.set_xlabel("duty factor β")
+    ax.set_ylabel(AXIS_LABEL.get(spec.get("axis", "mass"), ""))
+    ax.set_title("gait atlas from the drift surface")
+    ax.legend(fontsize="small", loc="best")
 
 
-KIND = Kind(model=AtlasJob, run=run, columns=(*FINDER_COLUMNS, "region"), draw=draw)
+KIND = Kind(model=AtlasJob, run=run, columns=COLUMNS, draw=draw)

@@ -1,5 +1,5 @@
 """`bifurcation`: the paper's Fig. 8 over a beta grid from settled walking, by the fixed-point
-finder `insect-gait reproduce` uses."""
+finder (`insect-gait finder`), the drift surface's independent check."""
 
 from __future__ import annotations
 

@@ -19,19 +19,17 @@ if TYPE_CHECKING:
 DEFAULT = SurfaceConfig()
 COLUMNS = ("beta", "kind", "pin_d31", "d31", "drift", "drift_se", "stable", "resolved", "why")
 GRID_ENDS = (min(DEFAULT.d31_grid), max(DEFAULT.d31_grid))
+GRID_STEP = round(DEFAULT.d31_grid[1] - DEFAULT.d31_grid[0], 6)
 
 
-class SurfaceJob(Physics):
-    """The drift surface (issue 39): walks held at each Delta31 by a weak pin on the fore and
-    hind oscillators, resets on; per probe the drift per gait cycle with its standard error,
-    per beta the zeros and near-zero bands, over beta the stable branches and folds."""
+class Held(Physics):
+    """What every kind built on the drift surface asks (`surface`, `atlas`): the held Delta31
+    grid, the pin's gain and whether to refine; resets must stay on (the pin needs them)."""
 
-    kind: Literal["surface"] = "surface"
-    beta_range: BetaRange
     d31_lo: float = bounded(GRID_ENDS[0], "d31_lo", "lowest held Delta31, rad", ge=0.5, le=6.0)
     d31_hi: float = bounded(GRID_ENDS[1], "d31_hi", "highest held Delta31, rad", ge=0.6, lt=6.2832)
     d31_step: float = bounded(
-        0.05, "d31_step", "spacing of the held Delta31 values, rad", ge=0.01, le=1.0
+        GRID_STEP, "d31_step", "spacing of the held Delta31 values, rad", ge=0.01, le=1.0
     )
     gain_per_s: float = bounded(
         core_default("pin_gain_per_s"),
@@ -39,12 +37,12 @@ class SurfaceJob(Physics):
         "the pin's gain K, 1/s",
         **core_bounds("pin_gain_per_s"),
     )
-
     refine: bool = Field(
         True,
-        description="a second pass of finer (0.01 rad), longer (4 s) probes inside every "
-        "unresolved zero's bracket and near-zero band, as `insect-gait surface` does; its "
-        "probes are not in the size estimate (typically 30-60% more simulated time)",
+        description="bisect every zero's bracket and every dip of the drift, then probe finer "
+        "and longer inside every unresolved zero and near-zero band, as `insect-gait surface` "
+        "does; these probes are not in the size estimate (typically 30-60% more simulated "
+        "time)",
     )
 
     @field_validator("phase_reset")
@@ -72,11 +70,20 @@ class SurfaceJob(Physics):
             gain_per_s=self.gain_per_s,
         )
 
-    def run_count(self) -> int:
-        return self.beta_range.steps * len(self.config().d31_grid)
-
     def sim_seconds_per_run(self) -> float:
         return DEFAULT.duration_s
+
+
+class SurfaceJob(Held):
+    """The drift surface (issue 39): walks held at each Delta31 by a weak pin on the fore and
+    hind oscillators, resets on; per probe the drift per gait cycle with its standard error,
+    per beta the zeros and near-zero bands, over beta the stable branches and folds."""
+
+    kind: Literal["surface"] = "surface"
+    beta_range: BetaRange
+
+    def run_count(self) -> int:
+        return self.beta_range.steps * len(self.config().d31_grid)
 
 
 def run(job: SurfaceJob, progress: Progress, nthread: int) -> dict[str, Any]:

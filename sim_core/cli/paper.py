@@ -1,4 +1,5 @@
-"""`reproduce` (the paper's Figs. 5-9) and its old name `study`."""
+"""`reproduce` (the paper's Figs. 5-9), the fixed-point finder (`finder`, `finder-check`,
+`finder-claims`), the finder's atlas (`finder-atlas`), and `study` (the old name of reproduce)."""
 
 from __future__ import annotations
 
@@ -120,8 +121,9 @@ def _add_atlas(sub: Any) -> None:
     from sim_core.runs import BACKENDS
 
     p = sub.add_parser(
-        "atlas",
-        help="the gait atlas: stable gaits over beta x body mass or beta x slope (settled runs)",
+        "finder-atlas",
+        help="the finder's gait atlas: stable gaits over beta x body mass or beta x slope from "
+        "settled free runs (the independent check of `atlas`)",
     )
     p.add_argument("--axis", choices=["mass", "slope"], required=True,
                    help="the second axis: body mass (g) or slope (deg)")  # fmt: skip
@@ -142,7 +144,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     from sim_core.runs.backends import RunStats
     from sim_core.runs.cache import ResultCache
 
-    prog = "insect-gait atlas"
+    prog = "insect-gait finder-atlas"
     cfg = AtlasConfig.quick(args.axis) if args.quick else AtlasConfig(args.axis)
     out = Path(args.out or ("out/atlas-quick" if args.quick else RESULTS_DIR))
     backend = backend_from_args(args, prog)
@@ -168,6 +170,65 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
         f"{stats.computed} simulations computed, {stats.cached} cached; {sim_s:.0f} "
         f"simulated s ({sim_s / wall:.2f} per wall s); wrote {', '.join(map(str, files))}"
     )
+    return 0
+
+
+def _add_finder(sub: Any) -> None:
+    from sim_core.runs import BACKENDS
+
+    p = sub.add_parser(
+        "finder",
+        help="the settled fixed-point finder over Fig. 8's betas (the drift surface's "
+        "independent check): writes bifurcation.json for surface-check and the viewer",
+    )
+    p.add_argument("--beta", type=float, nargs="+", default=None,
+                   help="betas (default: Fig. 8's grid, 0.62-0.70 by 0.005)")  # fmt: skip
+    p.add_argument("--out", type=Path, default=RESULTS_DIR,
+                   help=f"folder for {BIFURCATION_FILE} (default %(default)s)")  # fmt: skip
+    _add_backend_args(p, BACKENDS)
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.set_defaults(func=_cmd_finder)
+
+
+def _cmd_finder(args: argparse.Namespace) -> int:
+    import time
+    from dataclasses import asdict
+
+    from sim_core.paper.figures import Config
+    from sim_core.paper.fixedpoints import Cell, FinderOutput, find
+    from sim_core.paper.search import task_runner
+    from sim_core.runs.backends import RunStats
+    from sim_core.runs.cache import ResultCache
+
+    prog = "insect-gait finder"
+    cfg = Config()
+    betas = sorted(set(args.beta or cfg.bif_betas))
+    bad = [b for b in betas if not 0.5 < b < 1.0]
+    if bad:
+        print(f"{prog}: error: --beta {bad[0]:g} is outside (0.5, 1)", file=sys.stderr)
+        return EXIT_USAGE
+    backend = backend_from_args(args, prog)
+    if backend is None:
+        return EXIT_USAGE
+    stats = RunStats()
+    t0 = time.perf_counter()
+    try:
+        run = task_runner(ResultCache(args.cache), backend, None, chunk_size=cfg.chunk_size,
+                          progress=not args.no_progress, stats=stats)  # fmt: skip
+        cells = find([Cell(b) for b in betas], cfg.finder, run)
+    finally:
+        backend.close()
+    out = FinderOutput(source="insect-gait finder: the settled fixed-point finder",
+                       config=asdict(cfg.finder), cells=cells)  # fmt: skip
+    args.out.mkdir(parents=True, exist_ok=True)
+    (args.out / BIFURCATION_FILE).write_text(out.model_dump_json())
+    for c in cells:
+        states = ", ".join(f"{a.d31:.3f} ({a.gait})" for a in c.stable()) or "none confirmed"
+        borders = ", ".join(f"{b.d31:.3f}" for b in c.borders if b.d31 is not None)
+        print(f"beta {c.beta:g}: stable {states}" + (f"; borders {borders}" if borders else ""))
+    wall = time.perf_counter() - t0
+    print(f"{stats.computed} runs computed, {stats.cached} cached, in {wall:.0f} s wall; "
+          f"wrote {args.out / BIFURCATION_FILE}")  # fmt: skip
     return 0
 
 
@@ -297,6 +358,7 @@ def _cmd_finder_claims(args: argparse.Namespace) -> int:
 def register(sub: Any) -> None:
     _add_reproduce(sub)
     _add_atlas(sub)
+    _add_finder(sub)
     _add_finder_check(sub)
     _add_finder_claims(sub)
     _add_study(sub)

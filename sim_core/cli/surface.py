@@ -1,5 +1,6 @@
 """`surface` (the drift surface: every gait, stable and unstable, from walks held at each
-Delta31) and `surface-check` (the surface against the fixed-point finder's settled runs)."""
+Delta31), `surface-check` (the surface against the fixed-point finder's settled runs) and
+`atlas` (the gait atlas from surfaces over beta at each body mass or slope)."""
 
 from __future__ import annotations
 
@@ -11,14 +12,10 @@ from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE
 from sim_core.cli.paper import _add_backend_args, backend_from_args
-from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR, SURFACE_FILE
+from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
 
 # the betas issue 39 validates at: the Fig. 7 betas and the two ends of the paper's window
 CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
-# Fig. 8 from the surface: 25 betas, 0.005 apart, around the paper's window 0.62-0.70
-FIG8_BETAS = tuple(round(0.60 + 0.005 * k, 3) for k in range(25))
-MAP_BETAS = (0.64, 0.655, 0.675)  # Fig. 7
-MECHANISM_BETAS = (0.62, 0.655, 0.70)
 # the atlas from the surface: 7 betas across the paper's window and past it, 0.02 apart
 ATLAS_BETAS = tuple(round(0.60 + 0.02 * k, 2) for k in range(7))
 ATLAS_VALUES = {"mass": (1.0, 2.0, 3.0, 4.5, 6.0, 8.0), "slope": (-20.0, -10.0, 0.0, 10.0, 20.0)}
@@ -29,12 +26,19 @@ def _grid(text: str) -> tuple[float, float, float]:
     try:
         lo, hi, step = (float(x) for x in text.split(":"))
     except ValueError:
-        raise argparse.ArgumentTypeError(f"{text!r} is not LO:HI:STEP, e.g. 1.3:3.5:0.05") from None
+        raise argparse.ArgumentTypeError(f"{text!r} is not LO:HI:STEP, e.g. 1.3:3.5:0.1") from None
     if not (0.0 <= lo < hi < 6.2832 and 0.0 < step <= hi - lo + 1e-9):
         raise argparse.ArgumentTypeError(
             f"{text!r}: need 0 <= LO < HI < 2 pi and 0 < STEP <= HI - LO (rad)"
         )
     return lo, hi, step
+
+
+def _default_grid() -> str:
+    from sim_core.paper.surface_types import SurfaceConfig
+
+    g = SurfaceConfig().d31_grid
+    return f"{g[0]:g}:{g[-1]:g}:{round(g[1] - g[0], 6):g}"
 
 
 def _add_surface_args(p: Any) -> None:
@@ -45,7 +49,8 @@ def _add_surface_args(p: Any) -> None:
         type=_grid,
         default=None,
         metavar="LO:HI:STEP",
-        help="the held Delta31 values, rad (default 1.3:3.5:0.05)",
+        help=f"the held Delta31 values of the first pass, rad (default {_default_grid()}, "
+        "then bisected near zeros and dips of the drift)",
     )
     p.add_argument(
         "--ground",
@@ -103,11 +108,10 @@ def register(sub: Any) -> None:
     _add_surface_args(c)
     c.add_argument("--out", default=None, help="also write the surface's JSON to this file")
     c.set_defaults(func=_cmd_check)
-    _add_figures(sub)
     a = sub.add_parser(
-        "surface-atlas",
+        "atlas",
         help="the gait atlas from the drift surface: which gaits are stable over beta x body "
-        "mass (or slope), and where their branches fold",
+        "mass (or slope), and where their branches fold (the viewer's atlas panel)",
     )
     a.add_argument("--axis", choices=["mass", "slope"], required=True)
     a.add_argument(
@@ -131,27 +135,6 @@ def register(sub: Any) -> None:
     )
     _add_surface_args(a)
     a.set_defaults(func=_cmd_atlas)
-
-
-def _add_figures(sub: Any) -> None:
-    f = sub.add_parser(
-        "surface-figures",
-        help="Figs. 7 and 8 and the mechanism from the drift surface (25 betas 0.60-0.72), "
-        "with their reproduction rows",
-    )
-    f.add_argument(
-        "--out",
-        default=str(RESULTS_DIR),
-        help="folder for surface.json and the PNGs (default %(default)s)",
-    )
-    f.add_argument(
-        "--doc",
-        default="docs/REPRODUCTION.md",
-        help="markdown file whose 'surface' section to rewrite (default %(default)s)",
-    )
-    f.add_argument("--no-doc", action="store_true", help="do not touch any markdown file")
-    _add_surface_args(f)
-    f.set_defaults(func=_cmd_figures, beta=list(FIG8_BETAS), ground="constraint")
 
 
 def _config(args: argparse.Namespace) -> Any:
@@ -277,111 +260,16 @@ def _cmd_check(args: argparse.Namespace) -> int:
     return 0 if all(r.ok for r in rows) else 1
 
 
-def _cmd_figures(args: argparse.Namespace) -> int:
-    import time
-    from datetime import date
-
-    from sim_core.docsections import replace_section
-    from sim_core.model.params import ModelParams
-    from sim_core.paper.reproduce import BETA_TOL
-    from sim_core.paper.surface_check import SAMPLE_BETAS, SAMPLE_D31, variant_rows, variant_table
-    from sim_core.paper.surface_figures import fig7_surface, fig8_surface, mechanism, table_rows
-    from sim_core.paper.values import PAPER
-    from sim_core.runs.backends import RunStats
-
-    prog = "insect-gait surface-figures"
-    out = Path(args.out)
-    doc = None if args.no_doc else Path(args.doc)
-    if doc is not None and not doc.is_file():
-        print(f"{prog}: error: --doc {doc}: no such file", file=sys.stderr)
-        return EXIT_USAGE
-    t0 = time.perf_counter()
-    stats = RunStats()
-    surface = _run(args, prog, stats=stats)
-    if surface is None:
-        return EXIT_USAGE
-    t_fig8 = time.perf_counter() - t0
-    paper_args = argparse.Namespace(
-        **{**vars(args), "ground": "penalty", "beta": list(MECHANISM_BETAS)}
-    )
-    paper_ground = _run(paper_args, prog)
-    if paper_ground is None:
-        return EXIT_USAGE
-    # the protocol's own checks on a sample: the pin at a third of its gain, half the step
-    cfg = _config(args)
-    k3 = argparse.Namespace(
-        **{
-            **vars(args),
-            "beta": list(SAMPLE_BETAS),
-            "no_refine": True,
-            "d31": None,
-            "gain_per_s": cfg.gain_per_s / 3,
-        }
-    )
-    half = argparse.Namespace(**{**vars(k3), "gain_per_s": cfg.gain_per_s})
-    sample = {
-        "K/3": _run(k3, prog, sample=SAMPLE_D31),
-        "dt/2": _run(half, prog, sample=SAMPLE_D31, dt_s=ModelParams().dt / 2),
-    }
-    if any(v is None for v in sample.values()):
-        return EXIT_USAGE
-    checks, checks_ok = variant_rows(surface, {k: v for k, v in sample.items() if v}, cfg.floor_rad)
-    wall = time.perf_counter() - t0
-    out.mkdir(parents=True, exist_ok=True)
-    (out / SURFACE_FILE).write_text(surface.model_dump_json())
-    (out / "surface_penalty.json").write_text(paper_ground.model_dump_json())
-    sweeps = _read_data(out / "fig8.json")
-    fig8_surface(surface, out / "fig8_surface.png", PAPER, sweeps)
-    maps = (_read_data(out / "fig7.json") or {}).get("maps", [])
-    free = {float(m["beta"]): m for m in maps}
-    fig7_surface(surface, out / "fig7_surface.png", MAP_BETAS, free)
-    mechanism(
-        {"constraint": surface, "penalty": paper_ground}, MECHANISM_BETAS, out / "mechanism.png"
-    )
-    rows = table_rows(surface, PAPER, BETA_TOL)
-    lines = ["| paper states | paper | ours (drift surface) | reproduced? |", "|---|---|---|---|"]
-    lines += [f"| {a} | {b} | {c} | {d} |" for a, b, c, d in rows]
-    lines += [
-        "",
-        f"Generated by `insect-gait surface-figures`: {len(surface.points)} probes "
-        f"({surface.sim_s:.0f} simulated s) for Fig. 8 ({stats.computed} computed, "
-        f"{stats.cached} read from the cache) in {t_fig8:.0f} s wall, {wall:.0f} s with the "
-        f"paper's ground's mechanism surfaces and the sample checks, on the `{args.backend}` "
-        f"backend ({date.today().isoformat()}).",
-    ]
-    lines += [
-        "",
-        f"The protocol on a sample (every difference within the {cfg.floor_rad * 1e3:g} "
-        f"mrad noise floor: {'yes' if checks_ok else '**no**'}):",
-        "",
-        variant_table(checks),
-    ]
-    table = "\n".join(lines)
-    if doc is not None:
-        doc.write_text(replace_section(doc.read_text(), "surface", table))
-    print(table)
-    print(describe(surface))
-    return 0
-
-
-def _read_data(path: Path) -> dict[str, Any] | None:
-    """The `data` of a reproduce figure file (the free runs Figs. 7-8 are checked against)."""
-    try:
-        data = json.loads(path.read_text()).get("data")
-    except (OSError, ValueError):
-        return None
-    return data if isinstance(data, dict) else None
-
-
 def _cmd_atlas(args: argparse.Namespace) -> int:
     import time
 
     from sim_core.model.params import ModelParams
+    from sim_core.paper.results import surface_atlas_file
     from sim_core.paper.surface_atlas import draw_atlas, surface_atlas
     from sim_core.runs.backends import RunStats
     from sim_core.runs.cache import ResultCache
 
-    prog = "insect-gait surface-atlas"
+    prog = "insect-gait atlas"
     values = args.values or list(ATLAS_VALUES[args.axis])
     field = "body_mass_g" if args.axis == "mass" else "slope_deg"
     cfg = _config(args)
@@ -413,16 +301,17 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     wall = time.perf_counter() - t0
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    stem = f"surface_atlas_{args.axis}_{args.ground}"
-    (out / f"{stem}.json").write_text(atlas.model_dump_json())
-    draw_atlas(atlas, out / f"{stem}.png")
+    js = surface_atlas_file(out, args.axis, args.ground)
+    js.write_text(atlas.model_dump_json())
+    draw_atlas(atlas, js.with_suffix(".png"))
     for v in values:
         row = [p for p in atlas.points if p.value == v]
         cells = ", ".join(f"{p.beta:g}: {p.region}" + (" (?)" if p.unresolved else "") for p in row)
         print(f"{args.axis} {v:g}: {cells}")
     print(
         f"{atlas.sim_s:.0f} simulated s ({stats.computed} probes computed, {stats.cached} "
-        f"cached) in {wall:.0f} s wall; wrote {out / stem}.json and .png"
+        f"cached) in {wall:.0f} s wall on {backend.name} with {backend.workers} worker(s); "
+        f"wrote {js} and .png"
     )
     return 0
 

@@ -28,15 +28,14 @@ from sim_core.model.gait import (
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec, spec_grid
 from sim_core.paper.analysis import (
-    PAPER_WINDOW,
     branch_census,
     max_drift,
     sweep_summary,
 )
-from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe, branch_ranges
+from sim_core.paper.fixedpoints import Cell, FinderConfig, Probe
 from sim_core.paper.protocols import initial_values
-from sim_core.paper.returnmap import ReturnMap, return_map_from_series
 from sim_core.paper.search import probe_task
+from sim_core.paper.surface_types import SurfaceConfig, grid
 from sim_core.paper.values import FIGURES, METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
 from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
 
@@ -53,10 +52,16 @@ class Config:
     # through the ghost, docs/studies/gait_campaign3.md)
     fig5_betas: tuple[float, ...] = (0.62, 0.70)
     map_betas: tuple[float, ...] = (0.64, 0.655, 0.675)  # Fig. 7
-    # Figs. 7-8 come from the settled fixed-point finder (`paper.fixedpoints`); its starts,
-    # durations and border resolution are chosen from measurement in `FinderConfig`
+    # Figs. 7-8 are read from the drift surface (`paper.surface`, protocol in SurfaceConfig)
+    # over these 25 betas, 0.005 apart, containing the Fig. 7 betas (issue 39: >= 25 betas
+    # from 0.60 to 0.72)
+    surface_betas: tuple[float, ...] = tuple(round(0.60 + 0.005 * k, 3) for k in range(25))
+    surface: SurfaceConfig = field(default_factory=SurfaceConfig)
+    # the settled fixed-point finder (`paper.fixedpoints`), now the independent check of the
+    # surface (`surface-check`, `finder-check`); its starts and durations, chosen from
+    # measurement in `FinderConfig`, also make Fig. 5's and Fig. 7's free runs
     finder: FinderConfig = field(default_factory=FinderConfig)
-    # Fig. 8: 17 betas, 0.005 apart, containing the Fig. 7 betas (their searches are shared)
+    # the finder's Fig. 8 grid: 17 betas, 0.005 apart, containing the Fig. 7 betas
     bif_betas: tuple[float, ...] = tuple(round(0.62 + 0.005 * k, 3) for k in range(17))
     beta_high: float = 0.70
     beta_low: float = 0.62
@@ -87,6 +92,9 @@ class Config:
         return cls(
             finder=FinderConfig.quick(),
             bif_betas=(0.62, 0.64, 0.655, 0.675, 0.70), hold_s=0.3,
+            surface_betas=(0.62, 0.64, 0.655, 0.675, 0.70),
+            surface=SurfaceConfig(d31_grid=grid(1.5, 3.3, 0.2), settle_s=0.5, average_s=0.5,
+                                  block_s=0.25, bisect_rounds=0),
             ramp_s=0.6, ablation_betas=(0.66,), ablation_inits=2, ablation_duration_s=0.5,
             footprint_window_s=0.3, name="quick",
         )  # fmt: skip
@@ -107,11 +115,16 @@ def _runs(
     ]
 
 
-def fig5_tasks(cfg: Config, p: ModelParams) -> list[Task]:
-    """Fig. 5's runs: the finder's spread starts at each of `fig5_betas` (beta outer), as the
-    finder asks for them (`probe_task`), so that reproduce runs each once."""
+def spread_tasks(betas: tuple[float, ...], cfg: Config, p: ModelParams) -> list[Task]:
+    """Free runs from the finder's spread starts at each of `betas` (beta outer), as the
+    finder asks for them (`probe_task`), so that the finder's checks reuse them."""
     return [probe_task(Cell(beta), Probe(float(x), cfg.finder.duration_s), p)
-            for beta in cfg.fig5_betas for x in initial_values(cfg.finder.starts)]  # fmt: skip
+            for beta in betas for x in initial_values(cfg.finder.starts)]  # fmt: skip
+
+
+def fig5_tasks(cfg: Config, p: ModelParams) -> list[Task]:
+    """Fig. 5's runs: the spread starts at each of `fig5_betas`."""
+    return spread_tasks(cfg.fig5_betas, cfg, p)
 
 
 def beta_ramp(cfg: Config, slower: bool = False, up: bool = False) -> Ramp:
@@ -143,8 +156,8 @@ def figure_tasks(fig: str, cfg: Config, p: ModelParams) -> list[Task]:
     if fig == "6":
         return [_ramp_task(beta_ramp(cfg, s, u), cfg, p) for u in (False, True)
                 for s in (False, True)]  # fmt: skip
-    if fig == "7":
-        return []  # the finder's runs (`finder_cells`), adaptive, not a fixed list
+    if fig == "7":  # the free runs its return maps are checked against (the surface aside)
+        return spread_tasks(cfg.map_betas, cfg, p)
     if fig == "8":
         return [_ramp_task(beta_ramp(cfg, up=u), cfg, p) for u in (False, True)]
     if fig == "9":
@@ -293,107 +306,6 @@ def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     return [fig6a, fig6b]
 
 
-def finder_cells(figs: list[str], cfg: Config) -> list[Cell]:
-    """The conditions the finder searches for the asked-for figures: Fig. 8's grid and Fig.
-    7's betas together whenever either is asked for, since each beta's neighbours lend it
-    their states (`FinderConfig.neighbour_seeds`): Fig. 7 alone gives the same answer as all."""
-    if "7" not in figs and "8" not in figs:
-        return []
-    return [Cell(b) for b in sorted({*cfg.map_betas, *cfg.bif_betas})]
-
-
-Found = dict[float, CellResult]
-
-
-def _pairs(cell: CellResult, p: ModelParams, get: Lookup, settled: bool = True) -> ReturnMap:
-    """Fig. 7's n -> n+4 pairs: every settled run of the search (or, `settled=False`, every
-    run that did not settle: drawn apart) with the first touchdowns dropped, as
-    `return_map_from_series`."""
-    c = Cell(cell.beta, cell.body_mass_g, cell.slope_deg)
-    series = [
-        get(probe_task(c, r.probe(), p))["d31"]
-        for r in cell.runs
-        if r.settled == settled and r.failure is None
-    ]
-    return return_map_from_series(cell.beta, series)
-
-
-def _points(cell: CellResult) -> list[dict[str, Any]]:
-    """Stable (attractors confirmed from both sides) and unstable (borders' saddles) points,
-    by Delta31; states that kicks confirmed from one side only are in `_one_sided`."""
-    pts = [{"d31": a.d31, "stable": True, "gait": a.gait, "slope": a.slope} for a in cell.stable()]
-    pts += [
-        {"d31": b.d31, "stable": False, "gait": classify_gait(b.d31, cell.beta), "slope": b.slope}
-        for b in cell.borders
-        if b.d31 is not None
-    ]
-    return sorted(pts, key=lambda f: f["d31"])
-
-
-def _one_sided(cell: CellResult) -> list[dict[str, Any]]:
-    """Settled states whose kicks came back from one side or neither (not stable points)."""
-    return [{"d31": a.d31, "gait": a.gait, "confirmed": a.confirmed} for a in cell.one_sided()]
-
-
-def _in_window(pts: list[dict[str, Any]]) -> list[dict[str, Any]]:
-    return [f for f in pts if PAPER_WINDOW[0] <= f["d31"] <= PAPER_WINDOW[1]]
-
-
-def _fig7(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[FigureData]:
-    maps = []
-    rows: list[list[Any]] = []
-    for beta in cfg.map_betas:
-        cell = found[beta]
-        rm = _pairs(cell, p, get)
-        un = _pairs(cell, p, get, settled=False)
-        pts = _points(cell)
-        maps.append({
-            "beta": beta, "x": rm.x.tolist(), "y": rm.y.tolist(), "fixed_points": pts,
-            "window_fixed_points": _in_window(pts), "window_pattern": cell.pattern(PAPER_WINDOW),
-            "one_sided": _one_sided(cell),
-            "ghosts": [g.d31 for g in cell.ghosts],
-            "ghost_drifts": [g.drift for g in cell.ghosts],
-            "unsettled": [r.model_dump() for r in cell.unsettled], "pairs": int(rm.x.size),
-            "x_unsettled": un.x.tolist(), "y_unsettled": un.y.tolist(),
-        })  # fmt: skip
-        rows += [[beta, x, y] for x, y in zip(rm.x.tolist(), rm.y.tolist(), strict=True)]
-    keys = ("window_pattern", "window_fixed_points", "ghosts", "unsettled")
-    summary = {str(m["beta"]): {k: m[k] for k in keys} for m in maps}
-    data = {"maps": maps, "lag": 4, "window_rad": PAPER_WINDOW}
-    return [FigureData("fig7", data, {"fig7": (["beta", "d31_n", "d31_n4"], rows)}, summary)]
-
-
-def _fig8(cfg: Config, p: ModelParams, get: Lookup, found: Found) -> list[FigureData]:
-    cells = [found[b] for b in cfg.bif_betas]
-    out = {gait: branch_ranges(cells, gait) for gait in ("tripod", "metachronal")}
-    r = beta_ramp(cfg)
-    res = get(_ramp_task(r, cfg, p))
-    sweep = _sweep(r, res, cfg)
-    r_up = beta_ramp(cfg, up=True)
-    res_up = get(_ramp_task(r_up, cfg, p))
-    points: list[dict[str, Any]] = [
-        {"beta": c.beta, "fixed_points": _points(c), "one_sided": _one_sided(c),
-         "ghosts": [g.model_dump() for g in c.ghosts],
-         "unsettled": [u.model_dump() for u in c.unsettled]}
-        for c in cells
-    ]  # fmt: skip
-    rows = [[pt["beta"], f["d31"], f["slope"], int(f["stable"])] for pt in points
-            for f in pt["fixed_points"]]  # fmt: skip
-    data = {
-        "points": points,
-        "branches": out,
-        "sweep": sweep,
-        "sweep_series": {k: res[k] for k in ("value", "d31")},
-        "sweep_up_series": {k: res_up[k] for k in ("value", "d31")},
-        "window_rad": PAPER_WINDOW,
-    }
-    unsettled = sum(len(c.unsettled) for c in cells)
-    summary = {"branches": out, "grid": list(cfg.bif_betas), "unsettled": unsettled,
-               "runs": sum(len(c.runs) for c in cells)}  # fmt: skip
-    csv: Csv = {"fig8": (["beta", "d31_rad", "slope", "stable"], rows)}
-    return [FigureData("fig8", data, csv, summary)]
-
-
 def _fig9_runs(cfg: Config, p: ModelParams) -> list[tuple[str, Ramp, ModelParams]]:
     """Fig. 9's sweeps (figure name, ramp, parameters), and Fig. 9b's again on the paper's
     ground: today's contact turns the body 90-100 deg downhill within 40-60 s, the paper's
@@ -449,15 +361,11 @@ def _ablation(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     return [FigureData("ablation", {"runs": runs, "summary": summary}, csv, summary)]
 
 
-def analyse(
-    fig: str, cfg: Config, p: ModelParams, get: Lookup, found: Found | None = None
-) -> list[FigureData]:
-    """The figure data of `fig` from its tasks' results (`get(task)` -> result dict) and, for
-    Figs. 7-8, the finder's results by beta (`found`)."""
+def analyse(fig: str, cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+    """The figure data of `fig` (Figs. 5, 6, 9, the ablation) from its tasks' results
+    (`get(task)` -> result dict)."""
     if fig in ("7", "8"):
-        if found is None:
-            raise ValueError(f"Fig. {fig} needs the finder's results")
-        return (_fig7 if fig == "7" else _fig8)(cfg, p, get, found)
+        raise ValueError(f"Fig. {fig} is read from the drift surface (paper.surface_repro)")
     fn = {"5": _fig5, "6": _fig6, "9": _fig9, "ablation": _ablation}
     if fig not in fn:
         raise ValueError(f"unknown figure {fig!r}; choose from {FIGURES}")

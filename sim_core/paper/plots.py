@@ -141,106 +141,6 @@ def fig6b(data: dict[str, Any], path: Path) -> None:
     _save(fig, path)
 
 
-def _fixed_points(ax: Any, points: list[dict[str, Any]], x: float | None = None) -> None:
-    for f in points:
-        px, py = (f["d31"], f["d31"]) if x is None else (x, f["d31"])
-        ax.plot(px, py, "o", ms=7, mfc="k" if f["stable"] else "w", mec="k", zorder=5)
-
-
-def _one_sided(ax: Any, points: list[dict[str, Any]], x: float | None = None) -> None:
-    for f in points:
-        px, py = (f["d31"], f["d31"]) if x is None else (x, f["d31"])
-        ax.plot(px, py, "o", ms=6, mfc="0.65", mec="0.35", fillstyle="left", zorder=4)
-
-
-def fig7(data: dict[str, Any], path: Path, paper_ghosts: dict[float, float] | None = None) -> None:
-    maps = data["maps"]
-    lo, hi = data["window_rad"]
-    fig, axes = plt.subplots(2, len(maps), figsize=(4.3 * len(maps), 8.6), squeeze=False,
-                             gridspec_kw={"height_ratios": [1.15, 1]})  # fmt: skip
-    for ax, m in zip(axes[1], maps, strict=True):  # the same pairs as drift per cycle
-        x, y = np.asarray(m["x"]), np.asarray(m["y"])
-        d = np.mod(y - x + np.pi, TWO_PI) - np.pi
-        xu, yu = np.asarray(m.get("x_unsettled", [])), np.asarray(m.get("y_unsettled", []))
-        du = np.mod(yu - xu + np.pi, TWO_PI) - np.pi
-        ax.plot(xu, du / data["lag"] * 1e3, ".", ms=1.5, color="0.7", label="runs not settled")
-        ax.plot(x, d / data["lag"] * 1e3, ".", ms=2, alpha=0.5, label="settled runs")
-        ax.legend(loc="lower left", fontsize=7)
-        ax.axhline(0, color="k", lw=0.8)
-        ax.axvspan(lo, hi, color="0.93", zorder=0)
-        for f in m["fixed_points"]:
-            ax.plot(f["d31"], 0, "o", ms=7, mfc="k" if f["stable"] else "w", mec="k", zorder=5)
-        ax.set_ylim(-15, 15)
-        ax.set_xlim(0, TWO_PI)
-        ax.set_xlabel("Δ31 n (rad)")
-    axes[1][0].set_ylabel("drift per cycle (Δ31 n+4 − Δ31 n)/4 (mrad)")
-    for ax, m in zip(axes[0], maps, strict=True):
-        ax.plot(m.get("x_unsettled", []), m.get("y_unsettled", []), ".", ms=1.5, color="0.7")
-        ax.plot(m["x"], m["y"], ".", ms=2, alpha=0.5)
-        ax.plot([0, TWO_PI], [0, TWO_PI], "k-", lw=0.8)
-        ax.axvspan(lo, hi, color="0.93", zorder=0)
-        _fixed_points(ax, m["fixed_points"])
-        _one_sided(ax, m.get("one_sided", []))
-        for g in m["ghosts"]:
-            ax.annotate("ghost", (g, g), (g + 0.6, g - 1.0), fontsize=8,
-                        arrowprops={"arrowstyle": "->", "lw": 0.7})  # fmt: skip
-        pg = (paper_ghosts or {}).get(m["beta"])
-        if pg is not None:
-            ax.plot(pg, pg, "x", ms=9, color="0.45", label=f"paper ghost {pg}")
-            ax.legend(loc="upper left", fontsize=7)
-        n_un = len(m.get("unsettled", []))
-        ax.set_title(f"β = {m['beta']}: {m['window_pattern'] or 'none'} in the band"
-                     + (f"; {n_un} run(s) not settled" if n_un else ""), fontsize=9)  # fmt: skip
-        ax.set_xlim(0, TWO_PI)
-        ax.set_ylim(0, TWO_PI)
-        ax.set_aspect("equal")
-    axes[0][0].set_ylabel(f"Δ31 n+{data['lag']} (rad)")
-    fig.suptitle("return maps of the settled runs; solid: stable, open: unstable (bisected "
-                 "basin border), half: settled but kicks return from one side only; grey band: "
-                 "the paper's range", fontsize=9)  # fmt: skip
-    _save(fig, path)
-
-
-def fig8(data: dict[str, Any], path: Path, paper: PaperValues | None = None) -> None:
-    fig, ax = plt.subplots(figsize=(7.5, 5))
-    for key, colour, label in (("sweep_series", "0.78", "β sweep down from 0.70 (Fig. 6a)"),
-                               ("sweep_up_series", "#c9b3e6", "β sweep up from 0.62")):  # fmt: skip
-        sw = data.get(key)
-        if sw:
-            ax.plot(sw["value"], sw["d31"], ".", ms=1.2, color=colour, zorder=0, label=label)
-    for p in data["points"]:
-        _fixed_points(ax, p["fixed_points"], x=p["beta"])
-        _one_sided(ax, p.get("one_sided", []), x=p["beta"])
-        for g in p.get("ghosts", []):
-            ax.plot(p["beta"], g["d31"], "x", ms=6, color="tab:red", zorder=4)
-        for u in p.get("unsettled", []):
-            if u["final"] is not None:
-                ax.plot(p["beta"], u["final"], "v", ms=4, color="0.45", zorder=3)
-    if paper:
-        for (a, b), y in ((paper.tripod_stable, TRIPOD_BRANCH),
-                          (paper.metachronal_stable, METACHRONAL_BRANCH)):  # fmt: skip
-            ax.plot([a, b], [y, y], lw=6, alpha=0.25, color="tab:orange", solid_capstyle="butt")
-        ax.plot([], [], lw=6, alpha=0.25, color="tab:orange", label="paper: stable ranges")
-    for gait, b in data["branches"].items():
-        for f in b["folds"]:
-            ax.axvline(f["beta"], ls="--", lw=0.8, color="tab:purple")
-            ax.text(f["beta"], 0.2, f" fold ({gait}) {f['beta']:.4g} ± {f['half_width']:.4g}",
-                    rotation=90, fontsize=7)  # fmt: skip
-    ax.plot([], [], "ko", label="stable (settled; kicks return from both sides)")
-    ax.plot([], [], "o", mfc="w", mec="k", label="unstable (basin border, bisected)")
-    ax.plot([], [], "o", mfc="0.65", mec="0.35", fillstyle="left",
-            label="settled, kicks return from one side only")  # fmt: skip
-    ax.plot([], [], "x", color="tab:red", label="ghost (slowest passage)")
-    ax.plot([], [], "v", color="0.45", label="not settled in the time given")
-    ax.set_xlabel("duty factor β")
-    ax.set_ylabel(D31)
-    ax.set_ylim(0, TWO_PI)
-    ax.set_title("stable and unstable gaits from settled walking (the fixed-point finder)",
-                 fontsize=9)  # fmt: skip
-    ax.legend(loc="upper right", fontsize=6.5)
-    _save(fig, path)
-
-
 def _heading_note(sweep: dict[str, Any]) -> str:
     h = sweep.get("max_heading_deg")
     return "" if h is None else f"; body turned up to {h:.0f}°"
@@ -278,13 +178,12 @@ def ablation(data: dict[str, Any], path: Path) -> None:
 
 
 def draw(name: str, data: dict[str, Any], path: Path, paper: PaperValues) -> None:
-    """Draw the figure `name` (fig5, fig6a, ..., ablation) from its data into `path`."""
+    """Draw the figure `name` (fig5, fig6a, fig6b, fig9a, fig9b, ablation) from its data into
+    `path`; Figs. 7-8 are drawn from the drift surface (`surface_figures`)."""
     drawers: dict[str, Callable[[dict[str, Any], Path], None]] = {
         "fig5": fig5,
         "fig6a": fig6a,
         "fig6b": fig6b,
-        "fig7": lambda d, p: fig7(d, p, dict(paper.ghosts_rad)),
-        "fig8": lambda d, p: fig8(d, p, paper),
         "fig9a": lambda d, p: fig9(d, p, "body mass (g)",
                                    "heavy → tripod, light → metachronal, with hysteresis"),
         "fig9b": lambda d, p: fig9(d, p, "slope angle (deg), uphill +",

@@ -24,17 +24,15 @@ from sim_core.docsections import markers, replace_section
 from sim_core.model.gait import HEADING_KEPT_DEG
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
-from sim_core.paper.figures import (
-    BRANCH_TOL,
-    FIGURES,
-    Config,
-    analyse,
-    figure_tasks,
-    finder_cells,
+from sim_core.paper.figures import BRANCH_TOL, FIGURES, Config, analyse, figure_tasks
+from sim_core.paper.results import SURFACE_FILE, SURFACE_PENALTY_FILE
+from sim_core.paper.surface_check import variant_table
+from sim_core.paper.surface_repro import (
+    FREE_RUN_TOL,
+    SurfaceStudy,
+    surface_figure_data,
+    surface_study,
 )
-from sim_core.paper.fixedpoints import FinderOutput, find
-from sim_core.paper.results import BIFURCATION_FILE
-from sim_core.paper.search import task_runner
 from sim_core.paper.values import PAPER
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
@@ -130,40 +128,43 @@ def reproduce(
     tasks: list[Task] = [t for f in figs for t in figure_tasks(f, cfg, p)]
     cache = ResultCache(cache_dir)
     results, stats = run_tasks(tasks, cache, backend, cfg.chunk_size, progress, executor)
-    # Figs. 7-8: the settled fixed-point finder, round by round through the same cache
-    cells = finder_cells(figs, cfg)
-    finder_stats = RunStats()
-    run_fn = task_runner(cache, backend, p, chunk_size=cfg.chunk_size, progress=progress,
-                      stats=finder_stats, executor=executor)  # fmt: skip
-    found = {c.beta: c for c in find(cells, cfg.finder, run_fn)} if cells else {}
-    stats = _add_stats(stats, finder_stats)
 
     def get(t: Task) -> dict[str, Any]:
         return results[t.key] if t.key in results else _cached(cache, t)
+
+    # Figs. 7-8: the drift surface, its sample checks and the mechanism's surface on the
+    # paper's ground, probe by probe through the same cache
+    study = None
+    if "7" in figs or "8" in figs:
+        study = surface_study(cfg.surface_betas, cfg.surface, p, cache, backend,
+                              progress=progress, executor=executor)  # fmt: skip
+        stats = _add_stats(stats, study.stats)
 
     out.mkdir(parents=True, exist_ok=True)
     identity = {"params": params_hash(p), "code": code_fingerprint(), "config": cfg.to_dict()}
     identity = json.loads(json.dumps(identity))  # as read back from the state file
     summaries = _load_state(out / STATE_FILE, identity)
     files: list[Path] = []
-    for f in figs:
-        for fd in analyse(f, cfg, p, get, found):
-            meta = {"figure": fd.name, "identity": identity, "summary": fd.summary}
-            (out / f"{fd.name}.json").write_text(json.dumps(meta | {"data": fd.data}))
-            files.append(out / f"{fd.name}.json")
-            for stem, (header, rows) in fd.csv.items():
-                _write_csv(out / f"{stem}.csv", header, rows)
-                files.append(out / f"{stem}.csv")
+    figure_data = [fd for f in figs if f not in ("7", "8") for fd in analyse(f, cfg, p, get)]
+    if study is not None:
+        figure_data += surface_figure_data(study, figs, cfg, p, get, out, PAPER, BETA_TOL)
+    for fd in figure_data:
+        meta = {"figure": fd.name, "identity": identity, "summary": fd.summary}
+        (out / f"{fd.name}.json").write_text(json.dumps(meta | {"data": fd.data}))
+        files.append(out / f"{fd.name}.json")
+        for stem, (header, rows) in fd.csv.items():
+            _write_csv(out / f"{stem}.csv", header, rows)
+            files.append(out / f"{stem}.csv")
+        if fd.name not in ("fig7", "fig8"):  # drawn from the surface by `surface_figure_data`
             draw(fd.name, fd.data, out / f"{fd.name}.png", PAPER)
-            files.append(out / f"{fd.name}.png")
-            if fd.name == "fig8":  # the viewer draws the live (beta, Delta31) point on this
-                fo = FinderOutput(
-                    source="insect-gait reproduce: Fig. 8, the settled fixed-point finder",
-                    config=asdict(cfg.finder), cells=[found[b] for b in cfg.bif_betas],
-                )  # fmt: skip
-                (out / BIFURCATION_FILE).write_text(fo.model_dump_json())
-                files.append(out / BIFURCATION_FILE)
-            summaries[fd.name] = fd.summary
+        files.append(out / f"{fd.name}.png")
+        summaries[fd.name] = fd.summary
+    if study is not None:
+        (out / SURFACE_FILE).write_text(study.surface.model_dump_json())
+        files.append(out / SURFACE_FILE)
+        if study.paper_ground is not None:
+            (out / SURFACE_PENALTY_FILE).write_text(study.paper_ground.model_dump_json())
+            files += [out / SURFACE_PENALTY_FILE, out / "mechanism.png"]
     wall = time.perf_counter() - t0
     run = {
         "figures": figs, "wall_s": wall, "backend": backend.name, "workers": backend.workers,
@@ -175,8 +176,30 @@ def reproduce(
     (out / TABLE_FILE).write_text(table + "\n")
     files += [out / STATE_FILE, out / TABLE_FILE]
     if doc is not None:
-        doc.write_text(update_doc(doc.read_text(), table))
+        text = update_doc(doc.read_text(), table)
+        if study is not None:
+            text = replace_section(text, "surface", surface_section(study, backend))
+        doc.write_text(text)
     return Report(figs, files, stats, wall, table, summaries)
+
+
+def surface_section(study: SurfaceStudy, backend: Backend) -> str:
+    """What the surface behind Figs. 7-8 cost, and the protocol's checks on a sample."""
+    s = study.surface
+    floor = float(s.config.get("floor_rad", 3e-4))
+    return "\n".join([
+        f"Figs. 7-8 read from the drift surface: {len(s.points)} probes ({s.sim_s:.0f} "
+        f"simulated s) over {len(s.betas)} betas in {study.surface_wall_s:.0f} s wall; "
+        f"{study.wall_s:.0f} s with the paper's ground's mechanism surfaces and the sample "
+        f"checks ({study.stats.computed} probes computed, {study.stats.cached} read from the "
+        f"cache), on the `{backend.name}` backend with {backend.workers} worker(s) "
+        f"({datetime.date.today().isoformat()}).",
+        "",
+        f"The protocol on a sample (every difference within the {floor * 1e3:g} mrad noise "
+        f"floor: {'yes' if study.checks_ok else '**no**'}):",
+        "",
+        variant_table(study.checks),
+    ])  # fmt: skip
 
 
 # --- the table ----------------------------------------------------------------------------------
@@ -269,54 +292,55 @@ def _fig6_rows(s: dict[str, Any] | None) -> list[Row]:
 
 
 def _fig7_rows(s: dict[str, Any] | None) -> list[Row]:
-    rows: list[Row] = []
-    for beta, pat, gait in PAPER.fixed_points:
-        paper = f"{len(pat.split())} ({pat}{', ' + gait if gait else ''})"
-        label = f"Fig. 7: fixed points at β = {beta}"
-        m = None if s is None else s.get(str(beta))
-        if m is None:
-            rows.append((label, paper, "not run", "not run"))
-            continue
-        fps = m["window_fixed_points"]
-        where = ", ".join(f"{f['d31']:.2f}{'' if f['stable'] else ' (U)'}" for f in fps)
-        ours = f"{len(fps)} ({m['window_pattern'] or 'none'}){': ' + where if where else ''}"
-        unsettled = m.get("unsettled") or []
-        if unsettled:
-            ends = ", ".join(f"{u['final']:.2f}" for u in unsettled if u["final"] is not None)
-            ours += f"; {len(unsettled)} run(s) not settled (at {ends})"
-        ok = m["window_pattern"] == pat
-        if ok and gait is not None:
-            ok = all(f["gait"] == gait for f in fps if f["stable"])
-        rows.append((label, paper, ours, _verdict(ok)))
+    """The surface's patterns (`surface_figures.fig7_rows`), the ghosts, and our check that
+    the settled free runs end on the surface's stable zeros."""
+    if s is None:
+        rows: list[Row] = [
+            (f"Fig. 7: fixed points at β = {b}", f"{len(pat.split())} ({pat})", "not run",
+             "not run") for b, pat, _ in PAPER.fixed_points
+        ]  # fmt: skip
+        rows += [(f"Fig. 7: ghost at β = {b}", f"near {g} rad", "not run", "not run")
+                 for b, g in PAPER.ghosts_rad]  # fmt: skip
+        return rows
+    rows = [(a, b, c, d) for a, b, c, d in s["pattern_rows"]]
     for beta, g in PAPER.ghosts_rad:
         label = f"Fig. 7: ghost at β = {beta}"
-        m = None if s is None else s.get(str(beta))
+        m = s.get(str(beta))
         if m is None:
             rows.append((label, f"near {g} rad", "not run", "not run"))
             continue
         near = [x for x in m["ghosts"] if abs(x - g) <= GHOST_TOL]
         ours = ", ".join(f"{x:.2f}" for x in m["ghosts"]) or "none"
         rows.append((label, f"near {g} rad", ours, _verdict(bool(near))))
+    per_beta = {k: v for k, v in s.items() if isinstance(v, dict)}
+    runs = sum(len(v["finals"]) for v in per_beta.values())
+    off = [f"{x:.2f} at {b}" for b, v in per_beta.items() for x in v["off_zeros"]]
+    unsettled = sum(v["unsettled"] for v in per_beta.values())
+    ours = f"{runs - len(off)} of {runs} settled runs within {FREE_RUN_TOL} rad of a stable zero"
+    ours += f" (off: {', '.join(off)})" if off else ""
+    ours += f"; {unsettled} run(s) not settled" if unsettled else ""
+    rows.append(("Fig. 7: free runs end on the surface's stable zeros (our check)", "—", ours,
+                 _verdict(not off and runs > 0)))  # fmt: skip
     return rows
 
 
 def _fig8_rows(s: dict[str, Any] | None) -> list[Row]:
-    rows: list[Row] = []
-    for gait in ("tripod", "metachronal"):
-        a, b = PAPER.tripod_stable if gait == "tripod" else PAPER.metachronal_stable
-        label = f"Fig. 8: {gait} stable for β in"
-        if s is None:
-            rows.append((label, f"{_b(a)}-{_b(b)}", "not run", "not run"))
-            continue
-        br = s["branches"][gait]
-        segs = "; ".join(f"{_b(lo)}-{_b(hi)}" for lo, hi in br["ranges"]) or "nowhere on the grid"
-        folds = ", ".join(f"{f['beta']:.4f}±{f['half_width']:.4f}" for f in br["folds"])
-        ours = segs + (f" (folds at {folds})" if folds else "")
-        if s.get("unsettled"):
-            ours += f"; {s['unsettled']} of {s['runs']} runs not settled"
-        ends = br["ends"]
-        ok = ends is not None and abs(ends[0] - a) <= BETA_TOL and abs(ends[1] - b) <= BETA_TOL
-        rows.append((label, f"{_b(a)}-{_b(b)}", ours, _verdict(ok)))
+    """The surface's stable ranges (`surface_figures.fig8_rows`) and our check of its protocol
+    (K/3, dt/2) on a sample."""
+    label = "drift surface: the pin at K/3 and dt/2 on a sample (our check)"
+    if s is None:
+        ranges = (("tripod", PAPER.tripod_stable), ("metachronal", PAPER.metachronal_stable))
+        rows: list[Row] = [
+            (f"Fig. 8: {g} stable for β in", f"{_b(a)}-{_b(b)}", "not run", "not run")
+            for g, (a, b) in ranges
+        ]
+        return [*rows, (label, "—", "not run", "not run")]
+    rows = [(a, b, c, d) for a, b, c, d in s["range_rows"]]
+    worst = ", ".join(
+        f"{k} {'n/a' if v is None else f'{v * 1e3:.2f}'}" for k, v in s["checks_worst"].items()
+    )
+    ours = f"largest drift differences (mrad/cycle): {worst}; floor {s['floor_rad'] * 1e3:g}"
+    rows.append((label, "—", ours, _verdict(bool(s["checks_ok"]))))
     return rows
 
 

@@ -22,10 +22,11 @@ from typing import Literal, get_args
 RESULTS_ENV = "INSECT_GAIT_RESULTS"
 # the checkout this package sits in (sim_core/paper/results.py -> the repository root)
 _CHECKOUT = Path(__file__).resolve().parents[2]
-# the finder's output over Fig. 8's betas (`reproduce`); the viewer validates it as such
+# the finder's output over Fig. 8's betas (`insect-gait finder`); the viewer validates it
 BIFURCATION_FILE = "bifurcation.json"
-# the drift surface over Fig. 8's betas (`insect-gait surface-figures`); a `DriftSurface`
+# the drift surface over Fig. 8's betas (`insect-gait reproduce`); a `DriftSurface`
 SURFACE_FILE = "surface.json"
+SURFACE_PENALTY_FILE = "surface_penalty.json"  # the mechanism's surface on the paper's ground
 # the gait atlas's second axis beside beta (`sim_core.paper.atlas`): one file each
 AtlasAxis = Literal["mass", "slope"]
 ATLAS_AXES: tuple[str, ...] = get_args(AtlasAxis)
@@ -45,7 +46,16 @@ RESULTS_DIR = results_dir()
 
 
 def atlas_file(folder: Path, axis: str) -> Path:
-    """atlas_mass.json / atlas_slope.json in `folder` (what `write_atlas` writes)."""
+    """atlas_mass.json / atlas_slope.json in `folder`: the finder's atlas (`write_atlas`,
+    `insect-gait finder-atlas`)."""
     if axis not in ATLAS_AXES:
         raise ValueError(f"unknown atlas axis {axis!r}; choose from {ATLAS_AXES}")
     return folder / f"atlas_{axis}.json"
+
+
+def surface_atlas_file(folder: Path, axis: str, ground: str) -> Path:
+    """surface_atlas_<axis>_<ground>.json in `folder`: what `insect-gait atlas` writes and the
+    viewer's atlas panel reads (a `SurfaceAtlas`)."""
+    if axis not in ATLAS_AXES:
+        raise ValueError(f"unknown atlas axis {axis!r}; choose from {ATLAS_AXES}")
+    return folder / f"surface_atlas_{axis}_{ground}.json"

@@ -47,9 +47,9 @@ from sim_core.paper.surface_types import (
     SurfaceZero,
     grid,
 )
-from sim_core.runs.backends import Backend, InlineBackend, RunStats, run_tasks
+from sim_core.runs.backends import Backend, Executor, InlineBackend, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
-from sim_core.runs.tasks import run_task
+from sim_core.runs.tasks import execute_chunk, run_task
 
 
 # --- the probes ---------------------------------------------------------------------------------
@@ -94,6 +94,38 @@ def refinement_probes(surface: DriftSurface, cfg: SurfaceConfig) -> list[Probe]:
                     done.add(round(d, 6))
                     out.append(Probe(b, round(d, 6), cfg.refine_average_s))
     return out
+
+
+def bisection_probes(surface: DriftSurface, cfg: SurfaceConfig) -> list[Probe]:
+    """One round of bisection, averaged `cfg.average_s` as the first pass: a probe in the
+    middle of every gap wider than `cfg.resolve_width_rad` between neighbouring probed D
+    inside every zero's bracket, and on either side of every dip of |d| (a probe whose |d| is
+    no larger than its neighbours', all three of one sign), where a narrow pair of zeros may
+    hide. A coarse first
+    pass so pays a finer spacing only where the drift changes sign or dips."""
+    out: list[Probe] = []
+    wide = cfg.resolve_width_rad + 1e-9
+    for b in surface.betas:
+        pts = sorted(
+            (p for p in surface.points_at(b) if p.usable and p.drift is not None),
+            key=lambda p: p.pin_d31,
+        )
+        pins = [round(p.pin_d31, 6) for p in pts]
+        by_d31 = {p.d31: p.pin_d31 for p in pts}
+        gaps: list[tuple[float, float]] = []
+        for z in surface.zeros_at(b):
+            lo, hi = by_d31.get(z.lo, z.lo), by_d31.get(z.hi, z.hi)
+            inside = [d for d in pins if lo - 1e-9 <= d <= hi + 1e-9]
+            gaps += list(itertools.pairwise(inside))
+        d = [float(p.drift or 0.0) for p in pts]
+        for k in range(1, len(pts) - 1):
+            one_sign = (d[k - 1] > 0) == (d[k] > 0) == (d[k + 1] > 0)  # no zero beside it
+            if one_sign and abs(d[k]) <= min(abs(d[k - 1]), abs(d[k + 1])):
+                gaps += [(pins[k - 1], pins[k]), (pins[k], pins[k + 1])]
+        for lo, hi in gaps:
+            if hi - lo > wide:
+                out.append(Probe(b, round(0.5 * (lo + hi), 6), cfg.average_s))
+    return list(dict.fromkeys(out))
 
 
 def _jumps(
@@ -338,6 +370,13 @@ def assemble(
     )
 
 
+class Condition(NamedTuple):
+    """Where a surface's probes walk besides beta and D: body mass (g) and slope (deg)."""
+
+    body_mass_g: float = RunSpec.model_fields["body_mass_g"].default  # the paper's 3 g
+    slope_deg: float = RunSpec.model_fields["slope_deg"].default
+
+
 def drift_surface(
     betas: Sequence[float],
     *,
@@ -352,6 +391,7 @@ def drift_surface(
     progress: bool = True,
     stats: RunStats | None = None,
     on_progress: Callable[[float], None] | None = None,
+    executor: Executor = execute_chunk,
 ) -> DriftSurface:
     """The drift surface over `betas` x `config.d31_grid`: every probe run through
     `sim_core.runs` (cached by content, so an interrupted surface resumes; local pool or Dask).
@@ -364,47 +404,98 @@ def drift_surface(
         params: model parameters (defaults if None); its ground names the surface's.
         body_mass_g, slope_deg: the body mass (g) and slope (deg) every probe walks at.
         numerics: RunSpec's integrator, dt_s, control_dt_s (the model's defaults if absent).
-        refine: a second pass of finer, longer probes inside every unresolved zero's bracket
-            and near-zero band (`refinement_probes`).
+        refine: bisect every zero's bracket and every dip of |d| down to
+            `resolve_width_rad` (`bisection_probes`, at most `bisect_rounds` rounds), then
+            probe finer and longer inside every zero still unresolved and every near-zero
+            band (`refinement_probes`).
         progress: a tqdm bar on stderr; stats: accumulates what was computed and read back.
         on_progress: called with the share of probes done (0..1) as chunks finish.
+        executor: what runs a chunk of tasks (`execute_chunk`; tests pass a stand-in).
 
     Returns:
         The `DriftSurface`: per probe the sampled Delta31, drift per cycle (rad) with its
         standard error and the mean jumps e1..e6; per beta the zeros and near-zero bands;
         over beta the stable branches and their folds.
     """
+    (surface,) = drift_surfaces(
+        betas, [Condition(body_mass_g, slope_deg)], cache=cache, backend=backend,
+        config=config, params=params, numerics=numerics, refine=refine, progress=progress,
+        stats=stats, on_progress=on_progress, executor=executor,
+    )  # fmt: skip
+    return surface
+
+
+def drift_surfaces(
+    betas: Sequence[float],
+    conditions: Sequence[Condition],
+    *,
+    cache: ResultCache | None = None,
+    backend: Backend | None = None,
+    config: SurfaceConfig | None = None,
+    params: ModelParams | None = None,
+    numerics: Mapping[str, Any] | None = None,
+    refine: bool = True,
+    progress: bool = True,
+    stats: RunStats | None = None,
+    on_progress: Callable[[float], None] | None = None,
+    executor: Executor = execute_chunk,
+) -> list[DriftSurface]:
+    """`drift_surface` at each of `conditions` (body mass, slope), every pass of all of them
+    handed to the backend at once: one pool or cluster stays busy across an atlas's rows."""
     if cache is None:
         with tempfile.TemporaryDirectory(prefix="surface-") as tmp:
-            return drift_surface(
-                betas, cache=ResultCache(tmp), backend=backend, config=config, params=params,
-                body_mass_g=body_mass_g, slope_deg=slope_deg, numerics=numerics,
-                refine=refine, progress=progress, stats=stats, on_progress=on_progress,
+            return drift_surfaces(
+                betas, conditions, cache=ResultCache(tmp), backend=backend, config=config,
+                params=params, numerics=numerics, refine=refine, progress=progress,
+                stats=stats, on_progress=on_progress, executor=executor,
             )  # fmt: skip
     backend = backend or InlineBackend()
     cfg = config or SurfaceConfig()
     p = params or ModelParams()
-    fields = {"body_mass_g": body_mass_g, "slope_deg": slope_deg, **(numerics or {})}
-    where: dict[str, Any] = {"body_mass_g": body_mass_g, "slope_deg": slope_deg, "ground": p.ground}
+    conds = list(conditions)
 
-    def run(probes: list[Probe], share: tuple[float, float]) -> list[SurfacePoint]:
-        tasks = [run_task(probe_spec(q, cfg, **fields), p) for q in probes]
+    def run(probes: list[list[Probe]], share: tuple[float, float]) -> list[list[SurfacePoint]]:
+        tasks = [
+            [run_task(probe_spec(q, cfg, **c._asdict(), **(numerics or {})), p) for q in qs]
+            for c, qs in zip(conds, probes, strict=True)
+        ]
+        flat = [t for ts in tasks for t in ts]
         a, b = share
         report = None if on_progress is None else (lambda x: on_progress(a + (b - a) * x))
-        results, st = run_tasks(tasks, cache, backend, cfg.chunk_size, progress, on_progress=report)
+        results, st = run_tasks(
+            flat, cache, backend, cfg.chunk_size, progress, executor, on_progress=report
+        )
         if stats is not None:
             for name in ("tasks", "computed", "cached", "compute_s"):
                 setattr(stats, name, getattr(stats, name) + getattr(st, name))
-        return [read_probe(q, results[t.key], cfg) for q, t in zip(probes, tasks, strict=True)]
+        return [
+            [read_probe(q, results[t.key], cfg) for q, t in zip(qs, ts, strict=True)]
+            for qs, ts in zip(probes, tasks, strict=True)
+        ]
 
-    probes = grid_probes(betas, cfg)
-    points = run(probes, (0.0, 0.7 if refine else 1.0))
-    surface = assemble(betas, points, cfg, sim_s=_sim_s(probes, cfg), **where)
+    def surfaces() -> list[DriftSurface]:
+        return [
+            assemble(betas, pts, cfg, sim_s=_sim_s(qs, cfg), ground=p.ground, **c._asdict())
+            for c, pts, qs in zip(conds, points, probes, strict=True)
+        ]
+
+    probes = [grid_probes(betas, cfg) for _ in conds]
+    points = run(probes, (0.0, 0.6 if refine else 1.0))
+    out = surfaces()
     if not refine:
-        return surface
-    extra = refinement_probes(surface, cfg)
-    points += run(extra, (0.7, 1.0))
-    return assemble(betas, points, cfg, sim_s=_sim_s(probes + extra, cfg), **where)
+        return out
+    passes = [bisection_probes] * cfg.bisect_rounds + [refinement_probes]
+    for k, step in enumerate(passes):
+        extra = [step(sf, cfg) for sf in out]
+        if not any(extra):
+            continue
+        a = 0.6 + 0.4 * k / len(passes)
+        for pts, new in zip(points, run(extra, (a, a + 0.4 / len(passes))), strict=True):
+            pts += new
+        for qs, e in zip(probes, extra, strict=True):
+            qs += e
+        out = surfaces()
+    return out
 
 
 def _sim_s(probes: Sequence[Probe], cfg: SurfaceConfig) -> float:

@@ -6,8 +6,9 @@ same question from settled free runs; this one also sees the folds, at a fixed p
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
+from typing import Any
 
 import matplotlib
 
@@ -18,18 +19,17 @@ from sim_core.model.gait import classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.fixedpoints import AXIS_LABEL, AXIS_PARAM
-from sim_core.paper.surface import drift_surface
-from sim_core.paper.surface_types import AtlasPoint, DriftSurface, SurfaceAtlas, SurfaceConfig
-from sim_core.runs.backends import Backend, RunStats
+from sim_core.paper.surface import Condition, drift_surfaces
+from sim_core.paper.surface_types import (
+    REGION_COLOURS,
+    AtlasPoint,
+    DriftSurface,
+    SurfaceAtlas,
+    SurfaceConfig,
+)
+from sim_core.runs.backends import Backend, Executor, RunStats
 from sim_core.runs.cache import ResultCache
-
-REGION_COLOURS = {
-    "both": "tab:purple",
-    "tripod only": "tab:red",
-    "metachronal only": "tab:blue",
-    "other states": "0.6",
-    "none": "white",
-}
+from sim_core.runs.tasks import execute_chunk
 
 
 def region(gaits: Sequence[str]) -> str:
@@ -74,39 +74,37 @@ def surface_atlas(
     backend: Backend | None = None,
     config: SurfaceConfig | None = None,
     params: ModelParams | None = None,
+    at: Condition | None = None,
+    numerics: Mapping[str, Any] | None = None,
     refine: bool = True,
     progress: bool = True,
     stats: RunStats | None = None,
     on_value: Callable[[float, DriftSurface], None] | None = None,
+    on_progress: Callable[[float], None] | None = None,
+    executor: Executor = execute_chunk,
 ) -> SurfaceAtlas:
     """A drift surface over `betas` at each of `values` of `axis` ("mass": body_mass_g, g;
-    "slope": slope_deg, deg), read as regions and folds. Every probe goes through the cache, so
-    an interrupted atlas resumes; `on_value` hears each value's surface as it is done."""
+    "slope": slope_deg, deg), the other held at `at`'s (default: 3 g, level), read as regions
+    and folds; `numerics` as `drift_surface`'s. All values' probes go to the backend
+    together, pass by pass (`drift_surfaces`), through the cache, so an interrupted atlas
+    resumes; `on_value` hears each value's surface once all are done."""
     if axis not in AXIS_PARAM:
         raise ValueError(f"unknown atlas axis {axis!r}; choose from {sorted(AXIS_PARAM)}")
     cfg = config or SurfaceConfig()
     p = params or ModelParams()
     param = AXIS_PARAM[axis]
+    base = at or Condition()
+    conds = [base._replace(**{param: v}) for v in values]
+    surfaces = drift_surfaces(
+        betas, conds, cache=cache, backend=backend, config=config, params=p, numerics=numerics,
+        refine=refine, progress=progress, stats=stats, on_progress=on_progress,
+        executor=executor,
+    )  # fmt: skip
     points: list[AtlasPoint] = []
     folds = []
-    sim_s = 0.0
-    for v in values:
-        mass, slope = (v, 0.0) if param == "body_mass_g" else (ModelParams().body_mass * 1e3, v)
-        s = drift_surface(
-            betas,
-            cache=cache,
-            backend=backend,
-            config=cfg,
-            params=p,
-            refine=refine,
-            progress=progress,
-            stats=stats,
-            body_mass_g=mass,
-            slope_deg=slope,
-        )
+    for v, s in zip(values, surfaces, strict=True):
         points += atlas_points(s, v)
         folds += [(v, f) for f in s.folds if PAPER_WINDOW[0] <= f.d31 <= PAPER_WINDOW[1]]
-        sim_s += s.sim_s
         if on_value is not None:
             on_value(v, s)
     return SurfaceAtlas(
@@ -117,7 +115,7 @@ def surface_atlas(
         values=list(values),
         points=points,
         folds=folds,
-        sim_s=sim_s,
+        sim_s=sum(s.sim_s for s in surfaces),
         config=cfg.to_dict() | {"refine": refine},
     )
 

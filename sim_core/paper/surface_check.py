@@ -108,7 +108,7 @@ def table(rows: list[BetaCheck]) -> str:
 # --- the protocol's own checks: the pin's gain and the step ---------------------------------------
 # a sample of the surface re-measured with the pin at a third of its gain and at half the step
 SAMPLE_BETAS = (0.64, 0.675)
-SAMPLE_D31 = (1.75, 1.9, 2.3, 2.6, 2.9)
+SAMPLE_D31 = (1.7, 1.8, 2.3, 2.6, 2.9)  # on the first pass's grid (variant_rows pairs by D)
 
 
 @dataclass

@@ -26,8 +26,12 @@ class SurfaceConfig:
     # K = 30 per s settles in about a gait cycle (K T ~ 3) and agrees with K = 10 within
     # 0.3 mrad per cycle; K >= 100 biases the 2.3-2.6 band by 1-2 mrad
     gain_per_s: float = PIN_GAIN_PER_S
-    settle_s: float = 1.0  # the pinned walk is periodic after ~1 s: touchdowns before it skipped
-    average_s: float = 2.0  # +-0.06-0.1 mrad against a 24 s reference at K 30
+    # touchdowns before this are skipped, drift is averaged over the next `average_s`: against
+    # the 1 s + 2 s probe (itself within 0.06-0.1 mrad of a 24 s reference), 0.5 s + 1 s reads
+    # the same drift within 0.05 mrad (median) and 0.2 mrad (90%) over 1,050 probes at half
+    # the cost (docs/NUMERICS.md, "The drift surface's cost and precision")
+    settle_s: float = 0.5
+    average_s: float = 1.0
     block_s: float = 0.5  # the standard error comes from the scatter of these windows' drifts
     # below this a drift is zero within the pin's own bias (0.1-0.3 mrad per cycle at K 30)
     floor_rad: float = 3e-4
@@ -37,15 +41,22 @@ class SurfaceConfig:
     # a probe whose sampled Delta31 left D by more than this (fore legs landing late, D <= 1.5)
     # is kept, not used for zeros: it measures somewhere else than the grid says
     off_pin_tol_rad: float = 0.1
-    d31_grid: tuple[float, ...] = field(default_factory=lambda: grid(1.3, 3.5, 0.05))
+    # the first pass: 0.1 rad apart; bisection then probes 0.05 apart only near zeros and dips
+    # of |d| (a first pass 0.1 apart with no bisection missed the metachronal pair 1.74 / 1.81
+    # at beta 0.66, hidden between 1.7 and 1.8; with it, every fold of the 0.05 grid is found)
+    d31_grid: tuple[float, ...] = field(default_factory=lambda: grid(1.3, 3.5, 0.1))
     # a zero is resolved when floor-clearing probes of opposite sign bracket it this closely
-    # (the first pass's spacing) and the drift crosses zero once between them
+    # and the drift crosses zero once between them
     resolve_width_rad: float = 0.05
-    # the second pass (`surface.refinement_probes`): inside every unresolved bracket and
-    # near-zero band, probes this far apart, averaged this long (4 s: half the first pass's
-    # standard error on a 2 s window)
-    refine_step: float = 0.01
-    refine_average_s: float = 4.0
+    # rounds of bisection (`surface.bisection_probes`) inside every zero's bracket and beside
+    # every dip of |d|, each halving the spacing there: two take 0.1 to 0.05 and catch a zero
+    # the first round uncovers
+    bisect_rounds: int = 2
+    # the last pass (`surface.refinement_probes`): inside every unresolved bracket and
+    # near-zero band, probes this far apart, averaged this long (2.5 s: 1.6x fewer standard
+    # errors than the first pass's 1 s window)
+    refine_step: float = 0.02
+    refine_average_s: float = 2.5
     link_tol_rad: float = 0.12  # a stable zero continues a branch at the next beta within this
     chunk_size: int = 8
 
@@ -140,6 +151,16 @@ class DriftSurface(_Model):
         return [p for p in self.points if abs(p.beta - beta) < 1e-9]
 
 
+# an atlas cell's region (`surface_atlas.region`) and its colour (matplotlib names)
+REGION_COLOURS = {
+    "both": "tab:purple",
+    "tripod only": "tab:red",
+    "metachronal only": "tab:blue",
+    "other states": "0.6",
+    "none": "white",
+}
+
+
 class AtlasPoint(_Model):
     """One (beta, axis value) of a surface atlas: its stable zeros in the window and what
     they make of the paper's two gaits."""
@@ -165,3 +186,11 @@ class SurfaceAtlas(_Model):
     folds: list[tuple[float, Fold]]  # (axis value, fold over beta at that value)
     sim_s: float
     config: dict[str, Any]
+
+    @property
+    def regions(self) -> list[list[str]]:
+        """regions[i][j]: the region at values[i], betas[j] (`points` is value-major)."""
+        nb = len(self.betas)
+        return [
+            [p.region for p in self.points[i * nb : (i + 1) * nb]] for i in range(len(self.values))
+        ]

@@ -5,7 +5,8 @@ g(x) = -A (x - 1.9)(x - 2.4)(x - 2.9) (stable points at 1.9 and 2.9 rad, unstabl
 a tilt c(beta) proportional to 0.6575 - beta so that the metachronal pair meets in a fold at beta =
 0.645 and the tripod pair at beta = 0.67: the paper's Fig. 8 by construction. Body mass and
 slope act through an effective beta (heavier or uphill -> lower beta -> tripod), and without
-phase resetting Delta31 does not move. `fake_execute` has the signature of
+phase resetting Delta31 does not move; held by the pin (`RunSpec.pin_d31`) its touchdowns' jumps
+carry the drift at the held value. `fake_execute` has the signature of
 `sim_core.runs.tasks.execute_chunk`, so the whole reproduce pipeline runs on it in milliseconds.
 """
 
@@ -17,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from sim_core.model.params import phi_aep
 from sim_core.paper.fixedpoints import Cell, Probe
 from sim_core.paper.search import probe_task
 from sim_core.runs.tasks import Task
@@ -50,8 +52,28 @@ def effective_beta(task: Task, value: float | None) -> float:
     return beta + 0.01 * (3.0 - mass) - 0.0015 * slope
 
 
+def pinned_run(task: Task) -> dict[str, Any]:
+    """A walk held at Delta31 = D (`RunSpec.pin_d31`): every stride the fore legs land g(D)
+    late and the hind legs g(D) early, so the drift per cycle read from the jumps
+    (`gait.drift_per_cycle`) is the toy's own drift at D."""
+    spec = task.run_spec()
+    d = float(spec.pin_d31 or 0.0)
+    g = drift(d, effective_beta(task, None))
+    aep = phi_aep(spec.beta)
+    jumps = (-g, -g, 0.0, 0.0, g, g)
+    times = list(np.arange(0.034, spec.duration_s, 0.034 / (1.0 - spec.beta)))
+    return {
+        "d31": [d] * len(times), "d31_times_s": times, "d31_final": d, "gait": "other",
+        "error": None, "failure": None, "compute_s": 0.0,
+        "touchdowns_s": [times for _ in range(6)],
+        "touchdown_phases": [[aep - e] * len(times) for e in jumps],
+    }  # fmt: skip
+
+
 def fake_run(task: Task) -> dict[str, Any]:
     spec = task.run_spec()
+    if spec.pin_d31 is not None:
+        return pinned_run(task)
     sched = None if task.ramp is None else task.ramp.schedule()
     x, t = spec.d31_init, 0.0
     times: list[float] = []

@@ -8,13 +8,14 @@ import numpy as np
 import pytest
 
 from sim_core import RunSpec
+from sim_core.docsections import markers
 from sim_core.model.gait import stance_intervals
-from sim_core.model.params import ModelParams
 from sim_core.model.ramp import Ramp
 from sim_core.paper.analysis import range_ends, sweep_summary
-from sim_core.paper.figures import Config, figure_tasks
-from sim_core.paper.fixedpoints import Cell, FinderConfig, FinderOutput, branch_ranges, find
+from sim_core.paper.figures import Config
+from sim_core.paper.fixedpoints import Cell, FinderConfig, branch_ranges, find
 from sim_core.paper.reproduce import DOC_BEGIN, DOC_END, reproduce, table_rows, update_doc
+from sim_core.paper.surface_types import DriftSurface
 from sim_core.runs.backends import InlineBackend, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import make_chunks, ramp_task, run_task
@@ -172,7 +173,9 @@ def test_interrupted_run_resumes_and_a_rerun_does_no_work(tmp_path: Path) -> Non
 # --- the whole pipeline on a paper-like system ----------------------------------------------
 def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path) -> None:
     doc = tmp_path / "REPRODUCTION.md"
-    doc.write_text(f"# title\n\n{DOC_BEGIN}\nstale table\n{DOC_END}\n\nkept text\n")
+    surface_begin, surface_end = markers("surface")
+    doc.write_text(f"# title\n\n{DOC_BEGIN}\nstale table\n{DOC_END}\n\nkept text\n"
+                   f"{surface_begin}\nstale surface\n{surface_end}\n")  # fmt: skip
     count = Counting()
     report = reproduce(["all"], Config(), tmp_path / "fig", tmp_path / "cache", InlineBackend(),
                        doc=doc, progress=False, executor=count)  # fmt: skip
@@ -186,8 +189,10 @@ def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path)
         "Fig. 7: fixed points at β = 0.675",
         "Fig. 7: ghost at β = 0.64",
         "Fig. 7: ghost at β = 0.675",
+        "Fig. 7: free runs end on the surface's stable zeros (our check)",
         "Fig. 8: tripod stable for β in",
         "Fig. 8: metachronal stable for β in",
+        "drift surface: the pin at K/3 and dt/2 on a sample (our check)",
         "Fig. 9a: body mass",
         "Fig. 9b: slope",
         "no phase resetting: Δ31 neutral (Sec. IV)",
@@ -198,14 +203,19 @@ def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path)
     names = {p.name for p in (tmp_path / "fig").iterdir()}
     for stem in ("fig5", "fig6a", "fig6b", "fig7", "fig8", "fig9a", "fig9b", "ablation"):
         assert {f"{stem}.png", f"{stem}.json", f"{stem}.csv"} <= names
-    bif = FinderOutput.model_validate_json((tmp_path / "fig" / "bifurcation.json").read_text())
-    assert [c.beta for c in bif.cells] == list(Config().bif_betas)
-    assert any(c.borders for c in bif.cells) and all(c.attractors for c in bif.cells)
+    assert {"surface.json", "surface_penalty.json", "mechanism.png"} <= names
+    surface = DriftSurface.model_validate_json((tmp_path / "fig" / "surface.json").read_text())
+    assert surface.betas == list(Config().surface_betas)
+    # the toy's folds: metachronal (1.9) born between 0.64 and 0.645, tripod (2.9) gone by 0.67
+    folds = {(round(f.d31), f.side): (f.beta_lo, f.beta_hi) for f in surface.folds}
+    assert folds[(2, "ends as beta falls")][0] <= 0.645 <= folds[(2, "ends as beta falls")][1]
+    assert folds[(3, "ends as beta rises")][0] <= 0.67 <= folds[(3, "ends as beta rises")][1]
     text = doc.read_text()
     assert "kept text" in text and "stale" not in text and "| paper states |" in text
-    assert count.tasks == report.stats.computed > 17 * 8  # 17 betas x 8 starts and bisections
-    # Fig. 5's runs are the finder's starts at 0.62 and 0.70: simulated once, read back once
-    assert report.stats.cached == len(figure_tasks("5", Config(), ModelParams())) == 16
+    assert (
+        "The protocol on a sample (every difference within the 0.3 mrad noise floor: yes)" in text
+    )
+    assert count.tasks == report.stats.computed > 25 * 23  # 25 betas x the surface's grid
     # a re-run of one figure simulates nothing and keeps the other figures' rows
     again = reproduce(["7"], Config(), tmp_path / "fig", tmp_path / "cache", InlineBackend(),
                       progress=False, executor=count)  # fmt: skip

@@ -7,10 +7,11 @@ from pathlib import Path
 
 import pytest
 
-from sim_core.paper.surface import assemble
+from sim_core.paper.surface import assemble, bisection_probes
 from sim_core.paper.surface_atlas import atlas_points, draw_atlas, region, surface_atlas
 from sim_core.paper.surface_figures import table_rows
-from sim_core.paper.surface_types import SurfaceConfig, SurfacePoint
+from sim_core.paper.surface_repro import free_runs_on_zeros, ghosts
+from sim_core.paper.surface_types import SurfaceConfig, SurfacePoint, grid
 from sim_core.paper.values import PAPER
 from sim_core.runs.cache import ResultCache
 from tests.core.test_surface import _pt
@@ -75,3 +76,34 @@ def test_the_surface_atlas_runs_a_surface_per_value(tmp_path: Path) -> None:
     assert (tmp_path / "atlas.png").read_bytes()[:4] == b"\x89PNG"
     with pytest.raises(ValueError, match="unknown atlas axis"):
         surface_atlas("speed", [0.655], [1.0], cache=ResultCache(tmp_path))
+
+
+def test_bisection_halves_wide_brackets_and_dips_and_leaves_narrow_ones() -> None:
+    cfg = SurfaceConfig(d31_grid=grid(1.5, 2.5, 0.1))
+    # a stable zero between 1.80 and 1.90 (0.1 wide), one already bracketed by 2.20-2.25,
+    # and a dip of |d| at 2.0 where a narrow pair of zeros may hide
+    curve = [(1.7, 3.0), (1.8, 2.0), (1.9, -2.0), (2.0, -0.5), (2.1, -0.8), (2.2, -1.0)]
+    curve += [(2.25, 1.0), (2.3, 2.0)]
+    s = assemble([0.64], [_pt(0.64, x, d) for x, d in curve], cfg, sim_s=0.0)
+    assert [(z.lo, z.hi, z.resolved) for z in s.zeros] == [(1.8, 1.9, False), (2.2, 2.25, True)]
+    probes = bisection_probes(s, cfg)
+    assert [p.d for p in probes] == [1.85, 1.95, 2.05]  # the bracket's middle, the dip's sides
+    assert {(p.beta, p.average_s) for p in probes} == {(0.64, cfg.average_s)}
+    # the dip hid a pair of zeros (1.95 and 2.05 are positive); every gap is now narrow
+    extra = [_pt(0.64, 1.85, 0.5), _pt(0.64, 1.95, 0.4), _pt(0.64, 2.05, 0.4)]
+    halved = assemble([0.64], [*s.points, *extra], cfg, sim_s=0.0)
+    found = [(round(z.d31, 3), z.stable) for z in halved.zeros]
+    assert found[:3] == [(1.86, True), (1.942, False), (1.972, True)]
+    assert bisection_probes(halved, cfg) == []
+
+
+def test_a_ghost_is_a_dip_of_the_drift_that_keeps_its_sign() -> None:
+    # one sign throughout 1.6-2.6, |d| dipping from 5 to 0.8 mrad at 2.0; a zero at 2.65
+    xs = [1.6, 1.7, 1.8, 1.9, 2.0, 2.1, 2.2, 2.3, 2.4, 2.5, 2.6, 2.7, 2.8]
+    ds = [5.0, 4.5, 3.0, 1.5, 0.8, 1.6, 3.5, 4.0, 3.0, 2.0, 1.0, -1.0, -2.0]
+    s = assemble([0.64], [_pt(0.64, x, d) for x, d in zip(xs, ds, strict=True)], SurfaceConfig(),
+                 sim_s=0.0)  # fmt: skip
+    # the fall towards the zero at 2.65 is no ghost: |d| does not rise again before it
+    assert ghosts(s, 0.64, 3e-4) == [(2.0, 8e-4)]
+    # a settled free run at the stable zero agrees, one at 2.3 (no zero there) does not
+    assert free_runs_on_zeros(s, 0.64, [2.66, 2.3]) == [2.3]

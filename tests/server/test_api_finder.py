@@ -1,5 +1,5 @@
-"""The REST `bifurcation` and `atlas` kinds are the finder `reproduce` and `insect-gait atlas`
-run: the same function (`find`, `atlas_search`), so the same answer for the same settings."""
+"""The REST `bifurcation` kind is the finder `insect-gait finder` runs: the same function
+(`find`), so the same answer for the same settings."""
 
 from __future__ import annotations
 
@@ -9,8 +9,7 @@ from typing import Any
 
 from api_harness import Server, submit, wait_status
 
-from sim_core.contract import AtlasOutput, Cell, CellResult, FinderConfig, FinderOutput, find
-from sim_core.paper.atlas import AtlasConfig, atlas_search
+from sim_core.contract import Cell, CellResult, FinderConfig, FinderOutput, find
 from sim_core.paper.search import task_runner
 from sim_core.runs.backends import InlineBackend
 from sim_core.runs.cache import ResultCache
@@ -54,24 +53,3 @@ def test_bifurcation_job_is_the_finder(make_server: Callable[..., Server], tmp_p
     _same(got.cells, direct)
     kinds = {r["kind"] for r in result["records"]}
     assert kinds <= {"stable", "unstable", "ghost", "not settled"} and kinds
-
-
-def test_atlas_job_is_the_atlas_command(make_server: Callable[..., Server], tmp_path: Path) -> None:
-    spec = {"kind": "atlas", "axis": "slope", "betas": [0.62, 0.70], "values": [-10.0, 10.0],
-            **TINY}  # fmt: skip
-    srv = make_server(workers=1)
-    with srv.client() as c:
-        job = wait_status(c, submit(c, spec)["id"], {"done", "failed"})
-        assert job["status"] == "done", job["error"]
-        result = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]
-    got = AtlasOutput.model_validate(result["atlas"])
-    cfg = AtlasConfig(
-        "slope",
-        betas=(0.62, 0.70),
-        values=(-10.0, 10.0),
-        finder=FinderConfig(**TINY, max_borders=0),
-    )  # type: ignore[arg-type]
-    direct = atlas_search(cfg, _run(tmp_path))
-    _same(got.cells, direct.cells)
-    assert got.regions == direct.regions and len(got.regions) == 2
-    assert {r["region"] for r in result["records"]} <= {x for row in got.regions for x in row}

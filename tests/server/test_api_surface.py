@@ -1,5 +1,6 @@
-"""The REST `surface` kind is the drift surface `insect-gait surface` computes: the same function
-(`drift_surface`), so the same probes, zeros and folds for the same settings."""
+"""The REST `surface` and `atlas` kinds are the drift surface `insect-gait surface` and `atlas`
+compute: the same functions (`drift_surface`, `surface_atlas`), so the same probes, zeros,
+folds and regions for the same settings."""
 
 from __future__ import annotations
 
@@ -8,8 +9,9 @@ from pathlib import Path
 
 from api_harness import Server, submit, wait_status
 
-from sim_core.contract import DriftSurface, SurfaceConfig, surface_grid
+from sim_core.contract import DriftSurface, SurfaceAtlas, SurfaceConfig, surface_grid
 from sim_core.paper.surface import drift_surface
+from sim_core.paper.surface_atlas import surface_atlas
 from sim_core.runs.cache import ResultCache
 
 
@@ -45,3 +47,23 @@ def test_surface_job_is_the_surface_command(
     assert all(abs(a.d31 - b.d31) < 1e-9 for a, b in zip(got.zeros, direct.zeros, strict=True))
     kinds = {r["kind"] for r in result["records"]}
     assert "probe" in kinds and "zero" in kinds
+
+
+def test_atlas_job_is_the_atlas_command(make_server: Callable[..., Server], tmp_path: Path) -> None:
+    spec = {"kind": "atlas", "axis": "slope", "betas": [0.64, 0.70], "values": [-10.0, 10.0],
+            "d31_lo": 1.7, "d31_hi": 2.3, "d31_step": 0.3, "refine": False}  # fmt: skip
+    srv = make_server(workers=1)
+    with srv.client() as c:
+        job = wait_status(c, submit(c, spec)["id"], {"done", "failed"}, timeout=240)
+        assert job["status"] == "done", job["error"]
+        result = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]
+        assert c.get(f"/v1/jobs/{job['id']}/figure.png").content[:4] == b"\x89PNG"
+    got = SurfaceAtlas.model_validate(result["atlas"])
+    cfg = SurfaceConfig(d31_grid=surface_grid(1.7, 2.3, 0.3))
+    direct = surface_atlas("slope", [0.64, 0.70], [-10.0, 10.0], cache=ResultCache(tmp_path),
+                           config=cfg, refine=False, progress=False)  # fmt: skip
+    assert got.param == "slope_deg" and len(got.points) == len(direct.points) == 4
+    for a, b in zip(got.points, direct.points, strict=True):
+        assert (a.beta, a.value, a.region, a.gaits) == (b.beta, b.value, b.region, b.gaits)
+        assert all(abs(x - y) < 1e-9 for x, y in zip(a.stable, b.stable, strict=True))
+    assert [r["region"] for r in result["records"]] == [p.region for p in direct.points]

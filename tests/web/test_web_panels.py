@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from sim_core.contract import AtlasOutput, DriftSurface, FinderOutput
+from sim_core.contract import DriftSurface, FinderOutput, SurfaceAtlas
 from web import controls, export
 from web.bifurcation import WatchedFile, finder_points, load_validated
 from web.record import Conditions, D31Event, d31_since, stance_intervals
@@ -106,21 +106,24 @@ def test_the_watched_file_rereads_when_it_changes(tmp_path: Path) -> None:
     assert w.version == seen  # unchanged file: same object, same version (no redraw)
 
 
-def _atlas() -> AtlasOutput:
+def _atlas() -> SurfaceAtlas:
     betas, values = [0.60, 0.65, 0.70], [2.0, 3.0]
-    regions = [["both", "tripod only", "metachronal only"], ["other states", "not settled", "both"]]
-    cells = [_cell(b, m) for m in values for b in betas]
-    return AtlasOutput.model_validate({
-        "source": "test", "axis": "mass", "param": "body_mass_g", "betas": betas,
-        "values": values, "cells": cells, "regions": regions, "folds": [], "sweep_beta": 0.66,
-        "sweep_range": [1.0, 6.0], "paper_direction": "heavier: tripod", "config": {},
+    regions = [["both", "tripod only", "metachronal only"], ["other states", "none", "both"]]
+    points = [
+        {"beta": b, "value": v, "stable": [], "gaits": [], "unresolved": 0, "region": r}
+        for v, row in zip(values, regions, strict=True)
+        for b, r in zip(betas, row, strict=True)
+    ]
+    return SurfaceAtlas.model_validate({
+        "axis": "mass", "param": "body_mass_g", "ground": "constraint", "betas": betas,
+        "values": values, "points": points, "folds": [], "sim_s": 0.0, "config": {},
     })  # fmt: skip
 
 
 def test_the_atlas_draws_a_cell_per_condition_coloured_by_region() -> None:
     svg = atlas_svg(_atlas(), "", "mass", "body mass (g)", (0.66, 2.4), (0.55, 0.80))
     assert svg.count('class="cell"') == 6
-    for region in ("both", "tripod only", "metachronal only", "other states", "not settled"):
+    for region in ("both", "tripod only", "metachronal only", "other states", "none"):
         assert f'data-region="{region}"' in svg
     assert 'class="live" data-inside="true"' in svg
     outside = atlas_svg(_atlas(), "", "mass", "body mass (g)", (0.66, 9.0), (0.55, 0.80))
@@ -199,19 +202,22 @@ def test_the_return_map_and_the_status_box() -> None:
 def test_the_viewer_reads_the_results_folder_the_writers_fill(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
+    from sim_core.cli.main import main
     from sim_core.paper import results
-    from sim_core.paper.atlas import write_atlas
     from web import paths
 
     assert paths.DEFAULT_BIFURCATION == results.RESULTS_DIR / results.BIFURCATION_FILE
     with pytest.raises(ValueError):
-        results.atlas_file(results.RESULTS_DIR, "gravity")
+        results.surface_atlas_file(results.RESULTS_DIR, "gravity", "constraint")
     monkeypatch.setenv(results.RESULTS_ENV, str(tmp_path))
     assert results.results_dir() == tmp_path
-    # what the atlas writer writes is where the viewer looks for it
-    written = write_atlas(_atlas(), tmp_path)
-    assert results.atlas_file(tmp_path, "mass") in written
-    assert AtlasOutput.model_validate_json(results.atlas_file(tmp_path, "mass").read_text())
+    # what `insect-gait atlas` writes is where the viewer looks for it (per axis and ground)
+    args = ["atlas", "--axis", "mass", "--beta", "0.64", "--values", "3", "--d31", "1.9:2.3:0.4",
+            "--no-refine", "--no-progress", "--backend", "local", "--workers", "1",
+            "--out", str(tmp_path), "--cache", str(tmp_path / "cache")]  # fmt: skip
+    assert main(args) == 0
+    written = results.surface_atlas_file(tmp_path, "mass", "constraint")
+    assert SurfaceAtlas.model_validate_json(written.read_text()).values == [3.0]
     assert math.isfinite(controls.RAMP_HOLD_S.initial)
 
 
@@ -304,7 +310,7 @@ def test_without_a_surface_file_the_panel_says_why(
     assert html.escape(says) in svg and 'class="zero"' not in svg and 'class="live"' not in svg
 
 
-def test_the_viewer_looks_for_the_surface_where_surface_figures_writes_it() -> None:
+def test_the_viewer_looks_for_the_surface_where_reproduce_writes_it() -> None:
     from sim_core.contract import SURFACE_FILE
     from web import paths
 
