@@ -13,7 +13,7 @@ from server.kinds.base import Kind, Progress
 from server.kinds.bounds import SWEEP_RANGES, in_range, range_text
 from server.kinds.common import core
 from server.kinds.surface import Held
-from sim_core.contract import AXIS_PARAM, AtlasAxis
+from sim_core.contract import AXIS_PARAM, AtlasAxis, SurfaceConfig
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -40,6 +40,12 @@ class AtlasJob(Held):
         description="values of the axis (g for mass, deg for slope; 1-16 values)",
     )  # fmt: skip
 
+    band_pass: bool = Field(
+        False,
+        description="with refine, also probe finer and longer inside unresolved zeros and "
+        "near-zero bands (as `insect-gait atlas --band-pass`; about 40% more simulated time)",
+    )
+
     @field_validator("values")
     @classmethod
     def _in_the_axis_range(cls, v: list[float], info: ValidationInfo) -> list[float]:
@@ -53,6 +59,11 @@ class AtlasJob(Held):
                 raise ValueError(f"{x:g} is outside the range of {param}: "
                                  f"{range_text(param, **bounds)}")  # fmt: skip
         return v
+
+    def config(self) -> SurfaceConfig:
+        from dataclasses import replace
+
+        return replace(super().config(), band_pass=self.band_pass)
 
     def run_count(self) -> int:
         return len(self.betas) * len(self.values) * len(self.config().d31_grid)

@@ -16,8 +16,8 @@ from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
 
 # the betas issue 39 validates at: the Fig. 7 betas and the two ends of the paper's window
 CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
-# the atlas from the surface: 7 betas across the paper's window and past it, 0.02 apart
-ATLAS_BETAS = tuple(round(0.60 + 0.02 * k, 2) for k in range(7))
+# the atlas from the surface: 13 betas across the paper's window and past it, 0.01 apart
+ATLAS_BETAS = tuple(round(0.60 + 0.01 * k, 2) for k in range(13))
 ATLAS_VALUES = {"mass": (1.0, 2.0, 3.0, 4.5, 6.0, 8.0), "slope": (-20.0, -10.0, 0.0, 10.0, 20.0)}
 
 
@@ -73,8 +73,8 @@ def _add_surface_args(p: Any) -> None:
     p.add_argument(
         "--no-refine",
         action="store_true",
-        help="skip the second pass of finer, longer probes inside unresolved zeros "
-        "and near-zero bands",
+        help="the first pass only: no bisection near zeros and dips, no finer, longer "
+        "probes inside unresolved zeros and near-zero bands",
     )
     _add_backend_args(p, [b for b in BACKENDS if b != "ray"])
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -132,6 +132,12 @@ def register(sub: Any) -> None:
         "--out",
         default=str(RESULTS_DIR),
         help="folder for surface_atlas_<axis>_<ground>.json/png (default %(default)s)",
+    )
+    a.add_argument(
+        "--band-pass",
+        action="store_true",
+        help="also probe finer and longer inside unresolved zeros and near-zero bands (off: "
+        "such cells are marked unresolved; the pass costs about 40%% more)",
     )
     _add_surface_args(a)
     a.set_defaults(func=_cmd_atlas)
@@ -262,6 +268,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
 
 def _cmd_atlas(args: argparse.Namespace) -> int:
     import time
+    from dataclasses import replace
 
     from sim_core.model.params import ModelParams
     from sim_core.paper.results import surface_atlas_file
@@ -272,7 +279,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     prog = "insect-gait atlas"
     values = args.values or list(ATLAS_VALUES[args.axis])
     field = "body_mass_g" if args.axis == "mass" else "slope_deg"
-    cfg = _config(args)
+    cfg = replace(_config(args), band_pass=args.band_pass)
     if not all(_specs_valid(args.beta, cfg, prog, **{field: v}) for v in values):
         return EXIT_USAGE
     backend = backend_from_args(args, prog)

@@ -313,11 +313,14 @@ def _fig7_rows(s: dict[str, Any] | None) -> list[Row]:
         ours = ", ".join(f"{x:.2f}" for x in m["ghosts"]) or "none"
         rows.append((label, f"near {g} rad", ours, _verdict(bool(near))))
     per_beta = {k: v for k, v in s.items() if isinstance(v, dict)}
-    runs = sum(len(v["finals"]) for v in per_beta.values())
+    outside = [f"{x:.2f} at {b}" for b, v in per_beta.items() for x in v["outside"]]
+    runs = sum(len(v["finals"]) for v in per_beta.values()) - len(outside)
     off = [f"{x:.2f} at {b}" for b, v in per_beta.items() for x in v["off_zeros"]]
     unsettled = sum(v["unsettled"] for v in per_beta.values())
-    ours = f"{runs - len(off)} of {runs} settled runs within {FREE_RUN_TOL} rad of a stable zero"
+    ours = (f"{runs - len(off)} of {runs} settled runs in the held range within {FREE_RUN_TOL} "
+            "rad of a stable zero")  # fmt: skip
     ours += f" (off: {', '.join(off)})" if off else ""
+    ours += f"; outside the held range: {', '.join(outside)}" if outside else ""
     ours += f"; {unsettled} run(s) not settled" if unsettled else ""
     rows.append(("Fig. 7: free runs end on the surface's stable zeros (our check)", "—", ours,
                  _verdict(not off and runs > 0)))  # fmt: skip

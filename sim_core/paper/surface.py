@@ -20,7 +20,8 @@ such probes of opposite sign; it is `resolved` when they are at most `resolve_wi
 and the raw drift crosses zero once between them (placed there by linear interpolation), else
 it is reported with its bracket and `resolved=False`. A band inside the floor that returns to
 the same sign is a `NearZero` (a tangency, a ghost or a narrow pair of zeros: the surface cannot
-tell, the finder's free runs can). A second pass (`refinement_probes`) probes every unresolved
+tell, the finder's free runs can). Bisection (`bisection_probes`) halves the spacing near every
+zero and dip of |d|; a last pass (`refinement_probes`) probes every unresolved
 bracket and band finer and longer. Nothing is guessed.
 """
 
@@ -80,7 +81,7 @@ def grid_probes(betas: Sequence[float], cfg: SurfaceConfig) -> list[Probe]:
 
 
 def refinement_probes(surface: DriftSurface, cfg: SurfaceConfig) -> list[Probe]:
-    """The second pass: probes every `cfg.refine_step` inside each unresolved zero's bracket
+    """The last pass: probes every `cfg.refine_step` inside each unresolved zero's bracket
     and near-zero band (from a little below it: the sample sits above D), averaged over
     `cfg.refine_average_s`; D values already probed at that beta are skipped."""
     out: list[Probe] = []
@@ -406,8 +407,8 @@ def drift_surface(
         numerics: RunSpec's integrator, dt_s, control_dt_s (the model's defaults if absent).
         refine: bisect every zero's bracket and every dip of |d| down to
             `resolve_width_rad` (`bisection_probes`, at most `bisect_rounds` rounds), then
-            probe finer and longer inside every zero still unresolved and every near-zero
-            band (`refinement_probes`).
+            (`band_pass`) probe finer and longer inside every zero still unresolved and every
+            near-zero band (`refinement_probes`).
         progress: a tqdm bar on stderr; stats: accumulates what was computed and read back.
         on_progress: called with the share of probes done (0..1) as chunks finish.
         executor: what runs a chunk of tasks (`execute_chunk`; tests pass a stand-in).
@@ -484,7 +485,7 @@ def drift_surfaces(
     out = surfaces()
     if not refine:
         return out
-    passes = [bisection_probes] * cfg.bisect_rounds + [refinement_probes]
+    passes = [bisection_probes] * cfg.bisect_rounds + [refinement_probes] * cfg.band_pass
     for k, step in enumerate(passes):
         extra = [step(sf, cfg) for sf in out]
         if not any(extra):

@@ -156,16 +156,24 @@ def free_runs(results: Sequence[dict[str, Any]], beta: float) -> dict[str, Any]:
 
 
 def free_runs_on_zeros(surface: DriftSurface, beta: float, finals: Sequence[float]) -> list[float]:
-    """The settled finals with no stable zero of the surface within FREE_RUN_TOL (nor inside a
-    near-zero band, where the surface cannot tell): what the figure would contradict."""
+    """The settled finals inside the held range (`config.d31_grid`) with no stable zero of the
+    surface within FREE_RUN_TOL (nor inside a near-zero band, where the surface cannot tell):
+    what the figure would contradict. A state off the family the pin holds (Delta53 =
+    Delta31, the right side as the left) lands here too: the surface cannot see it."""
     stable = [z.d31 for z in surface.zeros_at(beta) if z.stable]
     bands = [(n.lo, n.hi) for n in surface.near_zeros if abs(n.beta - beta) < 1e-9]
     return [
         f
-        for f in finals
+        for f in held(surface, finals)
         if not any(abs(float(angle_diff(f, s))) <= FREE_RUN_TOL for s in stable)
         and not any(lo - FREE_RUN_TOL <= f <= hi + FREE_RUN_TOL for lo, hi in bands)
     ]
+
+
+def held(surface: DriftSurface, xs: Sequence[float]) -> list[float]:
+    """The values of `xs` inside the surface's held range of Delta31 (rad)."""
+    grid = surface.config.get("d31_grid") or [0.0, 2 * np.pi]
+    return [x for x in xs if min(grid) <= x <= max(grid)]
 
 
 def _fig7(
@@ -191,6 +199,7 @@ def _fig7(
         summary[str(beta)] = {
             "ghosts": [g[0] for g in gh],
             "finals": f["finals"],
+            "outside": [x for x in f["finals"] if x not in held(s, f["finals"])],
             "off_zeros": off,
             "unsettled": f["unsettled"],
         }

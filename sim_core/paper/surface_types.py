@@ -57,6 +57,10 @@ class SurfaceConfig:
     # errors than the first pass's 1 s window)
     refine_step: float = 0.02
     refine_average_s: float = 2.5
+    # whether that last pass runs: it resolves narrow pairs (the tripod near 2.93) and costs
+    # 40% of Fig. 8; an atlas, which asks only which gaits have a stable zero, may skip it
+    # and mark such cells unresolved
+    band_pass: bool = True
     link_tol_rad: float = 0.12  # a stable zero continues a branch at the next beta within this
     chunk_size: int = 8
 
