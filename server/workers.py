@@ -79,14 +79,16 @@ def lower_priority(niceness: int) -> int:
     (measured: viewer 0.38-0.58x with one worker at nice 10 or 19). A worker therefore starts
     its own session and sets that session's autogroup niceness too.
     """
-    current = os.getpriority(os.PRIO_PROCESS, 0)
-    if niceness > current:
-        with contextlib.suppress(OSError):
-            os.setpriority(os.PRIO_PROCESS, 0, min(19, niceness))
+    # the session first, the process's niceness last: whoever sees the niceness in effect
+    # sees the session's too
     if niceness > 0 and Path("/proc/self/autogroup").exists():
         with contextlib.suppress(OSError):
             os.setsid()  # its own autogroup (PR_SET_PDEATHSIG still ties it to the API)
             Path("/proc/self/autogroup").write_text(str(min(19, niceness)))
+    current = os.getpriority(os.PRIO_PROCESS, 0)
+    if niceness > current:
+        with contextlib.suppress(OSError):
+            os.setpriority(os.PRIO_PROCESS, 0, min(19, niceness))
     return os.getpriority(os.PRIO_PROCESS, 0)
 
 

@@ -105,6 +105,12 @@ def register(sub: Any) -> None:
         default=str(RESULTS_DIR / BIFURCATION_FILE),
         help="the finder's output (default %(default)s)",
     )
+    c.add_argument(
+        "--robust",
+        action="store_true",
+        help="instead: the surface at 0.9 and 1.1 of each calibrated parameter (default betas "
+        "0.62 0.655 0.70): which stable zeros survive, and how far they move",
+    )
     _add_surface_args(c)
     c.add_argument("--out", default=None, help="also write the surface's JSON to this file")
     c.set_defaults(func=_cmd_check)
@@ -247,6 +253,8 @@ def _cmd_check(args: argparse.Namespace) -> int:
     from sim_core.paper.surface_check import check, table
 
     prog = "insect-gait surface-check"
+    if args.robust:
+        return _cmd_robust(args, prog)
     try:
         finder = FinderOutput.model_validate_json(Path(args.finder).read_text())
     except (OSError, ValueError) as exc:
@@ -264,6 +272,36 @@ def _cmd_check(args: argparse.Namespace) -> int:
     print(table(rows))
     print(describe(surface))
     return 0 if all(r.ok for r in rows) else 1
+
+
+def _cmd_robust(args: argparse.Namespace, prog: str) -> int:
+    import time
+
+    from sim_core.paper.surface_check import ROBUST_BETAS, robust_surfaces, robust_table
+    from sim_core.runs.cache import ResultCache
+
+    betas = ROBUST_BETAS if args.beta == list(CHECK_BETAS) else tuple(sorted(args.beta))
+    cfg = _config(args)
+    if not _specs_valid(list(betas), cfg, prog):
+        return EXIT_USAGE
+    backend = backend_from_args(args, prog)
+    if backend is None:
+        return EXIT_USAGE
+    t0 = time.perf_counter()
+    try:
+        surfaces = robust_surfaces(betas, cache=ResultCache(args.cache), backend=backend,
+                                   config=cfg, progress=not args.no_progress)  # fmt: skip
+    except KeyboardInterrupt:
+        _say_interrupted(prog, args.cache)
+        return 130
+    finally:
+        backend.close()
+    print(robust_table(surfaces))
+    sim_s = sum(s.sim_s for s in surfaces.values())
+    print(
+        f"{len(surfaces)} surfaces, {sim_s:.0f} simulated s, {time.perf_counter() - t0:.0f} s wall"
+    )
+    return 0
 
 
 def _cmd_atlas(args: argparse.Namespace) -> int:

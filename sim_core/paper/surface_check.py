@@ -13,10 +13,15 @@ agree when (issue 39, point 3):
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+from sim_core.model.params import ModelParams
 from sim_core.paper.fixedpoints import CellResult, FinderOutput
 from sim_core.paper.surface import DriftSurface
+from sim_core.paper.surface_types import SurfaceConfig
+from sim_core.runs.backends import Backend
+from sim_core.runs.cache import ResultCache
 
 STABLE_TOL = 0.03  # rad
 BORDER_TOL = 0.05  # rad
@@ -156,4 +161,59 @@ def variant_table(rows: list[VariantRow]) -> str:
             f"| {r.variant} | {r.beta:g} | {r.d31:.2f} | {m(r.drift)} | {m(r.other)} | "
             f"{m(r.diff)} |"
         )
+    return "\n".join(lines)
+
+
+# --- the fourth check: +-10% of each calibrated parameter ---------------------------------------
+# the mechanism's betas: the fast end (tripod and metachronal side), the bistable middle, the
+# slow end
+ROBUST_BETAS = (0.62, 0.655, 0.70)
+
+
+def robust_surfaces(
+    betas: Sequence[float],
+    *,
+    cache: ResultCache,
+    backend: Backend,
+    config: SurfaceConfig | None = None,
+    params: ModelParams | None = None,
+    progress: bool = True,
+) -> dict[str, DriftSurface]:
+    """The surface over `betas` on the default and at 0.9 and 1.1 of each calibrated parameter
+    (`claims.CALIBRATED`, the finder's robustness check's list), by name."""
+    from sim_core.paper.claims import CALIBRATED, SCALES, scaled_values
+    from sim_core.paper.surface import drift_surface
+
+    base = params or ModelParams()
+    variants = [("default", base)] + [
+        (name, base.model_copy(update=u)) for name, u in scaled_values(base, CALIBRATED, SCALES)
+    ]
+    return {
+        name: drift_surface(
+            betas, cache=cache, backend=backend, config=config, params=p, progress=progress
+        )
+        for name, p in variants
+    }
+
+
+def robust_table(surfaces: dict[str, DriftSurface]) -> str:
+    """Per variant and beta the stable zeros in the window (unresolved with '?'), and how far
+    the default's stable zeros moved (the nearest stable zero of the variant; 'gone' if none
+    within 0.15 rad)."""
+    base = surfaces["default"]
+    betas = sorted(base.betas)
+    lines = ["| variant | " + " | ".join(f"β {b:g}" for b in betas) + " | largest move |",
+             "|---|" + "---|" * (len(betas) + 1)]  # fmt: skip
+    for name, s in surfaces.items():
+        cells, moves = [], []
+        for b in betas:
+            zs = [z for z in s.zeros_at(b) if z.stable and WINDOW[0] <= z.d31 <= WINDOW[1]]
+            cells.append(", ".join(f"{z.d31:.2f}{'' if z.resolved else '?'}" for z in zs) or "none")
+            for z0 in (z for z in base.zeros_at(b) if z.stable and WINDOW[0] <= z.d31 <= WINDOW[1]):
+                near = [abs(z.d31 - z0.d31) for z in zs]
+                moves.append(min(near) if near and min(near) <= 0.15 else None)
+        gone = sum(m is None for m in moves)
+        worst = max((m for m in moves if m is not None), default=0.0)
+        move = f"{worst:.3f} rad" + (f"; {gone} gone" if gone else "")
+        lines.append(f"| {name} | " + " | ".join(cells) + f" | {move} |")
     return "\n".join(lines)

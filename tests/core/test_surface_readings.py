@@ -9,6 +9,7 @@ import pytest
 
 from sim_core.paper.surface import assemble, bisection_probes
 from sim_core.paper.surface_atlas import atlas_points, draw_atlas, region, surface_atlas
+from sim_core.paper.surface_check import robust_table
 from sim_core.paper.surface_figures import table_rows
 from sim_core.paper.surface_repro import free_runs_on_zeros, ghosts
 from sim_core.paper.surface_types import SurfaceConfig, SurfacePoint, grid
@@ -107,3 +108,13 @@ def test_a_ghost_is_a_dip_of_the_drift_that_keeps_its_sign() -> None:
     assert ghosts(s, 0.64, 3e-4) == [(2.0, 8e-4)]
     # a settled free run at the stable zero agrees, one at 2.3 (no zero there) does not
     assert free_runs_on_zeros(s, 0.64, [2.66, 2.3]) == [2.3]
+
+
+def test_the_robustness_table_says_how_far_each_stable_zero_moved_or_that_it_is_gone() -> None:
+    cfg = SurfaceConfig()
+    default = assemble([0.62], _curve(0.62, [(1.76, True), (2.95, True)]), cfg, sim_s=0.0)
+    moved = assemble([0.62], _curve(0.62, [(1.78, True)]), cfg, sim_s=0.0)
+    table = robust_table({"default": default, "kp_lift x1.1": moved})
+    rows = {line.split(" | ")[0].strip("| "): line for line in table.splitlines()[2:]}
+    assert rows["default"].endswith("| 0.000 rad |") and "1.76, 2.95" in rows["default"]
+    assert rows["kp_lift x1.1"].endswith("| 0.020 rad; 1 gone |")

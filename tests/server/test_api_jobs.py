@@ -312,9 +312,15 @@ def test_workers_run_at_lower_priority(make_server: Callable[..., Server]) -> No
     assert all(os.getpriority(os.PRIO_PROCESS, pid) == target for pid in workers)
     if Path("/proc/self/autogroup").exists():  # autogroup scheduling: niceness per session
         server_group = Path(f"/proc/{srv.proc.pid}/autogroup").read_text().split()[0]
-        for pid in workers:
+
+        def own_group(pid: int) -> tuple[str, int]:
             group, _, nice = Path(f"/proc/{pid}/autogroup").read_text().split()
-            assert group != server_group and int(nice) == target, (group, nice)
+            return group, int(nice)
+
+        wait_for(lambda: all(own_group(pid)[1] == target for pid in workers), timeout=30)
+        for pid in workers:
+            group, nice = own_group(pid)
+            assert group != server_group and nice == target, (group, nice)
     # a worker started after a crash is niced too
     victim = next(iter(workers))
     os.kill(victim, signal.SIGKILL)
