@@ -18,7 +18,11 @@ from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
 CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
 # the atlas from the surface: 13 betas across the paper's window and past it, 0.01 apart
 ATLAS_BETAS = tuple(round(0.60 + 0.01 * k, 2) for k in range(13))
-ATLAS_VALUES = {"mass": (1.0, 2.0, 3.0, 4.5, 6.0, 8.0), "slope": (-20.0, -10.0, 0.0, 10.0, 20.0)}
+# finer near the paper's 3 g and level ground, where the regions change (docs/figures)
+ATLAS_VALUES = {
+    "mass": (1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0, 8.0),
+    "slope": (-20.0, -10.0, -5.0, 0.0, 5.0, 10.0, 20.0),
+}
 
 
 def _grid(text: str) -> tuple[float, float, float]:
@@ -132,7 +136,11 @@ def register(sub: Any) -> None:
         type=float,
         nargs="+",
         default=None,
-        help="body masses (g) or slopes (deg) (default: mass 1 2 3 4.5 6 8; slope -20 -10 0 10 20)",
+        help="body masses (g) or slopes (deg) (default: mass "
+        + " ".join(f"{v:g}" for v in ATLAS_VALUES["mass"])
+        + "; slope "
+        + " ".join(f"{v:g}" for v in ATLAS_VALUES["slope"])
+        + ")",
     )
     a.add_argument(
         "--out",
