@@ -20,9 +20,10 @@ from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.exceptions import HTTPException as StarletteHTTPException
+from starlette.routing import Match
 
 from server.deps import R401, require_token
-from server.errors import content_type_error, humanize
+from server.errors import content_type_error, humanize, method_not_allowed
 from server.jobs import JobStore
 from server.routes import jobs, meta
 from server.settings import Settings
@@ -129,6 +130,15 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         if exc.status_code == 400 and exc.detail == "There was an error parsing the body":
             why = parse_failure(await request.body())
             return JSONResponse(status_code=400, content={"detail": why})
+        if exc.status_code == 405:  # every method the path takes (Starlette names one route's)
+            methods = [
+                m for m in ("GET", "POST", "PUT", "PATCH", "DELETE")
+                if any(r.matches(dict(request.scope, method=m))[0] == Match.FULL
+                       for r in request.app.router.routes)
+            ]  # fmt: skip
+            detail = method_not_allowed(request.method, request.url.path, methods)
+            return JSONResponse(status_code=405, content={"detail": detail},
+                                headers={"Allow": ", ".join(methods)})  # fmt: skip
         return await http_exception_handler(request, exc)
 
     # The token check is declared only when a token is configured, so the OpenAPI document

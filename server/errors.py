@@ -103,7 +103,11 @@ def humanize(errors: Sequence[dict[str, Any]], body: Any) -> list[dict[str, Any]
         elif etype in ("union_tag_invalid", "union_tag_not_found"):
             field = "kind"
             allowed = ", ".join(sorted(KIND_MODELS))
-            msg = f"kind: {msg}; allowed: {allowed}"
+            if etype == "union_tag_not_found":
+                msg = f"kind: missing; every job names its kind, one of: {allowed}"
+            else:
+                tag = clip(str(err.get("ctx", {}).get("tag", kind)))
+                msg = f"kind: '{tag}' is not a job kind; choose one of: {allowed}"
         elif etype == "json_invalid":
             field = "body"
             msg = f"request body is not valid JSON: {err.get('ctx', {}).get('error', msg)}"
@@ -201,3 +205,10 @@ def content_type_error(content_type: str | None) -> dict[str, Any] | None:
         "type": "content_type",
         "allowed": "application/json",
     }
+
+
+def method_not_allowed(method: str, path: str, methods: Sequence[str]) -> str:
+    """A 405's detail in words: what the path takes instead."""
+    if not methods:
+        return f"{method} is not allowed on {clip(path)}"
+    return f"{method} is not allowed on {clip(path)}; it takes {', '.join(methods)}"

@@ -211,6 +211,36 @@ def test_malformed_body_gets_422(
 
 
 @pytest.mark.parametrize(
+    ("body", "says"),
+    [
+        ({"beta": 0.62}, "kind: missing; every job names its kind, one of: atlas, bifurcation"),
+        ({"kind": "walk"}, "kind: 'walk' is not a job kind; choose one of: atlas, bifurcation"),
+    ],
+)
+def test_a_missing_or_unknown_kind_is_named_with_the_kinds(
+    client: httpx.Client, body: dict[str, Any], says: str
+) -> None:
+    r = client.post("/v1/jobs", json=body)
+    assert r.status_code == 422
+    (err,) = r.json()["detail"]
+    assert err["field"] == "kind" and err["msg"].startswith(says), err["msg"]
+    assert "discriminator" not in err["msg"] and "tag" not in err["msg"]
+
+
+@pytest.mark.parametrize(
+    ("verb", "path", "takes"),
+    [("PUT", "/v1/jobs", "GET, POST"), ("POST", "/v1/jobs/some-id", "GET, DELETE")],
+)
+def test_a_wrong_method_says_which_methods_the_path_takes(
+    client: httpx.Client, verb: str, path: str, takes: str
+) -> None:
+    r = client.request(verb, path)
+    assert r.status_code == 405
+    assert r.json()["detail"] == f"{verb} is not allowed on {path}; it takes {takes}"
+    assert r.headers["allow"] == takes
+
+
+@pytest.mark.parametrize(
     ("query", "field"),
     [
         ("limit=0", "limit"),
