@@ -6,14 +6,21 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any
+from typing import Any, get_args
 
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE
 from sim_core.model.gait import TWO_PI
-from sim_core.model.params import INTEGRATORS
+from sim_core.model.params import INTEGRATORS, ModelParams
 from sim_core.model.spec import RunSpec, cost_problem, numerics_problem
+
+# `run` without --duration-s runs until settled: a first command should name a gait. The settled
+# rule needs a last quarter of >= 40 touchdowns (16-20 s); a tripod start near its fold can sit
+# 15-25 s on a ghost before it slides (README, "Status"), so the try is 30 s and the cap 60 s
+SETTLE_TRY_S = 30.0
+SETTLE_CAP_S = 60.0
+GROUNDS: tuple[str, ...] = get_args(ModelParams.model_fields["ground"].annotation)
 
 
 def _add_run(sub: Any) -> None:
@@ -27,8 +34,15 @@ def _add_run(sub: Any) -> None:
     p.add_argument("--beta", type=float, required=True, default=argparse.SUPPRESS,
                    help="duty factor, 0.5 < beta < 1")  # fmt: skip
     p.add_argument("--d31-init", type=float, default=TWO_PI / 3.0,
-                   help="initial Delta31 (phi3 - phi1), rad, 0..2 pi")  # fmt: skip
-    p.add_argument("--duration-s", type=float, default=5.0, help="simulated time, s, (0, 600]")
+                   help="initial Delta31 (phi3 - phi1), rad, 0..2 pi (default 2 pi/3 = "
+                   "%(default).3f)")  # fmt: skip
+    p.add_argument("--duration-s", type=float, default=argparse.SUPPRESS,
+                   help=f"simulated time, s, (0, 600] (default: until settled: the run stops "
+                   f"at {SETTLE_TRY_S:g} s if Delta31 has settled by the settled rule, else "
+                   f"goes on to {SETTLE_CAP_S:g} s)")  # fmt: skip
+    p.add_argument("--ground", choices=GROUNDS, default=GROUNDS[0],
+                   help="constraint: today's default contact; penalty: the paper's ground "
+                   "(keeps walking on slopes, docs/MODEL.md)")  # fmt: skip
     p.add_argument("--body-mass-g", type=float, default=3.0, help="body mass, g, 0.5..30")
     p.add_argument("--slope-deg", type=float, default=0.0, help="ground slope, deg, uphill +")
     p.add_argument("--integrator", choices=INTEGRATORS, default=None,
@@ -43,10 +57,13 @@ def _add_run(sub: Any) -> None:
 
 
 def _spec_from_args(args: argparse.Namespace) -> RunSpec:
+    duration_s = getattr(args, "duration_s", None)  # absent: until settled
+    until_settled = duration_s is None
     return RunSpec(
         beta=args.beta,
         d31_init=args.d31_init,
-        duration_s=args.duration_s,
+        duration_s=SETTLE_CAP_S if until_settled else duration_s,
+        stop_if_settled_s=SETTLE_TRY_S if until_settled else None,
         body_mass_g=args.body_mass_g,
         slope_deg=args.slope_deg,
         phase_reset=not args.no_phase_reset,
@@ -86,7 +103,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if problem:
         print(f"insect-gait run: error: --duration-s: {problem}", file=sys.stderr)
         return EXIT_USAGE
-    result = simulate(spec)
+    result = simulate(spec, ModelParams(ground=args.ground))
     summary = result.summary()
     if args.json:
         print(json.dumps(summary))
@@ -96,7 +113,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
 
 
 def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
-    from sim_core.model.params import ModelParams, nominal_speed
+    from sim_core.model.params import nominal_speed
 
     p = ModelParams()
     v_nom = nominal_speed(spec.beta, p.stroke, p.swing_duration) * 100
@@ -104,7 +121,12 @@ def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
         print(f"DIVERGED: {s['error']}")
         return
     d31 = s["d31"]
-    print(f"beta {spec.beta:.3f}  d31_init {spec.d31_init:.3f} rad  duration {spec.duration_s} s")
+    ran = s.get("duration_s") or spec.duration_s
+    how = ""
+    if spec.stop_if_settled_s is not None:
+        how = (" (stopped settled)" if ran < spec.duration_s else
+               f" (not settled by {spec.stop_if_settled_s:g} s: ran to the cap)")  # fmt: skip
+    print(f"beta {spec.beta:.3f}  d31_init {spec.d31_init:.3f} rad  ran {ran:g} s{how}")
     print(f"Delta31 at leg-1 touchdowns ({len(d31)}): " + " ".join(f"{x:.2f}" for x in d31[-12:]))
     final = "n/a" if s["d31_final"] is None else f"{s['d31_final']:.3f} rad"
     print(f"final Delta31 {final} (mean of the last quarter)  gait {s['gait']}")

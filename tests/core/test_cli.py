@@ -62,3 +62,23 @@ def test_study_overrides_are_checked_before_anything_runs(args: list[str], capsy
     assert main(args) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith(f"insect-gait {args[0]}: error:") and "Traceback" not in err
+
+
+def test_the_first_run_names_its_gait_without_any_other_flag() -> None:
+    """Issue 42's first command: no --duration-s means until settled (30 s, else on to 60)."""
+    out = subprocess.run(
+        [sys.executable, "-m", "sim_core.cli", "run", "--beta", "0.62", "--d31-init", "3.0"],
+        capture_output=True, text=True, check=True,
+    ).stdout  # fmt: skip
+    assert "ran 30 s (stopped settled)" in out and "gait tripod" in out
+    assert "final Delta31 2.95" in out and ": settled" in out
+
+
+def test_run_takes_the_ground() -> None:
+    args = ["--beta", "0.62", "--duration-s", "0.5", "--ground", "penalty", "--json"]
+    out = subprocess.run([sys.executable, "-m", "sim_core.cli", "run", *args],
+                         capture_output=True, text=True, check=True)  # fmt: skip
+    assert json.loads(out.stdout)["error"] is None
+    bad = subprocess.run([sys.executable, "-m", "sim_core.cli", "run", "--beta", "0.62",
+                          "--ground", "ice"], capture_output=True, text=True)  # fmt: skip
+    assert bad.returncode == 2 and "invalid choice: 'ice'" in bad.stderr
