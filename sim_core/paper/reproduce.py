@@ -161,10 +161,8 @@ def reproduce(
         summaries[fd.name] = fd.summary
     if study is not None:
         (out / SURFACE_FILE).write_text(study.surface.model_dump_json())
-        files.append(out / SURFACE_FILE)
-        if study.paper_ground is not None:
-            (out / SURFACE_PENALTY_FILE).write_text(study.paper_ground.model_dump_json())
-            files += [out / SURFACE_PENALTY_FILE, out / "mechanism.png"]
+        (out / SURFACE_PENALTY_FILE).write_text(study.paper_ground.model_dump_json())
+        files += [out / SURFACE_FILE, out / SURFACE_PENALTY_FILE, out / "mechanism.png"]
     wall = time.perf_counter() - t0
     run = {
         "figures": figs, "wall_s": wall, "backend": backend.name, "workers": backend.workers,

@@ -254,10 +254,7 @@ def fig7_surface(
         gridspec_kw={"height_ratios": [3, 2]},
     )
     for k, beta in enumerate(betas):
-        pts = sorted(
-            (p for p in surface.points_at(beta) if p.usable and p.d31 is not None),
-            key=lambda p: float(p.d31 or 0.0),
-        )
+        pts = surface.curve_at(beta)
         x = np.array([float(p.d31 or 0.0) for p in pts])
         d = np.array([float(p.drift or 0.0) for p in pts])
         top, bottom = axes[0][k], axes[1][k]
@@ -311,10 +308,7 @@ def mechanism(surfaces: dict[str, DriftSurface], betas: Sequence[float], path: P
         s = surfaces[ground]
         for k, beta in enumerate(betas):
             ax = axes[r][k]
-            pts = sorted(
-                (p for p in s.points_at(beta) if p.usable and p.d31 is not None),
-                key=lambda p: float(p.d31 or 0.0),
-            )
+            pts = s.curve_at(beta)
             x = [float(p.d31 or 0.0) for p in pts]
             for leg, name, colour in legs:
                 y = [

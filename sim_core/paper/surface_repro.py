@@ -30,6 +30,7 @@ from sim_core.model.gait import angle_diff, settling
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.figures import Config, FigureData, Lookup, figure_tasks
+from sim_core.paper.results import SURFACE_FILE
 from sim_core.paper.returnmap import return_map_from_series
 from sim_core.paper.surface import drift_surface
 from sim_core.paper.surface_check import SAMPLE_BETAS, SAMPLE_D31, VariantRow, variant_rows
@@ -55,7 +56,7 @@ class SurfaceStudy:
     """The surfaces behind Figs. 7-8 and what was spent on them."""
 
     surface: DriftSurface  # today's ground, Fig. 8's betas
-    paper_ground: DriftSurface | None  # the paper's ground at MECHANISM_BETAS
+    paper_ground: DriftSurface  # the paper's ground at MECHANISM_BETAS
     checks: list[VariantRow] = field(default_factory=list)  # K/3 and dt/2 on the sample
     checks_ok: bool = False
     stats: RunStats = field(default_factory=RunStats)
@@ -72,18 +73,15 @@ def surface_study(
     *,
     progress: bool = True,
     executor: Executor = execute_chunk,
-    extras: bool = True,
 ) -> SurfaceStudy:
-    """The surface over `betas` on `params`' ground and (`extras`) the mechanism's surface on
-    the paper's ground and the K/3 and dt/2 sample, all through `cache` and `backend`."""
+    """The surface over `betas` on `params`' ground, the mechanism's surface on the paper's
+    ground and the K/3 and dt/2 sample, all through `cache` and `backend`."""
     t0 = time.perf_counter()
     stats = RunStats()
     kw: dict[str, Any] = {"cache": cache, "backend": backend, "progress": progress,
                           "stats": stats, "executor": executor}  # fmt: skip
     surface = drift_surface(betas, config=cfg, params=params, **kw)
     t_surface = time.perf_counter() - t0
-    if not extras:
-        return SurfaceStudy(surface, None, stats=stats, surface_wall_s=t_surface, wall_s=t_surface)
     penalty = params.model_copy(update={"ground": "penalty"})
     paper_ground = drift_surface(MECHANISM_BETAS, config=cfg, params=penalty, **kw)
     sample = replace(cfg, d31_grid=SAMPLE_D31)
@@ -109,11 +107,7 @@ def ghosts(surface: DriftSurface, beta: float, floor_rad: float) -> list[tuple[f
     most GHOST_DIP of its largest value on either side, the drift keeping its sign (beyond
     `floor_rad`) throughout: a bottleneck free runs crawl through."""
     lo, hi = PAPER_WINDOW
-    pts = sorted(
-        (p for p in surface.points_at(beta) if p.usable and p.d31 is not None),
-        key=lambda p: float(p.d31 or 0.0),
-    )
-    pts = [p for p in pts if lo <= float(p.d31 or 0.0) <= hi]
+    pts = [p for p in surface.curve_at(beta) if lo <= float(p.d31 or 0.0) <= hi]
     x = np.array([float(p.d31 or 0.0) for p in pts])
     d = np.array([float(p.drift or 0.0) for p in pts])
     # split where floor-clearing probes change sign: each segment keeps one sign
@@ -164,7 +158,7 @@ def free_runs_on_zeros(surface: DriftSurface, beta: float, finals: Sequence[floa
     bands = [(n.lo, n.hi) for n in surface.near_zeros if abs(n.beta - beta) < 1e-9]
     return [
         f
-        for f in held(surface, finals)
+        for f in held(surface, finals)  # idempotent: callers may pass held values
         if not any(abs(float(angle_diff(f, s))) <= FREE_RUN_TOL for s in stable)
         and not any(lo - FREE_RUN_TOL <= f <= hi + FREE_RUN_TOL for lo, hi in bands)
     ]
@@ -192,14 +186,15 @@ def _fig7(
         f = free[beta]
         zeros = [z.model_dump() for z in s.zeros_at(beta)]
         gh = ghosts(s, beta, floor)
-        off = free_runs_on_zeros(s, beta, f["finals"])
+        inside = held(s, f["finals"])
+        off = free_runs_on_zeros(s, beta, inside)
         pts = sorted(s.points_at(beta), key=lambda p: float(p.d31 or p.pin_d31))
         rows += [[beta, p.pin_d31, p.d31, p.drift, int(p.usable)] for p in pts]
         maps.append({"beta": beta, "zeros": zeros, "ghosts": gh, "free": f, "off_zeros": off})
         summary[str(beta)] = {
             "ghosts": [g[0] for g in gh],
             "finals": f["finals"],
-            "outside": [x for x in f["finals"] if x not in held(s, f["finals"])],
+            "outside": [x for x in f["finals"] if x not in inside],
             "off_zeros": off,
             "unsettled": f["unsettled"],
         }
@@ -220,7 +215,7 @@ def _fig8(
         prev = worst.get(r.variant, 0.0)
         worst[r.variant] = None if r.diff is None or prev is None else max(prev, abs(r.diff))
     data = {
-        "surface": s.model_dump(mode="json"),
+        "surface_file": SURFACE_FILE,  # the surface itself, written once beside this file
         "checks": [asdict(r) | {"diff": r.diff} for r in study.checks],
         "checks_ok": study.checks_ok,
         **sweeps,
@@ -280,13 +275,9 @@ def draw(
     """fig7.png, fig8.png and (with the paper's ground) mechanism.png into `out`."""
     from sim_core.paper.surface_figures import fig7_surface, fig8_surface, mechanism
 
-    files = [out / "fig7.png", out / "fig8.png"]
+    files = [out / "fig7.png", out / "fig8.png", out / "mechanism.png"]
     fig7_surface(study.surface, files[0], map_betas, free)
     fig8_surface(study.surface, files[1], paper, sweeps)
-    if study.paper_ground is not None:
-        files.append(out / "mechanism.png")
-        surfaces = {"constraint": study.surface, "penalty": study.paper_ground}
-        if study.surface.ground != "constraint":
-            surfaces = {study.surface.ground: study.surface, "penalty": study.paper_ground}
-        mechanism(surfaces, MECHANISM_BETAS, files[-1])
+    surfaces = {study.surface.ground: study.surface, "penalty": study.paper_ground}
+    mechanism(surfaces, MECHANISM_BETAS, files[2])
     return files

@@ -154,6 +154,11 @@ class DriftSurface(_Model):
     def points_at(self, beta: float) -> list[SurfacePoint]:
         return [p for p in self.points if abs(p.beta - beta) < 1e-9]
 
+    def curve_at(self, beta: float) -> list[SurfacePoint]:
+        """The usable probes at `beta` in order of sampled Delta31: the curve d(Delta31)."""
+        usable = (p for p in self.points_at(beta) if p.usable and p.d31 is not None)
+        return sorted(usable, key=lambda p: float(p.d31 or 0.0))
+
 
 # an atlas cell's region (`surface_atlas.region`) and its colour (matplotlib names)
 REGION_COLOURS = {
