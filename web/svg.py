@@ -453,17 +453,24 @@ def atlas_svg(
         axis=axis,
         n_cells=str(len(atlas.betas) * len(atlas.values)),
     )
+    nb = len(atlas.betas)
     for vi, i in enumerate(order_v):
         for bj, j in enumerate(order_b):
             region = atlas.regions[i][j]
+            # faint where a zero or near-zero band in the window stayed unresolved: the region
+            # may hide a gait (the tripod's narrow pair, most often)
+            unresolved = atlas.points[i * nb + j].unresolved > 0
             x0, x1 = f.x(be[bj]), f.x(be[bj + 1])
             y0, y1 = f.y(ve[vi + 1]), f.y(ve[vi])
             out.append(
-                f'<rect class="cell" data-region="{html.escape(region)}" x="{x0:.1f}" '
+                f'<rect class="cell" data-region="{html.escape(region)}" '
+                f'data-unresolved="{str(unresolved).lower()}" x="{x0:.1f}" '
                 f'y="{y0:.1f}" width="{x1 - x0:.1f}" height="{y1 - y0:.1f}" '
-                f'fill="{REGION_COLOURS.get(region, "#fff")}" stroke="#fff" stroke-width="0.5">'
+                f'fill="{REGION_COLOURS.get(region, "#fff")}" '
+                f'fill-opacity="{0.5 if unresolved else 1}" stroke="#fff" stroke-width="0.5">'
                 f"<title>β {atlas.betas[j]:g}, {html.escape(axis_label)} {atlas.values[i]:g}: "
-                f"{html.escape(region)}</title></rect>"
+                f"{html.escape(region)}{' (unresolved zeros here)' if unresolved else ''}"
+                "</title></rect>"
             )
     beta, value = live
     inside = be[0] <= beta <= be[-1] and ve[0] <= value <= ve[-1]
@@ -473,7 +480,6 @@ def atlas_svg(
         f'<circle class="live" data-inside="{str(inside).lower()}" cx="{cx:.1f}" cy="{cy:.1f}" '
         'r="3.5" fill="none" stroke="#e00" stroke-width="1.5"/>'
     )
-    nb = len(atlas.betas)
     step = max(1, math.ceil(nb / 6))
     out += _x_ticks(f, [atlas.betas[j] for j in order_b][::step], "{:.3g}")
     nv = len(atlas.values)
@@ -486,7 +492,8 @@ def atlas_svg(
     regions = list(REGION_COLOURS.items())
     rows = [
         [(f"■ {r}", c if r != "none" else "#999") for r, c in regions[:3]],
-        [(f"■ {r}", c if r != "none" else "#999") for r, c in regions[3:]] + [("◯ now", "#e00")],
+        [(f"■ {r}", c if r != "none" else "#999") for r, c in regions[3:]]
+        + [("faint: unresolved", "#999"), ("◯ now", "#e00")],
     ]
     out += _legend(f, rows)
     out.append("</svg>")

@@ -110,7 +110,14 @@ def _atlas() -> SurfaceAtlas:
     betas, values = [0.60, 0.65, 0.70], [2.0, 3.0]
     regions = [["both", "tripod only", "metachronal only"], ["other states", "none", "both"]]
     points = [
-        {"beta": b, "value": v, "stable": [], "gaits": [], "unresolved": 0, "region": r}
+        {
+            "beta": b,
+            "value": v,
+            "stable": [],
+            "gaits": [],
+            "unresolved": int(r == "both"),
+            "region": r,
+        }
         for v, row in zip(values, regions, strict=True)
         for b, r in zip(betas, row, strict=True)
     ]
@@ -123,6 +130,8 @@ def _atlas() -> SurfaceAtlas:
 def test_the_atlas_draws_a_cell_per_condition_coloured_by_region() -> None:
     svg = atlas_svg(_atlas(), "", "mass", "body mass (g)", (0.66, 2.4), (0.55, 0.80))
     assert svg.count('class="cell"') == 6
+    # the two "both" cells had an unresolved zero in the window: drawn faint, said in the title
+    assert svg.count('data-unresolved="true"') == 2 and "(unresolved zeros here)" in svg
     for region in ("both", "tripod only", "metachronal only", "other states", "none"):
         assert f'data-region="{region}"' in svg
     assert 'class="live" data-inside="true"' in svg
