@@ -1,4 +1,4 @@
-"""Everything that can change a simulated number (the result cache hashes this folder).
+"""Everything that can change a simulated number (its version: `version.PHYSICS_VERSION`).
 
 numba's on-disk cache (`cache=True` on the kernels) notices an edit only in the file that
 defines a function, not in a function it calls from another file: after an edit of
@@ -18,12 +18,18 @@ from pathlib import Path
 _BASE = "INSECT_GAIT_KERNEL_CACHE"  # where the hashed folders live
 
 
-def _kernel_cache_dir() -> Path:
-    here = Path(__file__).resolve().parent
+def source_hash(folder: Path) -> str:
+    """sha256 (16 hex) over every Python source in `folder`: numba's compiled kernels are a
+    build product of these bytes (the result cache, by contrast, keys on the physics'
+    version, not on bytes)."""
     h = hashlib.sha256()
-    for path in sorted(here.glob("*.py")):
+    for path in sorted(folder.glob("*.py")):
         h.update(path.name.encode())
         h.update(path.read_bytes())
+    return h.hexdigest()[:16]
+
+
+def _kernel_cache_dir() -> Path:
     # the base is kept in its own variable: NUMBA_CACHE_DIR is set to the hashed folder below,
     # and processes started from this one (workers) must not nest a second hash in it
     base = (
@@ -32,7 +38,7 @@ def _kernel_cache_dir() -> Path:
         or os.path.join(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache", "insect-gait")
     )
     os.environ[_BASE] = base
-    return Path(base) / f"numba-{h.hexdigest()[:16]}"
+    return Path(base) / f"numba-{source_hash(Path(__file__).resolve().parent)}"
 
 
 def _use_kernel_cache() -> None:

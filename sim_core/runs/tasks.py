@@ -1,10 +1,13 @@
 """Experiments as small pure tasks: a frozen description in, a JSON-serialisable result out.
 
 A `Task` is everything one simulation needs (its `RunSpec`, an optional live ramp of beta, body
-mass or slope, the `ModelParams` and a fingerprint of the physics code) as plain strings, so it
-is hashable, picklable to any worker, and has a stable content hash (`Task.key`). The hash names
-the task's cache file (`sim_core.runs.cache`): a changed parameter, spec or physics source gives a
-new key, so a stale result is never reused, and an unchanged one is never recomputed.
+mass or slope, the `ModelParams` and the physics' version) as plain strings, so it is hashable,
+picklable to any worker, and has a stable content hash (`Task.key`). The hash names the task's
+cache file (`sim_core.runs.cache`): a changed parameter, spec or `PHYSICS_VERSION` gives a new
+key, so a stale result is never reused, and an unchanged one is never recomputed. The spec and
+parameters are stored without their default values, so a new field whose default keeps the
+physics (and a comment or rename in the sources) keeps every key; changing a default moves the
+numbers, which bumps the version (`sim_core.model.version`).
 
 `execute_chunk` runs a list of compatible tasks (same parameters and numerics) as one
 `BatchRunner` batch on one thread. Batching several simulations in one runner amortises the
@@ -21,8 +24,6 @@ import math
 import time
 from collections.abc import Callable, Sequence
 from dataclasses import asdict, dataclass
-from functools import cache
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -32,34 +33,13 @@ from sim_core.model.params import ModelParams
 from sim_core.model.ramp import RAMP_PARAMS, Ramp, set_ramped
 from sim_core.model.runner import BatchRunner
 from sim_core.model.spec import RunSpec
+from sim_core.model.version import PHYSICS_VERSION
 
 # Bump when what a task computes or returns changes; old cache entries then stop matching.
 TASK_VERSION = 1
 # How often a live ramp updates its parameter, s: a tenth of a stride at beta 0.66 (T ~ 0.1 s);
 # a 30 s ramp of beta over 0.08 then moves in steps of 2.7e-5, far below any effect we measure.
 RAMP_UPDATE_S = 0.01
-
-
-def fingerprint_sources(package_root: Path) -> str:
-    """sha256 (16 hex) over every source that can change a simulated number: the whole
-    `model` package under `package_root` (it imports nothing else from sim_core, a tested
-    rule; its Python and the C of its compiled penalty ground) and `runs/tasks.py`, which
-    drives the runs. A new, removed or edited file there gives every task a new key, so no
-    hand-kept list of files can go stale."""
-    model = package_root / "model"
-    sources = [*sorted([*model.rglob("*.py"), *model.rglob("*.c")]),
-               package_root / "runs" / "tasks.py"]  # fmt: skip
-    h = hashlib.sha256()
-    for path in sources:
-        h.update(path.relative_to(package_root).as_posix().encode())
-        h.update(path.read_bytes())
-    return h.hexdigest()[:16]
-
-
-@cache
-def code_fingerprint() -> str:
-    """This installation's `fingerprint_sources`, computed once per process."""
-    return fingerprint_sources(Path(__file__).resolve().parents[1])
 
 
 def _canonical(obj: Any) -> str:
@@ -70,10 +50,10 @@ def _canonical(obj: Any) -> str:
 class Task:
     """One simulation, described by strings only (hashable, picklable, content-addressed)."""
 
-    spec: str  # RunSpec as canonical JSON
-    params: str  # ModelParams as canonical JSON
+    spec: str  # RunSpec's non-default fields as canonical JSON
+    params: str  # ModelParams' non-default fields as canonical JSON
     ramp: Ramp | None = None
-    code: str = ""
+    physics: str = PHYSICS_VERSION
     version: int = TASK_VERSION
 
     @property
@@ -93,16 +73,22 @@ class Task:
 
     @property
     def duration_s(self) -> float:
-        return float(json.loads(self.spec)["duration_s"])
+        return self.run_spec().duration_s
 
     def group(self) -> tuple[str, str, str | None, float | None, float | None]:
         """Tasks with the same group can share one batch (same model and numerics)."""
-        s = json.loads(self.spec)
-        return (self.params, self.code, s["integrator"], s["dt_s"], s["control_dt_s"])
+        s = self.run_spec()
+        return (self.params, self.physics, s.integrator, s.dt_s, s.control_dt_s)
 
 
 def params_json(params: ModelParams | None) -> str:
-    return _canonical((params or ModelParams()).model_dump(mode="json"))
+    """The parameters that differ from the defaults, as canonical JSON (the key's part)."""
+    return _canonical((params or ModelParams()).model_dump(mode="json", exclude_defaults=True))
+
+
+def spec_json(spec: RunSpec) -> str:
+    """The spec's non-default fields, as canonical JSON (the key's part)."""
+    return _canonical(spec.model_dump(mode="json", exclude_defaults=True))
 
 
 def params_hash(params: ModelParams | None) -> str:
@@ -112,9 +98,8 @@ def params_hash(params: ModelParams | None) -> str:
 def run_task(spec: RunSpec, params: ModelParams | None = None) -> Task:
     """A plain run of `spec` (fixed beta, mass and slope)."""
     return Task(
-        spec=_canonical(spec.model_dump(mode="json")),
+        spec=spec_json(spec),
         params=params_json(params),
-        code=code_fingerprint(),
     )
 
 
@@ -125,10 +110,9 @@ def ramp_task(ramp: Ramp, spec: RunSpec, params: ModelParams | None = None) -> T
     start = spec.model_copy(update={ramp.param: ramp.start, "duration_s": ramp.duration_s})
     RunSpec.model_validate(start.model_dump() | {ramp.param: ramp.turn})  # both ends valid
     return Task(
-        spec=_canonical(start.model_dump(mode="json")),
+        spec=spec_json(start),
         params=params_json(params),
         ramp=ramp,
-        code=code_fingerprint(),
     )
 
 
