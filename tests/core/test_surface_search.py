@@ -1,0 +1,77 @@
+"""The fifth campaign's objective (`sim_core.studies.surface_search`) on synthetic surfaces whose
+folds are known: the paper's map scores its folds, ours (metachronal at every speed) does not."""
+
+from __future__ import annotations
+
+import pytest
+
+from sim_core.paper.surface import assemble
+from sim_core.paper.surface_types import SurfacePoint
+from sim_core.studies.surface_search import (
+    OBJECTIVE_BETAS,
+    OBJECTIVE_CONFIG,
+    PAPER_METACHRONAL_FOLD,
+    fold_of,
+    read_surface,
+)
+from tests.core.test_surface import _pt
+
+
+def _drift(x: float, gaits: str) -> float:
+    """mrad per cycle: 'T' tripod only (flow up to 2.92), 'M' metachronal only (to 1.92),
+    'B' both, an unstable zero near 2.4 between them."""
+    if gaits == "T":
+        return 3.0 if x < 2.9 else -3.0
+    if gaits == "M":
+        return 3.0 if x < 1.9 else -3.0
+    return 3.0 if x < 1.9 or 2.4 <= x < 2.9 else -3.0
+
+
+def _surface(pattern: dict[float, str]) -> list[SurfacePoint]:
+    return [_pt(b, x, _drift(x, g)) for b, g in pattern.items() for x in OBJECTIVE_CONFIG.d31_grid]
+
+
+def _walk(speed: float = 1.0) -> list[dict[str, float]]:
+    return [{"speed_ratio": speed, "slip_fraction": 0.02, "landing_swing_share": 1.0}]
+
+
+PAPER_MAP = dict(zip(OBJECTIVE_BETAS, "TTBBMM", strict=True))
+OURS_MAP = dict(zip(OBJECTIVE_BETAS, "BMMMMM", strict=True))
+
+
+def test_the_paper_map_scores_its_folds() -> None:
+    s = read_surface(
+        assemble(OBJECTIVE_BETAS, _surface(PAPER_MAP), OBJECTIVE_CONFIG, sim_s=0), _walk()
+    )
+    assert s.metachronal_fold == pytest.approx(0.645)  # halfway between 0.635 and 0.655
+    assert s.tripod_fold == pytest.approx(0.675)  # halfway between 0.665 and 0.685
+    assert s.extra_zeros == 0 and s.parts["sanity"] == 0.0
+    assert s.metachronal_value == pytest.approx(1.9, abs=0.06)
+    assert s.tripod_value == pytest.approx(2.9, abs=0.06)
+    assert s.score < 0.02
+
+
+def test_a_metachronal_gait_at_every_speed_is_scored_as_a_miss() -> None:
+    ours = read_surface(
+        assemble(OBJECTIVE_BETAS, _surface(OURS_MAP), OBJECTIVE_CONFIG, sim_s=0), _walk()
+    )
+    paper = read_surface(
+        assemble(OBJECTIVE_BETAS, _surface(PAPER_MAP), OBJECTIVE_CONFIG, sim_s=0), _walk()
+    )
+    assert ours.metachronal_fold < 0.62 and ours.tripod_fold < 0.635
+    assert ours.metachronal_fold_error > 0.02 and ours.score > paper.score + 0.05
+    # walking 30% too fast is penalised beyond the 10% band
+    fast = read_surface(
+        assemble(OBJECTIVE_BETAS, _surface(PAPER_MAP), OBJECTIVE_CONFIG, sim_s=0), _walk(1.3)
+    )
+    assert fast.parts["sanity"] == pytest.approx(0.5 * 0.2)
+
+
+def test_a_fold_outside_the_betas_is_extrapolated_and_clipped() -> None:
+    betas = (0.62, 0.64, 0.66)
+    assert fold_of(betas, [1.0, 2.0, 3.0], rising=True) == pytest.approx(0.60)
+    assert fold_of(betas, [-3.0, -2.0, -1.0], rising=True) == pytest.approx(0.68)
+    assert fold_of(betas, [-1.0, 1.0, 2.0], rising=True) == pytest.approx(0.63)
+    assert fold_of(betas, [1.0, -1.0, -2.0], rising=False) == pytest.approx(0.63)
+    assert fold_of(betas, [5.0, 5.0, 5.0], rising=True) == 0.55
+    assert PAPER_METACHRONAL_FOLD == 0.645
