@@ -66,15 +66,16 @@ SPACE5: dict[str, Range] = {
     "attach_x_hind": Range(-13e-3, -7e-3, False, "hind coxae on the rear third"),
     "attach_y": Range(3.5e-3, 6e-3, False, "coxae at or just inside the body's side"),
     "attach_z": Range(-1.5e-3, 1.5e-3, False, "coxae within the 4 mm thick body"),
-    "stand_height": Range(5.5e-3, 8.5e-3, False, "keeps every tip target within reach"),
-    "foot_y": Range(9.5e-3, 13e-3, False, "sprawl 4.5-8 mm beyond the side (9 gave 4.3 rad)"),
-    "stance_x_fore": Range(9e-3, 15e-3, False, "fore tips ahead of the fore coxae"),
-    "stance_x_mid": Range(-3e-3, 3e-3, False, "middle tips within 3 mm of their coxae"),
-    "stance_x_hind": Range(-15e-3, -9e-3, False, "hind tips behind the hind coxae"),
-    "swing_height": Range(0.3e-3, 2.0e-3, False, "foot clearance 0.3-2 mm"),
-    "swing_shape": Range(0.5, 2.5, False, "swing descent from gentle to steep near the AEP"),
+    # the stance geometry in coordinates that keep every tip within the leg's reach (sampled
+    # in the attachments' own terms, ~60% of random draws were out of reach; see `geometry`)
+    "leg_span": Range(8.3e-3, 9.5e-3, False, "coxa to stance line: 8.1 folded, ~12 straight"),
+    "leg_elevation_deg": Range(35.0, 60.0, False, "the stance line's angle below the coxa"),
+    "stance_dx_fore": Range(0.5e-3, 4e-3, False, "fore tips ahead of the fore coxae"),
+    "stance_x_mid": Range(-2e-3, 2e-3, False, "middle tips within 2 mm of their coxae"),
+    "stance_dx_hind": Range(0.5e-3, 4e-3, False, "hind tips behind the hind coxae"),
+    "apex_share": Range(0.1, 1.0, False, "swing apex as a share of the room under the coxa"),
     "landing_height_kept": Range(0.0, 1.0, False, "stance line from LP's place or height"),
-    "late_swing_descent": Range(0.0, 1.5, False, "a late foot follows the line or reaches down"),
+    "late_swing_descent": Range(0.0, 0.9, False, "a late foot follows the line or reaches down"),
     "kp_yaw": Range(1.5e-3, 1.5e-2, True, "fore-aft stiffness, sag 0.003-0.03 rad"),
     "kp_lift": Range(1.5e-3, 8e-3, True, "lift stiffness, sag 0.05-0.3 mm (stiffer flips)"),
     "kd_yaw": Range(1e-5, 1.5e-4, True, "yaw time constants 1-30 ms at kp_yaw"),
@@ -98,6 +99,46 @@ PENALTY_SPACE: dict[str, Range] = {
     "ground_damping": Range(0.03, 0.3, True, "0.1-1 of critical for a 10 mg tip"),
 }
 GROUNDS = ("constraint", "penalty")
+# the closest a tip may come to its coxa attachment: the tibia (10 mm) folded back on the femur
+# (2 mm, 2% margin as `calibrate.reachable`) and the coxa's 0.2 mm; the swing apex may rise
+# until the tip is this close above the stance line's lateral place
+FOLDED_REACH = 8.1e-3
+COXA = 0.2e-3
+MIN_APEX = 0.2e-3
+MAX_APEX = 2.0e-3
+
+
+def geometry(values: dict[str, float]) -> dict[str, float]:
+    """`ModelParams` fields from the search's geometric coordinates (the rest passed through):
+    leg span and elevation give the sprawl (foot_y - attach_y) and stand height; the stance
+    lines sit stance_dx ahead of / behind their coxae; the swing apex is a share of the room
+    between the stance line and the folded-leg limit above it."""
+    v = dict(values)
+    span, elev = v.pop("leg_span"), math.radians(v.pop("leg_elevation_deg"))
+    sprawl, stand = span * math.cos(elev), span * math.sin(elev)
+    room = stand - math.sqrt(max(0.0, FOLDED_REACH**2 - (sprawl - COXA) ** 2))
+    v["foot_y"] = v["attach_y"] + sprawl
+    v["stand_height"] = stand
+    v["stance_x_fore"] = v["attach_x_fore"] + v.pop("stance_dx_fore")
+    v["stance_x_hind"] = v["attach_x_hind"] - v.pop("stance_dx_hind")
+    v["swing_height"] = min(MAX_APEX, max(MIN_APEX, v.pop("apex_share") * room))
+    return v
+
+
+def coordinates(p: ModelParams) -> dict[str, float]:
+    """The search's coordinates of `p` (the inverse of `geometry`, for starting points)."""
+    sprawl, stand = p.foot_y - p.attach_y, p.stand_height
+    room = stand - math.sqrt(max(0.0, FOLDED_REACH**2 - (sprawl - COXA) ** 2))
+    out = {n: float(getattr(p, n)) for n in SPACE5 if hasattr(p, n)}
+    return out | {
+        "leg_span": math.hypot(sprawl, stand),
+        "leg_elevation_deg": math.degrees(math.atan2(stand, sprawl)),
+        "stance_dx_fore": p.stance_x_fore - p.attach_x_fore,
+        "stance_dx_hind": p.attach_x_hind - p.stance_x_hind,
+        "apex_share": p.swing_height / room if room > 0 else 1.0,
+    }
+
+
 FRAMES = ("body", "level")
 
 

@@ -75,3 +75,16 @@ def test_a_fold_outside_the_betas_is_extrapolated_and_clipped() -> None:
     assert fold_of(betas, [1.0, -1.0, -2.0], rising=False) == pytest.approx(0.63)
     assert fold_of(betas, [5.0, 5.0, 5.0], rising=True) == 0.55
     assert PAPER_METACHRONAL_FOLD == 0.645
+
+
+def test_the_search_coordinates_give_back_the_defaults() -> None:
+    from sim_core.model.params import ModelParams
+    from sim_core.studies.surface_search import SPACE5, coordinates, geometry
+
+    base = ModelParams()
+    c = coordinates(base)
+    for name, r in SPACE5.items():  # the defaults lie inside the searched ranges
+        assert r.low <= c[name] <= r.high, name
+    back = ModelParams(**geometry(c))
+    for name in ("foot_y", "stand_height", "stance_x_fore", "stance_x_hind", "swing_height"):
+        assert getattr(back, name) == pytest.approx(getattr(base, name), rel=1e-12), name

@@ -32,7 +32,9 @@ from sim_core.studies.surface_search import (
     GROUNDS,
     PENALTY_SPACE,
     SPACE5,
+    coordinates,
     evaluate_candidate,
+    geometry,
 )
 
 STUDY = "campaign5"
@@ -72,8 +74,9 @@ def starting_points() -> list[dict[str, Any]]:
     out = []
     for ground in GROUNDS:
         p = base.model_copy(update={"ground": ground})
+        c = coordinates(p)
         out.append({"ground": ground, "trajectory_frame": p.trajectory_frame}
-                   | {n: getattr(p, n) for n in _space(ground)})  # fmt: skip
+                   | {n: c.get(n, getattr(p, n, None)) for n in _space(ground)})  # fmt: skip
     out.append(out[0] | {"kp_lift": 0.9 * base.kp_lift})
     out.append(out[0] | {"kd_lift": 1.1 * base.kd_lift})
     return out
@@ -150,7 +153,7 @@ def main() -> None:
         t0 = time.perf_counter()
         values = suggest(trial)
         try:
-            params = ModelParams(**values)
+            params = ModelParams(**geometry(values))
         except ValueError as exc:
             trial.set_user_attr("error", str(exc)[:300])
             return FAILED_SCORE
