@@ -190,20 +190,29 @@ def _margin(
 def fold_of(betas: Sequence[float], margins: Sequence[float | None], rising: bool) -> float:
     """Where the margin crosses zero in beta: the first crossing from the side where the gait
     is absent (m < 0) to where it exists, scanning from the absent side (low beta for the
-    metachronal, `rising`; high beta for the tripod); extrapolated linearly from the two
-    outermost betas when it does not cross; clipped to `FOLD_CLIP`."""
+    metachronal, `rising`; high beta for the tripod). Without such a crossing, the gait is
+    present at the scan's start (m >= 0 there: the fold lies before it) or absent to its end
+    (the fold lies after it): extrapolated linearly from the two points at that end when the
+    margin grows along the scan there, else (a margin that does not approach zero from that
+    side) put at the far clip; always within `FOLD_CLIP`."""
     pts = [(b, m) for b, m in zip(betas, margins, strict=True) if m is not None]
+    before, after = (FOLD_CLIP[0], FOLD_CLIP[1]) if rising else (FOLD_CLIP[1], FOLD_CLIP[0])
     if len(pts) < 2:
-        return FOLD_CLIP[0] if rising else FOLD_CLIP[1]
+        return before
     if not rising:
         pts = pts[::-1]
     for (b0, m0), (b1, m1) in itertools.pairwise(pts):
         if m0 < 0 <= m1:
             return float(np.clip(b0 + (b1 - b0) * (-m0) / (m1 - m0), *FOLD_CLIP))
-    (b0, m0), (b1, m1) = (pts[0], pts[1]) if pts[0][1] >= 0 else (pts[-2], pts[-1])
-    if m1 == m0:
-        return float(FOLD_CLIP[0] if (m0 >= 0) == rising else FOLD_CLIP[1])
-    return float(np.clip(b0 - m0 * (b1 - b0) / (m1 - m0), *FOLD_CLIP))
+    if pts[0][1] >= 0:  # present from the start: the fold lies before it
+        (b0, m0), (b1, m1) = pts[0], pts[1]
+        if m1 <= m0:
+            return before
+        return float(np.clip(b0 - m0 * (b1 - b0) / (m1 - m0), *FOLD_CLIP))
+    (b0, m0), (b1, m1) = pts[-2], pts[-1]  # absent to the end: the fold lies after it
+    if m1 <= m0:
+        return after
+    return float(np.clip(b1 - m1 * (b1 - b0) / (m1 - m0), *FOLD_CLIP))
 
 
 def read_surface(surface: DriftSurface, walking: Sequence[dict[str, Any]]) -> SurfaceScore:

@@ -74,6 +74,14 @@ def test_a_fold_outside_the_betas_is_extrapolated_and_clipped() -> None:
     assert fold_of(betas, [-1.0, 1.0, 2.0], rising=True) == pytest.approx(0.63)
     assert fold_of(betas, [1.0, -1.0, -2.0], rising=False) == pytest.approx(0.63)
     assert fold_of(betas, [5.0, 5.0, 5.0], rising=True) == 0.55
+    # a tripod margin positive everywhere but growing with beta: it lives beyond the betas
+    # (extrapolating the wrong way would put its fold inside them: trial 116 read 0.632)
+    assert fold_of(betas, [1.0, 2.0, 3.0], rising=False) == 0.80
+    assert fold_of(betas, [3.0, 2.0, 1.0], rising=False) == pytest.approx(0.68)
+    # absent at every beta: the fold lies beyond the far end, or at the clip
+    assert fold_of(betas, [-1.0, -2.0, -3.0], rising=False) == pytest.approx(0.60)
+    assert fold_of(betas, [-3.0, -2.0, -1.0], rising=False) == 0.55
+    assert fold_of(betas, [-1.0, -2.0, -3.0], rising=True) == 0.80
     assert PAPER_METACHRONAL_FOLD == 0.645
 
 
@@ -88,3 +96,24 @@ def test_the_search_coordinates_give_back_the_defaults() -> None:
     back = ModelParams(**geometry(c))
     for name in ("foot_y", "stand_height", "stance_x_fore", "stance_x_hind", "swing_height"):
         assert getattr(back, name) == pytest.approx(getattr(base, name), rel=1e-12), name
+
+
+def test_the_pareto_front_keeps_only_the_undominated() -> None:
+    from sim_core.studies.campaigns.campaign5_landscape import pareto
+
+    pts = [(0.01, 0.05, 1), (0.02, 0.02, 2), (0.03, 0.03, 3), (0.05, 0.01, 4), (0.01, 0.06, 5)]
+    assert pareto(pts) == [(0.01, 0.05, 1), (0.02, 0.02, 2), (0.05, 0.01, 4)]
+
+
+def test_an_exported_trial_is_rescored_from_its_margins() -> None:
+    from sim_core.studies.campaigns.campaign5_search import rescore
+
+    margins_t = [0.0033, 0.0024, 0.0018, 0.0019, 0.0021, 0.0028]  # trial 116: tripod everywhere
+    margins_m = [-0.0011, -0.0019, 0.0025, 0.0025, 0.0022, 0.0024]
+    parts = {"metachronal_fold": 0.0, "tripod_fold": 0.038, "extra_zeros": 0.02, "sanity": 0.0}
+    row = {"value": 0.058, "user_attrs": {"metachronal_margin": margins_m,
+           "tripod_margin": margins_t, **{f"part_{k}": v for k, v in parts.items()}}}  # fmt: skip
+    new = rescore(row)
+    assert new["user_attrs"]["tripod_fold"] == 0.80  # beyond the betas, not 0.632
+    assert new["user_attrs"]["metachronal_fold"] == pytest.approx(0.6435, abs=1e-3)
+    assert new["value"] == pytest.approx(0.0015 + 0.13 + 0.02, abs=1e-3)

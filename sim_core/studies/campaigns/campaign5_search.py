@@ -30,10 +30,14 @@ from sim_core.studies.surface_search import (
     FAILED_SCORE,
     FRAMES,
     GROUNDS,
+    OBJECTIVE_BETAS,
+    PAPER_METACHRONAL_FOLD,
+    PAPER_TRIPOD_FOLD,
     PENALTY_SPACE,
     SPACE5,
     coordinates,
     evaluate_candidate,
+    fold_of,
     geometry,
 )
 
@@ -105,11 +109,28 @@ def export(study: Any, path: Path) -> None:
     os.replace(tmp, path)
 
 
+def rescore(row: dict[str, Any]) -> dict[str, Any]:
+    """An exported trial with its folds re-read from its stored margins by today's `fold_of`
+    (the margins are the measurement; the folds and the score are readings of them)."""
+    u = row["user_attrs"]
+    if "metachronal_margin" not in u:
+        return row
+    f_m = fold_of(OBJECTIVE_BETAS, u["metachronal_margin"], rising=True)
+    f_t = fold_of(OBJECTIVE_BETAS, u["tripod_margin"], rising=False)
+    parts = {k.removeprefix("part_"): v for k, v in u.items() if k.startswith("part_")}
+    parts |= {"metachronal_fold": abs(f_m - PAPER_METACHRONAL_FOLD),
+              "tripod_fold": abs(f_t - PAPER_TRIPOD_FOLD)}  # fmt: skip
+    attrs = u | {"metachronal_fold": f_m, "tripod_fold": f_t}
+    attrs |= {f"part_{k}": v for k, v in parts.items()}
+    return row | {"value": float(sum(parts.values())), "user_attrs": attrs}
+
+
 def reseed(study: Any, path: Path) -> int:
-    """Add the exported trials to an empty study (a fresh machine)."""
+    """Add the exported trials, re-read by `rescore`, to an empty study (a fresh machine, or
+    after a reading of the margins changed)."""
     import optuna
 
-    rows = json.loads(path.read_text())["trials"]
+    rows = [rescore(r) for r in json.loads(path.read_text())["trials"]]
     n = 0
     for r in rows:
         if r["state"] != "COMPLETE":

@@ -1,0 +1,110 @@
+"""Fifth campaign, point 4's first checks (issue 40): is a search candidate's loop real?
+
+    python -m sim_core.studies.campaigns.campaign5_confirm --trial N
+    python -m sim_core.studies.campaigns.campaign5_confirm --params '{"kp_lift": 0.0027}'
+
+For one candidate (a trial of `docs/data/campaign5_trials.json`, or ModelParams overrides):
+1. its refined drift surface over beta 0.60-0.72 by 0.01 (Fig. 8's protocol): where the
+   metachronal and tripod branches end, read from stable zeros (not from the coarse margins);
+2. settled free runs (40 s, the project's settled rule) from the tripod (3.0) and the
+   metachronal (1.9) side at the betas beside each refined fold, at dt and at dt/2: the states
+   they end in, the landing share, the speed against eq. 2.
+Prints a table and writes `confirm_<name>.json` under --out. The search scores coarse margins;
+only this (and then the finder and +-10% of each calibrated parameter) can make a claim.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import Any
+
+from sim_core.model.params import ModelParams, nominal_speed
+from sim_core.model.runner import simulate_batch
+from sim_core.model.spec import RunSpec
+from sim_core.paper.surface import drift_surface
+from sim_core.paper.surface_types import DriftSurface, SurfaceConfig, grid
+from sim_core.runs.backends import get_backend
+from sim_core.runs.cache import ResultCache
+from sim_core.studies.surface_search import METACHRONAL_WINDOW, TRIPOD_WINDOW, geometry
+
+BETAS = grid(0.60, 0.72, 0.01)
+STARTS = {"tripod side": 3.0, "metachronal side": 1.9}
+FREE_RUN_S = 40.0
+
+
+def candidate(args: argparse.Namespace) -> tuple[str, ModelParams]:
+    if args.trial is not None:
+        rows = json.loads(Path(args.trials).read_text())["trials"]
+        row = next(r for r in rows if r["number"] == args.trial)
+        return f"trial{args.trial}", ModelParams(**geometry(row["params"]))
+    return "params", ModelParams(**json.loads(args.params))
+
+
+def branch_betas(surface: DriftSurface, window: tuple[float, float]) -> list[float]:
+    def has(b: float) -> bool:
+        return any(z.stable and window[0] <= z.d31 <= window[1] for z in surface.zeros_at(b))
+
+    return [b for b in surface.betas if has(b)]
+
+
+def free_runs(params: ModelParams, betas: list[float]) -> list[dict[str, Any]]:
+    specs = [RunSpec(beta=b, d31_init=d, duration_s=FREE_RUN_S, dt_s=dt)
+             for b in betas for d in STARTS.values() for dt in (None, params.dt / 2)]  # fmt: skip
+    out = []
+    for spec, res in zip(specs, simulate_batch(specs, params, progress=True), strict=True):
+        s = res.summary()
+        v0 = 100 * nominal_speed(spec.beta, params.stroke, params.swing_duration)
+        out.append({
+            "beta": spec.beta, "start": spec.d31_init, "half_dt": spec.dt_s is not None,
+            "final": s["d31_final"], "settled": s["settled"], "gait": s["gait"],
+            "landing_share": s["landing_swing_share"],
+            "speed_ratio": None if s["speed_cm_s"] is None else s["speed_cm_s"] / v0,
+            "error": s["error"],
+        })  # fmt: skip
+    return out
+
+
+def main() -> None:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--trial", type=int, default=None)
+    ap.add_argument("--trials", default="docs/data/campaign5_trials.json")
+    ap.add_argument("--params", default="{}")
+    ap.add_argument("--cache", default="out/campaign5/cache")
+    ap.add_argument("--out", default="out/campaign5")
+    ap.add_argument("--workers", type=int, default=2)
+    a = ap.parse_args()
+    name, params = candidate(a)
+    t0 = time.perf_counter()
+    backend = get_backend("local", a.workers)
+    surface = drift_surface(BETAS, cache=ResultCache(a.cache), backend=backend,
+                            config=SurfaceConfig(), params=params, progress=True)  # fmt: skip
+    meta, trip = branch_betas(surface, METACHRONAL_WINDOW), branch_betas(surface, TRIPOD_WINDOW)
+    print(f"{name}: refined surface ({surface.sim_s:.0f} simulated s, "
+          f"{time.perf_counter() - t0:.0f} s): metachronal stable at {meta}; "
+          f"tripod at {trip}")  # fmt: skip
+    around: set[float] = set()
+    for betas, end in ((meta, min), (trip, max)):
+        if betas:
+            b = end(betas)
+            around |= {round(b - 0.01, 2), b, round(b + 0.01, 2)}
+    runs = free_runs(params, sorted(x for x in around if 0.5 < x < 1.0))
+    for r in runs:
+        final = "failed" if r["final"] is None else f"{r['final']:.3f}"
+        print(f"  beta {r['beta']:.2f} from {r['start']} {'dt/2' if r['half_dt'] else 'dt  '}: "
+              f"{final} {r['gait']} settled={r['settled']} landing {r['landing_share']} "
+              f"speed x{r['speed_ratio'] and round(r['speed_ratio'], 3)}")  # fmt: skip
+    out = Path(a.out)
+    out.mkdir(parents=True, exist_ok=True)
+    report = {"name": name, "params": params.model_dump(mode="json", exclude_defaults=True),
+              "metachronal_betas": meta, "tripod_betas": trip,
+              "zeros": [z.model_dump() for z in surface.zeros], "free_runs": runs,
+              "wall_s": time.perf_counter() - t0}  # fmt: skip
+    (out / f"confirm_{name}.json").write_text(json.dumps(report))
+    print(f"{report['wall_s']:.0f} s; wrote {out / f'confirm_{name}.json'}")
+
+
+if __name__ == "__main__":
+    main()
