@@ -5,7 +5,7 @@
 Prints (markdown, for docs/REPRODUCTION.md) how many candidates were evaluated per ground, the
 best ones with their folds and parts of the score, the Pareto front of metachronal-fold error
 against tripod-fold error among candidates that walk properly, and which parameters matter
-(optuna's fANOVA importances over the parameters every candidate has); draws the folds of
+(optuna's PED-ANOVA importances over the parameters every candidate has); draws the folds of
 every candidate against the paper's (`--figure`).
 """
 
@@ -37,7 +37,7 @@ def pareto(points: list[tuple[float, float, int]]) -> list[tuple[float, float, i
 
 
 def importances(rows: list[dict[str, Any]]) -> dict[str, float]:
-    """fANOVA importances of the parameters every evaluated candidate has (empty if < 20)."""
+    """PED-ANOVA importances of the parameters every evaluated candidate has (empty if < 20)."""
     import optuna
 
     from sim_core.studies.campaigns.campaign5_search import distributions
@@ -56,7 +56,8 @@ def importances(rows: list[dict[str, Any]]) -> dict[str, float]:
                 value=r["value"],
             )
         )
-    ev = optuna.importance.FanovaImportanceEvaluator(seed=0)
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    ev = optuna.importance.PedAnovaImportanceEvaluator()  # needs no scikit-learn
     return dict(optuna.importance.get_param_importances(study, evaluator=ev))
 
 
@@ -104,7 +105,7 @@ def report(rows: list[dict[str, Any]], top: int = 8) -> str:
     imp = importances(rows)
     if imp:
         out.append(
-            "\nWhat matters (fANOVA importance of the score, parameters all candidates share):"
+            "\nWhat matters (PED-ANOVA importance of the score, parameters all candidates share):"
         )
         out.append(", ".join(f"{k} {v:.2f}" for k, v in list(imp.items())[:10]))
     return "\n".join(out)
