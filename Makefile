@@ -3,6 +3,8 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
+# the tests' and the cluster's extras (pytest, mypy, playwright, dask ...): `make test` only
+DEV_STAMP := $(VENV)/.installed-dev
 # the penalty ground's MuJoCo engine plugin (sim_core/model/ground.py), compiled against the
 # installed mujoco wheel's headers and library
 PLUGIN := sim_core/model/libpenalty_ground.so
@@ -12,18 +14,32 @@ VIEWER_PORT ?= 8080
 # bash for `wait -n` in `run`
 SHELL := /bin/bash
 
-.PHONY: install plugin run test lint typecheck bench screenshot clean
+.PHONY: install install-dev plugin run test lint typecheck bench screenshot clean
 
+# What running needs, and no more (the image installs the same: Dockerfile). pip's notices
+# about setuptools are kept out of the way; a failed install still says so and stops make.
 $(STAMP): pyproject.toml
-	$(PYTHON) -m venv $(VENV)
-	$(BIN)/pip install --quiet --upgrade pip
-	$(BIN)/pip install --quiet -e '.[dev,cluster]'
-	touch $(STAMP)
+	@echo "insect-gait: installing into $(VENV) (first time ~1-3 min: MuJoCo, numba, viser) ..."
+	@$(PYTHON) -m venv $(VENV)
+	@$(BIN)/pip install --quiet --disable-pip-version-check --upgrade pip
+	@$(BIN)/pip install --quiet --disable-pip-version-check -e . 2>&1 | grep -v -i setuptools || true
+	@$(BIN)/python -c "import sim_core, server, web" || { echo "insect-gait: install failed" >&2; exit 1; }
+	@touch $(STAMP)
+	@echo "insect-gait: installed."
+
+$(DEV_STAMP): $(STAMP)
+	@echo "insect-gait: installing the test and cluster extras (pytest, mypy, playwright, dask) ..."
+	@$(BIN)/pip install --quiet --disable-pip-version-check -e '.[dev,cluster]' 2>&1 | grep -v -i setuptools || true
+	@$(BIN)/python -c "import pytest, mypy, playwright" || { echo "insect-gait: install failed" >&2; exit 1; }
+	@touch $(DEV_STAMP)
 
 $(PLUGIN): sim_core/model/penalty_ground.c sim_core/model/ground_build.py $(STAMP)
-	$(BIN)/python -m sim_core.model.ground_build $(PLUGIN)
+	@echo "insect-gait: compiling the paper's ground (a MuJoCo plugin) ..."
+	@$(BIN)/python -m sim_core.model.ground_build $(PLUGIN)
 
 install: $(STAMP) $(PLUGIN)
+
+install-dev: $(DEV_STAMP) $(PLUGIN)
 
 plugin: $(PLUGIN)
 
@@ -35,28 +51,29 @@ run: $(STAMP) $(PLUGIN)
 	@echo "API:    http://127.0.0.1:$(API_PORT)/docs"
 	@echo "Viewer: http://127.0.0.1:$(VIEWER_PORT)"
 	@$(BIN)/insect-gait api --host 127.0.0.1 --port $(API_PORT) & api=$$!; \
-	$(BIN)/insect-gait viewer --host 127.0.0.1 --port $(VIEWER_PORT) & viewer=$$!; \
+	$(BIN)/insect-gait viewer --host 127.0.0.1 --port $(VIEWER_PORT) \
+		--api-url http://127.0.0.1:$(API_PORT) & viewer=$$!; \
 	stop() { trap '' INT TERM; kill -TERM $$api $$viewer 2>/dev/null; wait 2>/dev/null; }; \
 	trap 'stop; exit 0' INT TERM; \
 	wait -n; status=$$?; stop; exit $$status
 
-test: $(STAMP) $(PLUGIN)
+test: $(DEV_STAMP) $(PLUGIN)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
 	$(BIN)/pytest
 
-lint: $(STAMP)
+lint: $(DEV_STAMP)
 	$(BIN)/ruff check . && $(BIN)/ruff format --check .
 
-typecheck: $(STAMP)
+typecheck: $(DEV_STAMP)
 	$(BIN)/mypy
 
 bench: $(STAMP) $(PLUGIN)
 	$(BIN)/insect-gait bench
 
 # Refresh the README's screenshot (make test writes it to out/ only, leaving the tree clean).
-screenshot: $(STAMP) $(PLUGIN)
+screenshot: $(DEV_STAMP) $(PLUGIN)
 	CI=true $(BIN)/pytest -q tests/web/test_viewer_browser.py -k renders
 	cp out/viewer.png docs/figures/viewer.png
 

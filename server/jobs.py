@@ -26,7 +26,11 @@ from typing import Any, Literal
 
 from server.status import ACTIVE, FINISHED, JobStatus, sql_list
 
-SCHEMA_VERSION = 1
+# 2: jobs.worker_deaths (a job whose worker died from outside runs again once); a version-1
+# file gains the column on open
+SCHEMA_VERSION = 2
+# how many times a job may lose its worker to an outside kill and still be run again
+MAX_WORKER_DEATHS = 1
 
 _SCHEMA = f"""
 CREATE TABLE IF NOT EXISTS jobs (
@@ -38,6 +42,7 @@ CREATE TABLE IF NOT EXISTS jobs (
     progress    REAL NOT NULL DEFAULT 0,
     attempts    INTEGER NOT NULL DEFAULT 0,
     requeues    INTEGER NOT NULL DEFAULT 0,
+    worker_deaths INTEGER NOT NULL DEFAULT 0,
     sim_seconds REAL NOT NULL,
     created_at  TEXT NOT NULL,
     started_at  TEXT,
@@ -173,7 +178,11 @@ class JobStore:
             raise RuntimeError(f"could not switch {self.path} to WAL mode (got {mode!r})")
         conn.executescript(_SCHEMA)
         version = conn.execute("PRAGMA user_version").fetchone()[0]
-        if version == 0:
+        if version == 1:  # the one change since: a column with a default, added in place
+            with self._write() as w:
+                w.execute("ALTER TABLE jobs ADD COLUMN worker_deaths INTEGER NOT NULL DEFAULT 0")
+                w.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        elif version == 0:
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
         elif version != SCHEMA_VERSION:
             raise RuntimeError(
@@ -447,6 +456,41 @@ class JobStore:
                 (claim.job_id, body),
             )
         return True
+
+    def worker_died(self, claim: Claim, reason: str) -> str:
+        """The worker running `claim` died from outside (a kill, the OOM killer): the job goes
+        back to the queue to run on a fresh worker, its reason kept in the note, unless it has
+        lost `MAX_WORKER_DEATHS` workers already: then it fails with every reason (a job that
+        kills its worker each time must not take the pool down with it). Returns "requeued",
+        "failed", or "gone" when the claim no longer holds (cancelled, already finished)."""
+        with self._write() as conn:
+            row = conn.execute(
+                f"SELECT worker_deaths, note FROM jobs WHERE {_FENCE}", _fence(claim)
+            ).fetchone()
+            if row is None:
+                return "gone"
+            deaths, note = int(row[0]) + 1, row[1] or ""
+            said = f"attempt {claim.attempt}: {reason}"
+            if deaths <= MAX_WORKER_DEATHS:
+                conn.execute(
+                    "UPDATE jobs SET status = ?, progress = 0, started_at = NULL,"
+                    " worker_deaths = ?, note = coalesce(note || ' ', '') || ?"
+                    f" WHERE {_FENCE}",
+                    (JobStatus.QUEUED, deaths,
+                     f"re-queued at {now_iso()} to run on a fresh worker ({said}).",
+                     *_fence(claim)),
+                )  # fmt: skip
+                return "requeued"
+            before = [part for part in note.split("re-queued at ") if "fresh worker" in part]
+            earlier = "; ".join(p.split("(", 1)[-1].rstrip(". )") for p in before)
+            conn.execute(
+                "UPDATE jobs SET status = ?, finished_at = ?, error = ?, worker_deaths = ?"
+                f" WHERE {_FENCE}",
+                (JobStatus.FAILED, now_iso(),
+                 f"the job's worker died {deaths} times, so it is not run again (the job may be "
+                 f"what kills it): {earlier}; {said}", deaths, *_fence(claim)),
+            )  # fmt: skip
+            return "failed"
 
     def finish_failed(self, claim: Claim, error: str) -> bool:
         with self._write() as conn:

@@ -310,12 +310,13 @@ class WorkerPool:
             code = w.proc.exitcode
             how = f"signal {-code}" if code is not None and code < 0 else f"exit code {code}"
             if w.claim is not None:
-                self.store.finish_failed(
+                what = self.store.worker_died(
                     w.claim,
-                    f"the worker process died ({how}) while running this job: the simulation "
-                    "crashed or ran out of memory; other jobs are not affected",
+                    f"the worker process died ({how}) while running this job: killed from "
+                    "outside, out of memory, or a crash; other jobs are not affected",
                 )
-                log.warning("worker %s died (%s) running job %s", w.pid, how, w.claim.job_id)
+                log.warning("worker %s died (%s) running job %s: %s", w.pid, how,
+                            w.claim.job_id, what)  # fmt: skip
             w.conn.close()
             if time.monotonic() - w.started < 2.0:
                 # dying at start-up again and again must not become a fork loop

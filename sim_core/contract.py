@@ -47,6 +47,7 @@ from sim_core.model.params import (
 from sim_core.model.ramp import RAMP_PARAMS, Ramp, RampParam
 from sim_core.model.spec import (
     FAILURE_KINDS,
+    INSECT_WORDS,
     MASS_MAX_G,
     MASS_MIN_G,
     MASS_REASON,
@@ -103,6 +104,7 @@ __all__ = [
     "DEFAULT_DT_S",
     "DEFAULT_INTEGRATOR",
     "FAILURE_KINDS",
+    "INSECT_WORDS",
     "INTEGRATORS",
     "LEG_NAMES",
     "MASS_MAX_G",

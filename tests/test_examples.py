@@ -45,6 +45,28 @@ def test_example_runs(script: str, tmp_path: Path) -> None:
         assert (tmp_path / "map.png").stat().st_size > 0
 
 
+def test_the_tour_notebook_runs(tmp_path: Path, monkeypatch: pytest.MonkeyPatch) -> None:
+    """examples/06_tour.ipynb, executed cell by cell in a real Jupyter kernel (tiny sizes):
+    a walk, a return map, the drift surface and a REST job on a server it starts itself."""
+    nbformat = pytest.importorskip("nbformat")
+    nbclient = pytest.importorskip("nbclient")
+    monkeypatch.setenv("INSECT_GAIT_TOUR_QUICK", "1")
+    monkeypatch.setenv("PYTHONPATH", str(EXAMPLES.parent))
+    nb = nbformat.read(EXAMPLES / "06_tour.ipynb", as_version=4)
+    client = nbclient.NotebookClient(
+        nb, timeout=300, kernel_name="python3", resources={"metadata": {"path": str(tmp_path)}}
+    )
+    client.execute()
+    text = "\n".join(
+        o.get("text", "") for c in nb.cells if c.cell_type == "code" for o in c.outputs
+    )
+    assert "gait " in text and "Delta31" in text and "zero at Delta31" in text
+    assert "done d31_init," in text  # the REST job's CSV
+    images = [o for c in nb.cells if c.cell_type == "code" for o in c.outputs
+              if "image/png" in o.get("data", {})]  # fmt: skip
+    assert len(images) == 3  # the walk, the return map, the surface
+
+
 def test_rest_client_example(make_server: Callable[..., Server], tmp_path: Path) -> None:
     server = make_server()
     out = _run("05_rest_client.py", ["--url", server.url, "--duration-s", "0.3"], tmp_path)

@@ -64,6 +64,7 @@ from web.requests import (
     SetPlaying,
     SetSpeed,
     StartRamp,
+    StepCycle,
     StopRamp,
 )
 from web.scene import HexapodScene
@@ -208,6 +209,10 @@ class ViewerApp:
                 self._clock.reset()
             case SetPlaying(playing=p):
                 self.playing = p and self.error is None
+            case StepCycle():
+                if not self.playing and self.error is None:
+                    period = ModelParams().swing_duration / (1.0 - sim.beta)  # eq. 2
+                    self._step(period, time.perf_counter() + 60.0)
             case SetFollow(mode=m):
                 self.scene.set_follow(m)
             case SetFootfallWindow(seconds=w):
@@ -401,7 +406,8 @@ class ViewerApp:
                 break
             advanced += sim.time_s - t0
             # the new Delta31 events happened under the parameters (and ramp phase) just used
-            now = Conditions(sim.beta, sim.body_mass_g, sim.slope_deg, self._ramp_phase)
+            param = self.ramp.param if self.ramp is not None and self._ramp_phase else ""
+            now = Conditions(sim.beta, sim.body_mass_g, sim.slope_deg, self._ramp_phase, param)
             self.d31_conditions.note(sim.d31_events, now)
         return advanced
 

@@ -53,13 +53,17 @@ def _csv(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> bytes:
 
 
 def _event_row(e: D31Event) -> tuple[Any, ...]:
+    """One touchdown: times and angles to 1 us / 1 urad, the parameters to 1e-6 of their
+    unit (a ramp's value is continuous: 3.0149999999999864 g is written 3.015), and the ramp
+    as 'beta up' (its parameter and phase) while one ran."""
+    ramp = f"{e.at.ramp_param} {e.at.ramp}".strip() if e.at.ramp else ""
     return (
         round(e.time_s, 6),
         round(e.d31, 6),
         round(e.at.beta, 6),
-        e.at.body_mass_g,
-        e.at.slope_deg,
-        e.at.ramp,
+        round(e.at.body_mass_g, 6),
+        round(e.at.slope_deg, 6),
+        ramp,
     )
 
 
@@ -139,7 +143,10 @@ def curl(api_url: str, body: dict[str, Any]) -> str:
 
 
 def settings_json(s: Settings) -> bytes:
+    """The settings in force, as a person reads them: "speed" is a multiple of real time or
+    "max" (as fast as the machine steps), never null."""
     out = asdict(s)
+    out["speed"] = "max" if s.speed is None else s.speed
     out["ramp"] = None if s.ramp is None else asdict(s.ramp)
     out["jobs"] = jobs(s)
     out["jobs_url"] = f"{s.api_url.rstrip('/')}/v1/jobs"

@@ -46,10 +46,12 @@ from web.requests import (
     SetPlaying,
     SetSpeed,
     StartRamp,
+    StepCycle,
     StopRamp,
 )
 
 PLAY, PAUSE = "Play", "Pause"
+STEP = "Step one cycle"
 RAMP_START, RAMP_STOP = "Start ramp", "Stop ramp"
 # export buttons: label -> what (web/export.py)
 EXPORT_BUTTONS = {
@@ -208,6 +210,9 @@ class Panels:
             self.play = gui.add_button(PAUSE)
             self.play.on_click(self._on_play)
             self._playing = True
+            # while paused: one gait cycle, then paused again (the loop ignores it while playing)
+            self.step = gui.add_button(STEP, disabled=True)
+            self.step.on_click(self._queue(StepCycle))
             self.tripod = gui.add_button(PRESET_TRIPOD)
             self.tripod.on_click(self._queue(lambda: Reset(TRIPOD)))
             self.metachronal = gui.add_button(PRESET_METACHRONAL)
@@ -409,6 +414,7 @@ class Panels:
         if playing != self._playing:
             self._playing = playing
             self.play.label = PAUSE if playing else PLAY
+            self.step.disabled = playing
         is_ramping = ramping is not None
         if is_ramping != self._ramping:
             self._ramping = is_ramping

@@ -72,6 +72,7 @@ class Conditions:
     body_mass_g: float = math.nan
     slope_deg: float = math.nan
     ramp: str = ""  # "down"/"up"/"hold" while a ramp ran, else ""
+    ramp_param: str = ""  # the parameter that ramp moved (a `Ramp.param`), else ""
 
 
 @dataclass(frozen=True)

@@ -38,6 +38,13 @@ class SetPlaying:
 
 
 @dataclass(frozen=True)
+class StepCycle:
+    """While paused: walk one gait cycle (T_sw / (1 - beta) at the beta in force), then stop
+    again, as a debugger's single step (mujoco's viewer steps one physics step; one cycle is
+    the smallest step in which every leg lands once)."""
+
+
+@dataclass(frozen=True)
 class SetFollow:
     mode: str  # one of controls.CAMERA_MODES
 
@@ -88,6 +95,7 @@ Request = (
     SetParam
     | SetSpeed
     | SetPlaying
+    | StepCycle
     | SetFollow
     | SetFootfallWindow
     | Reset

@@ -16,6 +16,7 @@ from server.kinds.bounds import TWO_PI
 from sim_core.contract import (
     DEFAULT_DT_S,
     DEFAULT_INTEGRATOR,
+    INSECT_WORDS,
     MAX_STABLE_DT_S,
     Integrator,
     RunFailure,
@@ -46,16 +47,6 @@ def core() -> Any:
     return sim_core
 
 
-# what the insect did, per physical failure kind (sim_core.contract.FailureKind)
-PHYSICAL_WORDS: dict[str, str] = {
-    "flipped": "fell over",
-    "on_floor": "fell over",
-    "left_ground": "left the ground",
-    "no_footholds": "lost every foothold",
-    "sliding_back": "slid backwards",
-}
-
-
 def advice(job: Physics, failures: list[RunFailure]) -> str:
     """What the client can do about failed runs, chosen from the failures' kinds: a smaller
     step only where the step is the likely cause (a numerical blow-up, or a step coarser than
@@ -70,7 +61,7 @@ def advice(job: Physics, failures: list[RunFailure]) -> str:
             f"dt_s (the converged default is {DEFAULT_INTEGRATOR} at {DEFAULT_DT_S:g} s; "
             f"{integrator} is stable up to {MAX_STABLE_DT_S[integrator]:g} s)"
         )
-    what = " or ".join(dict.fromkeys(PHYSICAL_WORDS.get(f.kind, "fell over") for f in failures))
+    what = " or ".join(dict.fromkeys(INSECT_WORDS.get(f.kind, "fell over") for f in failures))
     return (
         f"the insect {what} under these conditions (slope_deg {job.slope_deg:g}, "
         f"body_mass_g {job.body_mass_g:g}); this is the model's physics at a converged "

@@ -12,16 +12,21 @@ import sys
 from collections.abc import Sequence
 from importlib.metadata import entry_points
 
-from sim_core.cli import numerics, paper, studies, surface, walk
+from sim_core.cli import numerics, paper, surface, walk
 from sim_core.cli.common import EXIT_USAGE, Parser
 
 __all__ = ["EXIT_USAGE", "build_parser", "main"]
 
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = Parser(prog="insect-gait", description=__doc__.splitlines()[0] if __doc__ else "")
+    parser = Parser(
+        prog="insect-gait",
+        description=__doc__.splitlines()[0] if __doc__ else "",
+        epilog="The studies behind docs/REPRODUCTION.md (calibration, sensitivity, the "
+        "finder's checks, the campaigns' screens) are `insect-gait-lab --help`.",
+    )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for family in (walk, numerics, paper, surface, studies):
+    for family in (walk, numerics, paper, surface):
         family.register(sub)
     for ep in entry_points(group="insect_gait.commands"):
         try:

@@ -144,7 +144,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     from sim_core.runs.backends import RunStats
     from sim_core.runs.cache import ResultCache
 
-    prog = "insect-gait finder-atlas"
+    prog = "insect-gait-lab finder-atlas"
     cfg = AtlasConfig.quick(args.axis) if args.quick else AtlasConfig(args.axis)
     out = Path(args.out or ("out/atlas-quick" if args.quick else RESULTS_DIR))
     backend = backend_from_args(args, prog)
@@ -259,7 +259,7 @@ def _cmd_finder_check(args: argparse.Namespace) -> int:
 
     for b in args.beta:
         if not 0.5 < b < 1.0:
-            print(f"insect-gait finder-check: error: --beta {b:g} is outside (0.5, 1)",
+            print(f"insect-gait-lab finder-check: error: --beta {b:g} is outside (0.5, 1)",
                   file=sys.stderr)  # fmt: skip
             return EXIT_USAGE
     backend = get_backend("local", args.workers)
@@ -317,7 +317,7 @@ def _cmd_finder_claims(args: argparse.Namespace) -> int:
     try:
         found = FinderOutput.model_validate_json(args.bifurcation.read_text())
     except (OSError, ValueError) as e:
-        print(f"insect-gait finder-claims: error: cannot read the finder's output "
+        print(f"insect-gait-lab finder-claims: error: cannot read the finder's output "
               f"{args.bifurcation}: {e}", file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     args.out.mkdir(parents=True, exist_ok=True)
@@ -356,9 +356,14 @@ def _cmd_finder_claims(args: argparse.Namespace) -> int:
 
 
 def register(sub: Any) -> None:
+    """The product's paper commands."""
     _add_reproduce(sub)
-    _add_atlas(sub)
     _add_finder(sub)
+
+
+def register_lab(sub: Any) -> None:
+    """The finder's studies and checks (`insect-gait-lab`)."""
+    _add_atlas(sub)
     _add_finder_check(sub)
     _add_finder_claims(sub)
     _add_study(sub)

@@ -51,7 +51,7 @@ def _cmd_calibrate(args: argparse.Namespace) -> int:
     from sim_core.studies.space import WIDE_SPACE
 
     if args.trials < 1 or args.duration_s <= 0 or args.n_init < 2:
-        print("insect-gait calibrate: error: --trials >= 1, --duration-s > 0, --n-init >= 2",
+        print("insect-gait-lab calibrate: error: --trials >= 1, --duration-s > 0, --n-init >= 2",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     if args.storage.startswith("sqlite:///"):
@@ -92,7 +92,9 @@ def _cmd_sensitivity(args: argparse.Namespace) -> int:
     from sim_core.studies.sensitivity import run_sensitivity
 
     if args.n_init < 1 or args.duration_s <= 0:
-        print("insect-gait sensitivity: error: --n-init >= 1, --duration-s > 0", file=sys.stderr)
+        print(
+            "insect-gait-lab sensitivity: error: --n-init >= 1, --duration-s > 0", file=sys.stderr
+        )
         return EXIT_USAGE
     run_sensitivity(Path(args.out), n_init=args.n_init, duration_s=args.duration_s)
     return 0
@@ -116,7 +118,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
     try:
         params = ModelParams(**json.loads(args.params))
     except (ValueError, ValidationError) as exc:
-        print(f"insect-gait diagnose: error: --params: {exc}", file=sys.stderr)
+        print(f"insect-gait-lab diagnose: error: --params: {exc}", file=sys.stderr)
         return EXIT_USAGE
     report = diagnose(params)
     if args.json:
@@ -157,7 +159,7 @@ def _param_overrides(command: str, text: str) -> dict[str, Any] | None:
         over = json.loads(text)
         ModelParams(**over)
     except (ValueError, TypeError, ValidationError) as exc:
-        print(f"insect-gait {command}: error: --params: {exc}", file=sys.stderr)
+        print(f"insect-gait-lab {command}: error: --params: {exc}", file=sys.stderr)
         return None
     return dict(over)
 
@@ -196,10 +198,12 @@ def _cmd_slope_heading(args: argparse.Namespace) -> int:
     from sim_core.studies.slope_heading import headings, table
 
     if not 0 < args.duration_s <= 600:
-        print("insect-gait slope-heading: error: --duration-s in (0, 600]", file=sys.stderr)
+        print("insect-gait-lab slope-heading: error: --duration-s in (0, 600]", file=sys.stderr)
         return EXIT_USAGE
     if any(f <= 0 for f in args.friction) or any(n < 0 for n in args.noslip):
-        print("insect-gait slope-heading: error: --friction > 0, --noslip >= 0", file=sys.stderr)
+        print(
+            "insect-gait-lab slope-heading: error: --friction > 0, --noslip >= 0", file=sys.stderr
+        )
         return EXIT_USAGE
     over = _param_overrides("slope-heading", args.params)
     if over is None:
@@ -259,7 +263,7 @@ def _cmd_timing_lines(args: argparse.Namespace) -> int:
     from sim_core.studies import timing_lines as tl
 
     if not 0.0 < args.d_step <= 0.5 or not all(0.5 < b < 1.0 for b in args.betas):
-        print("insect-gait timing-lines: error: --d-step in (0, 0.5], betas in (0.5, 1)",
+        print("insect-gait-lab timing-lines: error: --d-step in (0, 0.5], betas in (0.5, 1)",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     args.out.mkdir(parents=True, exist_ok=True)
@@ -359,25 +363,25 @@ def _cmd_readings(args: argparse.Namespace) -> int:
     )
 
     if not 0 < args.duration_s <= 600 or not all(0.5 < b < 1.0 for b in args.betas):
-        print("insect-gait readings: error: --duration-s in (0, 600], betas in (0.5, 1)",
+        print("insect-gait-lab readings: error: --duration-s in (0, 600], betas in (0.5, 1)",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     stop = args.stop_if_settled_s
     if stop is not None and not 0 < stop <= args.duration_s:
-        print("insect-gait readings: error: --stop-if-settled-s in (0, --duration-s]",
+        print("insect-gait-lab readings: error: --stop-if-settled-s in (0, --duration-s]",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     over = _param_overrides("readings", args.params)
     if over is None:
         return EXIT_USAGE
     if args.robust and args.finder:
-        print("insect-gait readings: error: --robust is a census per variant; run --finder on "
+        print("insect-gait-lab readings: error: --robust is a census per variant; run --finder on "
               "the setting alone", file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     names = args.readings or list(READINGS)
     unknown = [n for n in names if n not in READINGS]
     if unknown:
-        print(f"insect-gait readings: error: unknown reading(s) {unknown}; choose from "
+        print(f"insect-gait-lab readings: error: unknown reading(s) {unknown}; choose from "
               f"{list(READINGS)}", file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     rows: list[str] = []

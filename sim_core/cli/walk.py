@@ -13,7 +13,7 @@ from pydantic import ValidationError
 from sim_core.cli.common import EXIT_USAGE
 from sim_core.model.gait import TWO_PI
 from sim_core.model.params import INTEGRATORS, ModelParams
-from sim_core.model.spec import RunSpec, cost_problem, numerics_problem
+from sim_core.model.spec import INSECT_WORDS, RunSpec, cost_problem, numerics_problem
 
 # `run` without --duration-s runs until settled: a first command should name a gait. The settled
 # rule needs a last quarter of >= 40 touchdowns (16-20 s); a tripod start near its fold can sit
@@ -118,7 +118,16 @@ def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
     p = ModelParams()
     v_nom = nominal_speed(spec.beta, p.stroke, p.swing_duration) * 100
     if s["diverged"]:
-        print(f"DIVERGED: {s['error']}")
+        f = s.get("failure") or {}
+        kind, at = f.get("kind", ""), f.get("time_s")
+        when = "" if at is None else f" at t = {at:.2f} s"
+        if kind in INSECT_WORDS:
+            print(f"the insect {INSECT_WORDS[kind]}{when}: {f.get('reason', s['error'])}")
+            print("(the model's physics under these conditions, not a numerical problem: a "
+                  "smaller --dt-s will not help)")  # fmt: skip
+        else:
+            print(f"the simulation diverged{when}: {f.get('reason', s['error'])}")
+            print("(numerical: try a smaller --dt-s)")
         return
     d31 = s["d31"]
     ran = s.get("duration_s") or spec.duration_s

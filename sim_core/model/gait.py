@@ -211,6 +211,46 @@ def window_gait(d31: np.ndarray | Sequence[float], beta: float) -> str:
     return classify_gait(window_d31(d31), beta)
 
 
+# The live label's words besides the footfall's: a walk whose Delta31 drifts faster than the
+# settled rule allows, resolved (drift beyond 2 standard errors of TAIL_DRIFT_SETTLED) over its
+# last LIVE_LAST touchdowns, is "changing" whatever its footfall looks like for the moment.
+CHANGING = "changing"
+LIVE_LAST = 8
+
+
+def live_gait(
+    d31: Sequence[float],
+    d31_times: Sequence[float],
+    touchdowns: Sequence[Sequence[float]],
+    liftoffs: Sequence[Sequence[float]],
+    now_s: float,
+    beta: float,
+) -> str:
+    """The gait walked now, as the footfall diagram shows it: CHANGING while Delta31 (leg-1
+    touchdown samples `d31` at `d31_times`) drifts faster than the settled rule over the last
+    LIVE_LAST samples, else `footfall_gait` of the footfall measured over the last three
+    cycles (`measured_footfall`), or `window_gait` of Delta31 while too few cycles exist."""
+    d = np.unwrap(np.asarray(d31, dtype=float)[-LIVE_LAST:])
+    if d.size >= 6:
+        k = np.arange(d.size, dtype=float)
+        slope, icpt = np.polyfit(k, d, 1)
+        resid = d - (slope * k + icpt)
+        se = float(np.sqrt(resid @ resid / (d.size - 2) / ((k - k.mean()) @ (k - k.mean()))))
+        if abs(float(slope)) - 2.0 * se > TAIL_DRIFT_SETTLED:
+            return CHANGING
+    times = np.asarray(d31_times, dtype=float)
+    if times.size >= 4:
+        walked = measured_footfall(
+            [np.asarray(t, dtype=float) for t in touchdowns],
+            [np.asarray(t, dtype=float) for t in liftoffs],
+            float(times[-4]),
+            now_s,
+        )
+        if walked is not None:
+            return footfall_gait(*walked)
+    return window_gait(d31, beta)
+
+
 def final_d31(d31: np.ndarray | Sequence[float]) -> float | None:
     """Where a run ends: `settling`'s final (the circular mean of the last quarter); a run too
     short for a quarter of 4 touchdowns ends at the mean of its last WINDOW_LAST samples (None

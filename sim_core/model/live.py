@@ -195,10 +195,14 @@ class Simulation:
 
     @property
     def gait(self) -> str:
-        """The gait walked now (`gait.window_gait` of the last few touchdowns): a live label,
-        not a claim that the run has settled."""
-        d31 = np.array(self._runner.d31_v[0][-4:])
-        return gait.window_gait(d31, self.beta)
+        """The gait walked now (`gait.live_gait`): the footfall of the last three cycles, or
+        "changing" while Delta31 drifts faster than the settled rule; a live label, not a
+        claim that the run has settled."""
+        r, ev, n = self._runner, self._runner.journal, gait.LIVE_LAST
+        # each leg's last n events cover the three cycles read (the lists grow with the run)
+        return gait.live_gait(r.d31_v[0][-n:], r.d31_t[0][-n:],
+                              [t[-n:] for t in ev.touchdowns[0]], [t[-n:] for t in ev.liftoffs[0]],
+                              self.time_s, self.beta)  # fmt: skip
 
     def _push_events(self, r: BatchRunner) -> None:
         """The run loop's hook: after every control period, the new Delta31 events."""

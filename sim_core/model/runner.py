@@ -480,13 +480,28 @@ def simulate_batch(
     params: ModelParams | None = None,
     *,
     nthread: int = 0,
-    progress: ProgressFn | None = None,
+    progress: ProgressFn | bool | None = None,
 ) -> list[RunResult]:
     """Run many simulations on a thread pool; results in the order of `specs`.
 
     Specs with different numerics (integrator, dt, control period) run as separate batches.
-    nthread = 0 uses every core.
+    nthread = 0 uses every core. progress: a function called with the share of the simulated
+    time done (0..1), or True for a tqdm bar in simulated seconds (a notebook shows its own).
     """
+    if progress is True:
+        from tqdm.auto import tqdm
+
+        total_s = float(sum(s.duration_s for s in specs))
+        with tqdm(total=round(total_s, 3), unit="sim s", desc="simulate_batch") as bar:
+
+            def advance(frac: float) -> None:
+                bar.update(round(frac * total_s, 3) - bar.n)
+
+            done = simulate_batch(specs, params, nthread=nthread, progress=advance)
+            advance(1.0)
+            return done
+    if progress is False:
+        progress = None
     base = params or ModelParams()
     groups: dict[tuple[str, float, float, int], list[int]] = {}
     for i, s in enumerate(specs):

@@ -238,6 +238,14 @@ FailureKind = Literal[
 FAILURE_KINDS: tuple[FailureKind, ...] = get_args(FailureKind)
 NUMERICAL_FAILURES: frozenset[str] = frozenset({"mujoco_error", "mujoco_warning", "non_finite"})
 SANITY_FAILURES: frozenset[str] = frozenset({"left_ground", "no_footholds", "sliding_back"})
+# what the insect did, per physical failure kind: the words every face prints for a fall
+INSECT_WORDS: dict[str, str] = {
+    "flipped": "fell over",
+    "on_floor": "fell over",
+    "left_ground": "left the ground",
+    "no_footholds": "lost every foothold",
+    "sliding_back": "slid backwards",
+}
 
 # Physical sanity, checked every control period (`guard.guard_codes`), each from what sound runs
 # do (3 s at slopes -30/0/+30 deg, beta 0.56-0.80, 1-12 g, Delta31 1.9 and 3.0; 2026-11-26):

@@ -1,6 +1,6 @@
 """Robustness of the defaults: each open parameter moved by +-10%, and where the runs end.
 
-`insect-gait sensitivity` runs it and writes a tornado chart (how many runs at each beta end
+`insect-gait-lab sensitivity` runs it and writes a tornado chart (how many runs at each beta end
 in the expected gait, per parameter and sign) and the JSON behind it.
 """
 

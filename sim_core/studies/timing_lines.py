@@ -259,7 +259,7 @@ def reduced_branches(
     return out
 
 
-# --- the report: tables and a figure (the `insect-gait timing-lines` command) ------------------
+# --- the report: tables and a figure (the `insect-gait-lab timing-lines` command) -------------
 def _f(x: float | None, fmt: str = "{:.2f}") -> str:
     return "–" if x is None else fmt.format(x)
 

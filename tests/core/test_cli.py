@@ -6,7 +6,8 @@ import sys
 
 import pytest
 
-from sim_core.cli.main import main
+from sim_core.cli.lab import main as lab_main
+from sim_core.cli.main import build_parser, main
 
 BAD = [
     ["--beta", "0.5"],
@@ -59,9 +60,9 @@ def test_run_json_has_the_documented_keys() -> None:
 def test_study_overrides_are_checked_before_anything_runs(args: list[str], capsys) -> None:
     """--params must be ModelParams overrides (one helper checks both commands), and a
     screen's settled stop must lie inside its runs."""
-    assert main(args) == 2
+    assert lab_main(args) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith(f"insect-gait {args[0]}: error:") and "Traceback" not in err
+    assert err.startswith(f"insect-gait-lab {args[0]}: error:") and "Traceback" not in err
 
 
 def test_the_first_run_names_its_gait_without_any_other_flag() -> None:
@@ -82,3 +83,24 @@ def test_run_takes_the_ground() -> None:
     bad = subprocess.run([sys.executable, "-m", "sim_core.cli", "run", "--beta", "0.62",
                           "--ground", "ice"], capture_output=True, text=True)  # fmt: skip
     assert bad.returncode == 2 and "invalid choice: 'ice'" in bad.stderr
+
+
+def test_a_fall_is_told_in_the_insects_words_and_a_blow_up_as_numerics(capsys) -> None:
+    assert main(["run", "--beta", "0.66", "--slope-deg", "60", "--duration-s", "0.6"]) == 1
+    out = capsys.readouterr().out
+    assert "the insect slid backwards at t = 0.25 s" in out and "will not help" in out
+    assert "DIVERGED" not in out and "diverged" not in out
+
+
+def test_the_products_help_lists_the_users_commands_and_the_lab_keeps_the_studies() -> None:
+    from sim_core.cli.lab import build_parser as lab_parser
+
+    product = build_parser().format_help()
+    lab = lab_parser().format_help()
+    studies = ("calibrate", "sensitivity", "diagnose", "slope-heading", "timing-lines",
+               "readings", "finder-check", "finder-claims", "finder-atlas")  # fmt: skip
+    for name in ("run", "reproduce", "surface", "atlas", "finder", "api", "viewer"):
+        assert f"    {name} " in product, name
+    for name in studies:
+        assert f"    {name} " not in product and f"    {name} " in lab, name
+    assert "issue 3" not in product and "insect-gait-lab --help" in product

@@ -121,3 +121,22 @@ def test_measured_footfall_reads_the_pattern_back_from_events() -> None:
 def angle_diff_all(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """Each leg's phase relative to leg 1, compared: a pattern has no absolute origin."""
     return np.mod((a - a[0]) - (b - b[0]) + math.pi, 2 * math.pi) - math.pi
+
+
+def test_the_live_label_says_changing_while_delta31_drifts_and_reads_the_footfall_otherwise() -> (
+    None
+):
+    from sim_core.model.gait import CHANGING, live_gait
+
+    beta, period = 0.62, 0.1
+    times = [period * k for k in range(12)]
+    # a tripod footfall: legs 1, 4, 5 lift together, 2, 3, 6 half a cycle later
+    lift_phase = [0.0, 0.5, 0.5, 0.0, 0.0, 0.5]
+    liftoffs = [[t + p * period for t in times] for p in lift_phase]
+    touchdowns = [[t + (1 - beta) * period for t in lo] for lo in liftoffs]
+    still = [3.0 + 0.001 * (k % 2) for k in range(12)]
+    assert live_gait(still, times, touchdowns, liftoffs, times[-1], beta) == "tripod"
+    sliding = [3.0 - 0.01 * k for k in range(12)]  # 10 mrad per cycle: far beyond the rule
+    assert live_gait(sliding, times, touchdowns, liftoffs, times[-1], beta) == CHANGING
+    # too few cycles for a footfall: the Delta31 window decides
+    assert live_gait(still[:3], times[:3], touchdowns, liftoffs, times[2], beta) == "tripod"

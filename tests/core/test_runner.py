@@ -52,6 +52,16 @@ def test_progress_reaches_one() -> None:
     assert all(b >= a for a, b in itertools.pairwise(seen))
 
 
+def test_progress_true_draws_a_bar_in_simulated_seconds(capsys) -> None:
+    specs = [RunSpec(duration_s=0.2), RunSpec(duration_s=0.1)]
+    with_bar = simulate_batch(specs, progress=True)
+    err = capsys.readouterr().err
+    assert "simulate_batch" in err and "0.3/0.3" in err and "sim s" in err
+    assert [r.events.d31.tolist() for r in with_bar] == [
+        r.events.d31.tolist() for r in simulate_batch(specs)
+    ]
+
+
 @pytest.mark.parametrize("integrator", ["euler", "rk4"])
 def test_divergence_is_reported_never_returned_as_numbers(integrator: str) -> None:
     spec = RunSpec(beta=0.62, duration_s=0.5, integrator=integrator, dt_s=1e-3, control_dt_s=1e-3)

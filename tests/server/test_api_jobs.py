@@ -184,9 +184,12 @@ def test_diverging_simulation_fails_only_its_own_job(make_server: Callable[..., 
         assert c.get("/healthz").json()["workers"]["alive"] == 2
 
 
-def test_crashed_worker_fails_only_its_own_job(make_server: Callable[..., Server]) -> None:
-    """A worker killed from outside (as the OOM killer would) fails its job and is replaced;
-    the job queued behind it still runs."""
+def test_a_killed_worker_runs_its_job_again_once_then_fails_it_with_both_reasons(
+    make_server: Callable[..., Server],
+) -> None:
+    """A worker killed from outside (kill -9, as the OOM killer would): its job runs again on
+    a fresh worker, the first attempt's reason kept in the note; killed again, the job fails
+    with both reasons (the job may be what kills it); the job queued behind it still runs."""
     srv = make_server(workers=1)
     with srv.client() as c:
         victim = submit(c, LONG)
@@ -194,11 +197,24 @@ def test_crashed_worker_fails_only_its_own_job(make_server: Callable[..., Server
         wait_for(lambda: c.get(f"/v1/jobs/{victim['id']}").json()["progress"] > 0, timeout=30)
         (worker,) = srv.workers()
         os.kill(worker, signal.SIGKILL)
+
+        def rerunning() -> bool:
+            job = c.get(f"/v1/jobs/{victim['id']}").json()
+            return job["status"] == "running" and job["attempts"] == 2 and job["progress"] > 0
+
+        wait_for(rerunning, timeout=60)
+        again = c.get(f"/v1/jobs/{victim['id']}").json()
+        assert "fresh worker (attempt 1: the worker process died (signal 9)" in again["note"]
+        assert again["error"] is None
+        (second,) = srv.wait_workers(1)
+        assert second != worker
+        os.kill(second, signal.SIGKILL)
         failed = wait_status(c, victim["id"], {"failed", "done"})
-        assert failed["status"] == "failed"
-        assert "worker process died (signal 9)" in failed["error"]
+        assert failed["status"] == "failed" and "died 2 times" in failed["error"]
+        assert "attempt 1: the worker process died (signal 9)" in failed["error"]
+        assert "attempt 2: the worker process died (signal 9)" in failed["error"]
         assert wait_status(c, other["id"], {"done", "failed"})["status"] == "done"
-        assert worker not in srv.wait_workers(1)
+        assert second not in srv.wait_workers(1)
 
 
 def test_series_tables_need_include_series(make_server: Callable[..., Server]) -> None:

@@ -66,6 +66,47 @@ def test_stale_attempt_is_fenced_after_recovery(store: JobStore) -> None:
     assert store.result(job_id) == {"fresh": True}
 
 
+def test_a_job_loses_one_worker_and_runs_again_the_second_loss_fails_it(store: JobStore) -> None:
+    job = _submit(store)
+    first = store.claim_next()
+    assert first is not None and first.job_id == job
+    assert store.worker_died(first, "killed A") == "requeued"
+    row = store.get(job)
+    assert (
+        row is not None
+        and row.status is JobStatus.QUEUED
+        and "attempt 1: killed A" in (row.note or "")
+    )
+    assert store.worker_died(first, "late") == "gone"  # the old claim is fenced
+    second = store.claim_next()
+    assert second is not None and second.attempt == 2
+    assert store.worker_died(second, "killed B") == "failed"
+    row = store.get(job)
+    assert row is not None and row.status is JobStatus.FAILED
+    assert "attempt 1: killed A" in (row.error or "") and "attempt 2: killed B" in (row.error or "")
+
+
+def test_a_version_1_store_gains_the_worker_deaths_column(tmp_path: Path) -> None:
+    path = tmp_path / "old.sqlite3"
+    with sqlite3.connect(path) as conn:  # the version-1 table, one job in it
+        conn.executescript(
+            "CREATE TABLE jobs (seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE,"
+            " kind TEXT NOT NULL, spec TEXT NOT NULL, status TEXT NOT NULL, progress REAL NOT"
+            " NULL DEFAULT 0, attempts INTEGER NOT NULL DEFAULT 0, requeues INTEGER NOT NULL"
+            " DEFAULT 0, sim_seconds REAL NOT NULL, created_at TEXT NOT NULL, started_at TEXT,"
+            " finished_at TEXT, error TEXT, note TEXT); PRAGMA user_version = 1;"
+        )
+        conn.execute("INSERT INTO jobs (id, kind, spec, status, sim_seconds, created_at) VALUES"
+                     " ('j1', 'run', '{}', 'queued', 1.0, '2026-11-28T00:00:00Z')")  # fmt: skip
+    s = JobStore(path)
+    s.init()
+    with sqlite3.connect(path) as conn:
+        assert conn.execute("PRAGMA user_version").fetchone()[0] == 2
+        assert conn.execute("SELECT worker_deaths FROM jobs WHERE id = 'j1'").fetchone()[0] == 0
+    claim = s.claim_next()
+    assert claim is not None and s.worker_died(claim, "killed") == "requeued"
+
+
 def test_queue_limit_counts_only_queued(store: JobStore) -> None:
     _submit(store, limit=2)
     _submit(store, limit=2)

@@ -314,7 +314,7 @@ def test_the_delta31_export_holds_the_whole_beta_ramp(viewer: str, browser: Any)
         assert t[-1] - t[0] > 2.5 * 0.85, (t[0], t[-1])
         phases = [r["ramp"] for r in ramp]
         order = [p for k, p in enumerate(phases) if k == 0 or p != phases[k - 1]]
-        assert order == ["hold", "down", "up", "hold"], order
+        assert order == ["beta hold", "beta down", "beta up", "beta hold"], order
         betas = [float(r["beta"]) for r in ramp]
         assert min(betas) == pytest.approx(0.62, abs=0.005) and betas[0] == pytest.approx(0.66)
         assert rows[0]["time_s"] and float(rows[0]["time_s"]) < t[0]  # the run before it, too
@@ -344,8 +344,10 @@ def test_a_body_mass_ramp_follows_hold_ramp_ramp_hold(viewer: str, browser: Any)
         assert disabled, "the ramped parameter's slider is not disabled during the ramp"
         _wait_ramp_done(page)
         rows = _download(page, "ramp path (CSV)")
-        assert rows and {r["ramp"] for r in rows} == {"hold", "up", "down"}
-        phases = [r["ramp"] for r in rows]
+        assert rows and {r["ramp"] for r in rows} == {
+            f"body_mass_g {p}" for p in ("hold", "up", "down")
+        }
+        phases = [r["ramp"].split()[-1] for r in rows]
         order = [p for k, p in enumerate(phases) if k == 0 or p != phases[k - 1]]
         assert order == ["hold", "up", "down", "hold"], order
         for r in rows:  # the mass in force at each touchdown is the schedule's, within a chunk

@@ -185,7 +185,9 @@ def test_a_mass_ramp_holds_ramps_and_holds_and_the_export_shows_it() -> None:
         app.apply(Export("d31", lambda name, data: got.append((name, data))))
         rows = list(csv.DictReader(io.StringIO(got[0][1].decode())))
         during = [r for r in rows if r["ramp"]]
-        assert {r["ramp"] for r in during} == {"hold", "up", "down"}
+        # each row names the ramped parameter and its phase, the values rounded to 1e-6
+        assert {r["ramp"] for r in during} == {f"body_mass_g {p}" for p in ("hold", "up", "down")}
+        assert all(len(r["body_mass_g"].split(".")[-1]) <= 6 for r in during)
         for r in during:
             expected = ramp.value(float(r["time_s"]) - t0)
             assert abs(float(r["body_mass_g"]) - expected) < 0.05, r  # within one chunk
@@ -219,5 +221,27 @@ def test_the_ground_button_restarts_the_walk_on_the_papers_ground_where_it_stood
         with pytest.raises(ValueError, match="unknown ground"):
             app.apply(SetGround("ice"))
         assert set(controls.GROUNDS.values()) == {"constraint", "penalty"}
+    finally:
+        app.stop()
+
+
+def test_paused_the_walk_steps_one_gait_cycle_at_a_time() -> None:
+    """Issue 42 point 10: a single step, as mujoco's viewer has; it does nothing while playing."""
+    from web.requests import SetPlaying, StepCycle
+
+    app = ViewerApp("127.0.0.1", 0)
+    try:
+        app._step(0.2, time.perf_counter() + 600)
+        app.apply(StepCycle())  # playing: ignored (the loop is stepping anyway)
+        assert app.sim.time_s == pytest.approx(0.2, abs=0.003)
+        app.apply(SetPlaying(False))
+        t0, n0 = app.sim.time_s, len(app.sim.d31_events)
+        app.apply(StepCycle())
+        period = 0.034 / (1.0 - app.sim.beta)  # T_sw / (1 - beta)
+        assert app.sim.time_s - t0 == pytest.approx(period, abs=0.003)
+        # leg 1 lands once a cycle (twice if the cycle's ends straddle two touchdowns)
+        assert 1 <= len(app.sim.d31_events) - n0 <= 2
+        assert len(app.d31_conditions) == len(app.sim.d31_events)
+        assert not app.playing
     finally:
         app.stop()

@@ -171,16 +171,24 @@ def _settings(**kw: Any) -> export.Settings:
 
 
 def test_the_exports_carry_the_records() -> None:
-    ev = [D31Event(0.1 * k, 2.0, Conditions(0.70 - 0.001 * k, 3.0, 0.0, "down")) for k in range(5)]
+    ev = [D31Event(0.1 * k, 2.0, Conditions(0.70 - 0.001 * k, 3.0 + 0.015 * k, 0.41 * k, "down",
+                                            "beta")) for k in range(5)]  # fmt: skip
     rows = list(csv.DictReader(io.StringIO(export.d31_csv(ev).decode())))
     assert [float(r["beta"]) for r in rows] == pytest.approx([0.70, 0.699, 0.698, 0.697, 0.696])
-    assert rows[0].keys() == set(export.D31_COLUMNS) and rows[0]["ramp"] == "down"
+    assert rows[0].keys() == set(export.D31_COLUMNS) and rows[0]["ramp"] == "beta down"
+    # a ramp's continuous values are written to their resolution, not as float noise
+    assert [r["body_mass_g"] for r in rows] == ["3.0", "3.015", "3.03", "3.045", "3.06"]
+    assert [r["slope_deg"] for r in rows] == ["0.0", "0.41", "0.82", "1.23", "1.64"]
     ramp = controls.make_ramp("beta", 0.70, 0.62, 0.0, 8.0)
     rows = list(csv.DictReader(io.StringIO(export.ramp_csv(ev, ramp, 0.0).decode())))
     assert float(rows[-1]["scheduled"]) == pytest.approx(0.70 - 0.08 * 0.4 / 8.0)  # t = 0.4 s
     js = json.loads(export.settings_json(_settings(ramp=ramp)))
     assert js["ramp"]["param"] == "beta" and js["jobs"]["hysteresis"]["turn"] == 0.62
     assert js["jobs_url"] == "http://127.0.0.1:8000/v1/jobs"
+    assert (
+        js["speed"] == 1.0
+        and json.loads(export.settings_json(_settings(speed=None)))["speed"] == "max"
+    )
 
 
 def test_the_job_bodies_are_what_the_api_accepts() -> None:

@@ -11,7 +11,7 @@ landing in mid-swing is set by the swing and scuff rule, not by walking mechanic
 `--plot FILE` draws Delta31 per gait cycle, one panel per beta, with
 `sim_core.paper.plots.fig5` (the reproduction's Fig. 5 drawing).
 A scratch study tool kept so that the numbers in the docs can be re-made; the product's
-own commands (`insect-gait study`, `reproduce`) are the supported path.
+own commands (`insect-gait-lab study`, `reproduce`) are the supported path.
 """
 
 from __future__ import annotations
