@@ -232,11 +232,8 @@ def live_gait(
     cycles (`measured_footfall`), or `window_gait` of Delta31 while too few cycles exist."""
     d = np.unwrap(np.asarray(d31, dtype=float)[-LIVE_LAST:])
     if d.size >= 6:
-        k = np.arange(d.size, dtype=float)
-        slope, icpt = np.polyfit(k, d, 1)
-        resid = d - (slope * k + icpt)
-        se = float(np.sqrt(resid @ resid / (d.size - 2) / ((k - k.mean()) @ (k - k.mean()))))
-        if abs(float(slope)) - 2.0 * se > TAIL_DRIFT_SETTLED:
+        slope, se = drift_fit(d)
+        if abs(slope) - 2.0 * se > TAIL_DRIFT_SETTLED:
             return CHANGING
     times = np.asarray(d31_times, dtype=float)
     if times.size >= 4:
@@ -293,6 +290,17 @@ class Settling:
     why: str  # "" when settled, else the reason in words
 
 
+def drift_fit(tail: np.ndarray) -> tuple[float, float]:
+    """(drift per sample, its standard error): the least-squares line through an unwrapped
+    Delta31 series, one sample per gait cycle (the settled rule's and the live label's fit)."""
+    n = tail.size
+    k = np.arange(n, dtype=float)
+    slope, icpt = np.polyfit(k, tail, 1)
+    resid = tail - (slope * k + icpt)
+    se = float(np.sqrt(resid @ resid / max(1, n - 2) / ((k - k.mean()) @ (k - k.mean()))))
+    return float(slope), se
+
+
 def settling(d31: np.ndarray | Sequence[float]) -> Settling:
     """THE settled test of a run's Delta31 series (one sample per gait cycle): the last
     quarter holds >= SETTLED_MIN_TAIL touchdowns and its drift per cycle, resolved to better
@@ -303,11 +311,8 @@ def settling(d31: np.ndarray | Sequence[float]) -> Settling:
     if n < 4:
         return Settling(None, None, None, n, False, f"{d.size} touchdowns: too few to judge")
     tail = np.unwrap(d[-n:])
-    k = np.arange(n, dtype=float)
-    slope, icpt = np.polyfit(k, tail, 1)
-    resid = tail - (slope * k + icpt)
-    se = float(np.sqrt(resid @ resid / max(1, n - 2) / ((k - k.mean()) @ (k - k.mean()))))
-    final, drift = circular_mean(tail), float(slope)
+    drift, se = drift_fit(tail)
+    final = circular_mean(tail)
     if n < SETTLED_MIN_TAIL:
         why = f"last quarter holds {n} touchdowns (< {SETTLED_MIN_TAIL}): run longer"
     elif abs(drift) + 2 * se > TAIL_DRIFT_SETTLED:
