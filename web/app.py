@@ -26,6 +26,7 @@ import logging
 import math
 import threading
 import time
+from collections import deque
 from collections.abc import Callable, Hashable
 from dataclasses import dataclass
 from pathlib import Path
@@ -46,6 +47,7 @@ from sim_core.contract import (
 )
 from web import controls, export
 from web.bifurcation import WatchedFile, finder_points
+from web.jobs import JobView, JobWatcher, job_status_html
 from web.pacing import RateMeter, SimClock
 from web.panels import Panels, Readouts
 from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, DEFAULT_SURFACE
@@ -53,10 +55,13 @@ from web.record import Conditions, D31Conditions, d31_since, footfall_bars
 from web.requests import (
     PARAMS,
     Export,
+    LoadSettings,
+    OpenJob,
     Request,
     RequestQueue,
     Reset,
     SetD31Window,
+    SetDraw3D,
     SetFollow,
     SetFootfallWindow,
     SetGround,
@@ -66,10 +71,18 @@ from web.requests import (
     StartRamp,
     StepCycle,
     StopRamp,
+    SubmitJob,
 )
 from web.scene import HexapodScene
 from web.surface_svg import surface_svg
-from web.svg import atlas_svg, bifurcation_svg, d31_svg, footfall_svg, return_map_svg
+from web.svg import (
+    atlas_svg,
+    bifurcation_svg,
+    d31_svg,
+    footfall_svg,
+    ramp_path_svg,
+    return_map_svg,
+)
 
 log = logging.getLogger(__name__)
 
@@ -77,7 +90,10 @@ log = logging.getLogger(__name__)
 @dataclass(frozen=True)
 class LoopConfig:
     fps: float = 30.0  # pose streaming rate; ~30 Hz is plenty for a walking insect
-    panel_hz: float = 5.0  # diagrams and readouts
+    readout_hz: float = 5.0  # the readouts and status line (issue 43: at least 4 Hz)
+    panel_hz: float = 5.0  # diagrams, at most; less often when drawing them costs more
+    draw_share: float = 0.15  # the loop's time the diagrams' drawing may take at most
+    shadows: bool = False  # cast shadows in the 3D view (extra render passes every frame)
     chunk_s: float = 0.002  # stepping chunk: ramps and conditions act between chunks
     step_budget: float = 0.8  # share of a frame the stepping may use before we draw anyway
     trail_len: int = 600  # live (beta, Delta31) points kept on the bifurcation panel
@@ -127,7 +143,7 @@ class ViewerApp:
             self.d31_init = spec.d31_init
         self.ground = "constraint"  # `ModelParams.ground` of the running simulation
         self.server = viser.ViserServer(host=host, port=port, label="insect-gait", verbose=False)
-        self.scene = HexapodScene(self.server, self.sim.model)
+        self.scene = HexapodScene(self.server, self.sim.model, shadows=self.cfg.shadows)
         self.panels = Panels(self.server, self.requests)
         if api_url != DEFAULT_API_URL:
             self.panels.api_url.value = api_url  # type: ignore[misc]  # viser types the setter on a subclass
@@ -150,6 +166,7 @@ class ViewerApp:
         }
         self.surface = WatchedFile(surface_path, DriftSurface, "drift surface")
         self.playing = True
+        self.draw_3d = True  # stream poses (SetDraw3D)
         self.speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
         self.ramp: Ramp | None = None
         self._ramp_t0 = 0.0
@@ -157,6 +174,11 @@ class ViewerApp:
         self._last_ramp: Ramp | None = None  # the latest ramp, for its path's export
         self._write: dict[str, float] = {}  # values the loop sets into sliders at next redraw
         self.error: str | None = None
+        self.jobs = JobWatcher()  # the job submitted or opened from this viewer
+        self._job_shown: JobView | None = None
+        # (wall time.time(), request) of the latest requests applied: the input latency a
+        # benchmark reads against the browser's key and click times (same clock)
+        self.applied: deque[tuple[float, Request]] = deque(maxlen=256)
         self.stats = LoopStats()
         self._clock = SimClock()
         self._stop = threading.Event()
@@ -215,6 +237,8 @@ class ViewerApp:
                     self._step(period, time.perf_counter() + 60.0)
             case SetFollow(mode=m):
                 self.scene.set_follow(m)
+            case SetDraw3D(on=on):
+                self.draw_3d = on
             case SetFootfallWindow(seconds=w):
                 self.footfall_window_s = controls.FOOTFALL_WINDOW_S.clamp(w)
             case SetD31Window(seconds=w):
@@ -251,6 +275,36 @@ class ViewerApp:
             case Export(what=what, send=send):
                 name, data = self.export(what)
                 send(name, data)
+            case SubmitJob(kind=kind):
+                s = self.settings()
+                bodies = export.jobs(s)
+                if kind not in bodies:
+                    raise ValueError("set up a ramp first: the hysteresis job runs that ramp")
+                self.jobs.submit(s.api_url, bodies[kind])
+            case OpenJob(job_id=job_id):
+                if not job_id.strip():
+                    raise ValueError("type a job's id into 'job id' first")
+                self.jobs.open(self.settings().api_url, job_id)
+            case LoadSettings(settings=s):
+                self._load(s)
+
+    def _load(self, s: export.Settings) -> None:
+        """A loaded settings file: its ground, parameters and speed, then a restart from its
+        initial Delta31; its ramp and job inputs into their boxes (not started)."""
+        self._stop_ramp()
+        if s.ground != self.ground:
+            spec = RunSpec(beta=s.beta, d31_init=s.d31_init)
+            self.sim = Simulation(spec, ModelParams(ground=s.ground))
+            self.ground = s.ground
+        for name in PARAMS:
+            value = controls.RAMP_SLIDERS[name].clamp(getattr(s, name))
+            self._set_param(name, value)
+            self._write[name] = value  # the sliders show what was loaded
+        self.speed = s.speed
+        self.d31_init = controls.d31_init_value(s.d31_init)
+        self.sim.reset(d31_init=self.d31_init)
+        self._restarted()
+        self.panels.load_inputs(s)
 
     def _restarted(self) -> None:
         """A new walk began (reset or another ground): its record starts over."""
@@ -324,7 +378,7 @@ class ViewerApp:
         sim_total = step_wall_total = 0.0
         frames = 0
         last = time.perf_counter()
-        next_panel = next_bif = 0.0
+        next_panel = next_bif = next_readout = 0.0
         while not self._stop.is_set():
             clients = len(self.server.get_clients())
             if clients == 0:
@@ -341,12 +395,7 @@ class ViewerApp:
                 fps.reset()
                 continue
             t_frame = time.perf_counter()
-            for req in self.requests.drain():
-                try:
-                    self.apply(req)
-                except Exception as exc:  # a bad request must not kill the viewer
-                    log.exception("request %r failed", req)
-                    self.error = f"{type(req).__name__} failed: {exc}"
+            self._apply_pending()
             wall_dt, last = t_frame - last, t_frame
             if self.playing and self.error is None:
                 due = math.inf if self.speed is None else self._clock.tick(wall_dt, self.speed)
@@ -357,19 +406,26 @@ class ViewerApp:
                 sim_total += advanced
                 if self.speed is not None:
                     self._clock.paid(advanced)
+            self._apply_pending()  # what came while stepping, before it is drawn
             now = time.perf_counter()
             rtf.add(now, sim_total)
             step_rtf.add(step_wall_total, sim_total)
-            data = self.sim.data  # kinematics computed once per frame, for all readers
-            self.scene.update(data, self.sim.stance, self.sim.slope_deg, self.sim.heading_rad)
-            frames += 1
+            if self.draw_3d:
+                data = self.sim.data  # kinematics computed once per frame
+                self.scene.update(data, self.sim.stance, self.sim.slope_deg, self.sim.heading_rad)
+                frames += 1
             fps.add(now, frames)
+            if now >= next_readout:
+                next_readout = now + 1.0 / cfg.readout_hz
+                self._draw_readouts(rtf.rate, step_rtf.rate, fps.rate)
+            # the diagrams: at panel_hz, or less often when drawing them costs more than
+            # DRAW_SHARE of the loop's time (a slow machine keeps stepping and answering)
             if now >= next_panel:
-                next_panel = now + 1.0 / cfg.panel_hz
-                self._draw_panels(rtf.rate, step_rtf.rate, fps.rate)
+                cost = self._timed(self._draw_panels)
+                next_panel = now + max(1.0 / cfg.panel_hz, cost / cfg.draw_share)
             if now >= next_bif:
-                next_bif = now + 2.0 / cfg.panel_hz
-                self._draw_bifurcation()
+                cost = self._timed(self._draw_bifurcation)
+                next_bif = now + max(2.0 / cfg.panel_hz, cost / cfg.draw_share)
             self.stats = LoopStats(
                 frames,
                 sim_total,
@@ -381,13 +437,41 @@ class ViewerApp:
                 clients,
                 False,
             )
-            self._stop.wait(max(0.0, t_frame + period - time.perf_counter()))
+            # until the next frame: requests are applied the moment they arrive
+            while not self._stop.is_set():
+                left = t_frame + period - time.perf_counter()
+                if left <= 0:
+                    break
+                if self.requests.wait(min(left, 0.05)):
+                    self._apply_pending()
+
+    def _apply_pending(self) -> None:
+        """Apply every queued request now (loop thread), noting when (`applied`)."""
+        for req in self.requests.drain():
+            try:
+                self.apply(req)
+            except Exception as exc:  # a bad request must not kill the viewer
+                log.exception("request %r failed", req)
+                self.error = f"{type(req).__name__} failed: {exc}"
+            self.applied.append((time.time(), req))
+
+    @staticmethod
+    def _timed(draw: Callable[[], None]) -> float:
+        t0 = time.perf_counter()
+        draw()
+        return time.perf_counter() - t0
 
     def _step(self, due: float, deadline: float) -> float:
         """Advance in chunks until `due` simulated seconds are done or the frame budget is spent."""
         sim, chunk = self.sim, self.cfg.chunk_s
         advanced = 0.0
         while due - advanced >= chunk * 0.5 and time.perf_counter() < deadline:
+            if self.requests.pending():  # a person's input waits no longer than one slice
+                speed = self.speed
+                self._apply_pending()
+                if not self.playing or self.error is not None or self.speed != speed:
+                    break
+                sim = self.sim  # a reset or another ground may have replaced it
             if self.ramp is not None:
                 elapsed = sim.time_s - self._ramp_t0
                 self._ramp_phase = controls.ramp_phase(self.ramp, elapsed)
@@ -411,9 +495,11 @@ class ViewerApp:
             self.d31_conditions.note(sim.d31_events, now)
         return advanced
 
-    def _draw_panels(
+    def _draw_readouts(
         self, rtf: float | None, stepping_rtf: float | None, frame_hz: float | None
     ) -> None:
+        """Controls the loop changed, the readouts and the status line (cheap: a few short
+        strings, each sent only when it changed)."""
         sim = self.sim
         ramp = ""
         if self.ramp is not None:
@@ -449,8 +535,31 @@ class ViewerApp:
                 slope_deg=sim.slope_deg,
                 heading_deg=None if heading is None else math.degrees(heading),
                 ground=self.ground,
+                lag_s=self._clock.lag_s,
             )
         )
+        speed = next((k for k, v in controls.SPEEDS.items() if v == self.speed), "1x")
+        ramp_param = self.ramp.param if self.ramp is not None else self.panels.ramp_param_name
+        self.panels.show_choices(
+            {
+                "speed": speed,
+                "camera": self.scene.follow,
+                "ground": controls.GROUND_LABEL[self.ground],
+                "ramp drives": controls.RAMP_LABELS.get(ramp_param, ramp_param),
+                "atlas over": self.panels.atlas_axis,
+            }
+        )
+        self.panels.show_html(self.panels.job, job_html(self.settings()))
+        view = self.jobs.view
+        if view is not self._job_shown:
+            self._job_shown = view
+            self.panels.show_html(self.panels.job_status, job_status_html(view))
+
+    def _draw_panels(self) -> None:
+        """The footfall diagram, Delta31 and the return map, each rebuilt only when its inputs
+        changed."""
+        sim = self.sim
+        gait = sim.gait
         t_now, window = sim.time_s, self.footfall_window_s
         self._redraw(
             self.panels.footfall,
@@ -461,14 +570,19 @@ class ViewerApp:
         self._redraw(
             self.panels.d31,
             (self._walk, len(events), t_now, w, gait),
-            lambda: d31_svg(events if w is None else d31_since(events, t_now - w), t_now, w, gait),
+            lambda: d31_svg(
+                events if w is None else d31_since(events, t_now - w),
+                t_now,
+                w,
+                gait,
+                self.d31_conditions.marks,
+            ),
         )
         self._redraw(
             self.panels.return_map,
             (self._walk, len(events), sim.beta),
             lambda: return_map_svg(self._return_map()),
         )
-        self.panels.show_html(self.panels.job, job_html(self.settings()))
 
     def _redraw(self, handle: viser.GuiHtmlHandle, key: Hashable, build: Callable[[], str]) -> None:
         """Rebuild a panel only when `key`, the inputs it is drawn from, changed (the walk, the
@@ -489,6 +603,7 @@ class ViewerApp:
         return list(zip(rm.x.tolist(), rm.y.tolist(), strict=True))
 
     def _draw_bifurcation(self) -> None:
+        self._draw_ramp_path()
         finder, note = self.bifurcation.get()
         events = self.sim.d31_events
         trail = self.d31_conditions.events(events, -self.cfg.trail_len)
@@ -529,6 +644,24 @@ class ViewerApp:
             self.panels.surface,
             (self.surface.version, cell, beta_range),
             lambda: surface_svg(surface, snote, live, beta_range),
+        )
+
+    def _draw_ramp_path(self) -> None:
+        """The latest ramp's path on its own axes (the ramped parameter across), as it goes."""
+        ramp = self._last_ramp
+        if ramp is None:
+            return
+        path = self.d31_conditions.ramp_path(self.sim.d31_events)
+        rng = controls.RAMP_SLIDERS[ramp.param]
+        a, b = sorted((ramp.start, ramp.turn))
+        pad = 0.1 * (b - a) or rng.step
+        value_range = (max(rng.lo, a - pad), min(rng.hi, b + pad))
+        self._redraw(
+            self.panels.ramp_plot,
+            (self._walk, ramp, len(path)),
+            lambda: ramp_path_svg(
+                path, ramp.param, controls.RAMP_LABELS.get(ramp.param, ramp.param), value_range
+            ),
         )
 
     def _ramp_draws_on_beta(self) -> bool:

@@ -47,7 +47,13 @@ def register(subparsers: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--api-url",
         default=DEFAULT_API_URL,
-        help="the REST API the 'Submit as a job' panel names (default %(default)s)",
+        help="the REST API the 'Submit as a job' panel posts to (default %(default)s)",
+    )
+    p.add_argument(
+        "--shadows",
+        action="store_true",
+        help="cast shadows in the 3D view (extra render passes every frame: off by default, "
+        "as a browser without a GPU pays them on the simulation's cores)",
     )
     p.set_defaults(func=run)
 
@@ -67,7 +73,7 @@ def run(args: argparse.Namespace) -> int:
     # run's) would then name somebody else's server: refuse instead, before building anything
     if port_taken(args.host, args.port):
         return _refuse_busy(args)
-    from web.app import ViewerApp
+    from web.app import LoopConfig, ViewerApp
 
     logging.basicConfig(level=logging.INFO, format="%(levelname)s %(name)s: %(message)s")
     surface = args.surface or args.bifurcation.parent / SURFACE_FILE
@@ -77,6 +83,7 @@ def run(args: argparse.Namespace) -> int:
         bifurcation_path=args.bifurcation,
         surface_path=surface,
         api_url=args.api_url,
+        config=LoopConfig(shadows=args.shadows),
     )
     if app.port != args.port:  # taken in the instant between the check and viser's bind
         app.server.stop()

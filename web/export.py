@@ -151,3 +151,63 @@ def settings_json(s: Settings) -> bytes:
     out["jobs"] = jobs(s)
     out["jobs_url"] = f"{s.api_url.rstrip('/')}/v1/jobs"
     return json.dumps(out, indent=2).encode()
+
+
+def load_settings(data: bytes) -> Settings:
+    """The settings a person exported (`settings_json`), read back: every value checked against
+    the range the viewer's controls take, so a hand-edited file is refused with the field and
+    its range named instead of walking at a value the sliders cannot show."""
+    from web import controls
+
+    try:
+        raw = json.loads(data)
+    except (ValueError, UnicodeDecodeError) as exc:
+        raise ValueError(f"not a settings file (not JSON: {exc})") from None
+    if not isinstance(raw, dict):
+        raise ValueError("not a settings file (a JSON object is expected)")
+
+    def number(key: str, rng: controls.SliderRange | None = None, default: float | None = None,
+               lo: float | None = None, hi: float | None = None) -> float:  # fmt: skip
+        v = raw.get(key, default)
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
+            raise ValueError(f"{key}: a number is expected, the file has {v!r}")
+        lo, hi = (rng.lo, rng.hi) if rng is not None else (lo, hi)
+        if (lo is not None and v < lo) or (hi is not None and v > hi):
+            raise ValueError(f"{key}: {v} is outside {lo}..{hi}")
+        return float(v)
+
+    speed = raw.get("speed", 1.0)
+    if speed != "max" and (isinstance(speed, bool) or not isinstance(speed, (int, float))
+                           or speed not in [s for s in controls.SPEEDS.values() if s]):  # fmt: skip
+        raise ValueError(f"speed: one of {list(controls.SPEEDS)} is expected, the file has "
+                         f"{speed!r}")  # fmt: skip
+    ground = raw.get("ground", "constraint")
+    if ground not in controls.GROUND_LABEL:
+        raise ValueError(f"ground: one of {list(controls.GROUND_LABEL)}, the file has {ground!r}")
+    ramp = None
+    r = raw.get("ramp")
+    if r is not None:
+        try:
+            ramp = Ramp(r["param"], float(r["start"]), float(r["turn"]), float(r["hold_s"]),
+                        float(r["ramp_s"]))  # fmt: skip
+        except (KeyError, TypeError, ValueError) as exc:
+            raise ValueError(
+                f"ramp: param, start, turn, hold_s and ramp_s expected ({exc})"
+            ) from None
+        if ramp.param not in controls.RAMP_SLIDERS:
+            raise ValueError(f"ramp.param: one of {list(controls.RAMP_SLIDERS)}, the file has "
+                             f"{ramp.param!r}")  # fmt: skip
+    return Settings(
+        beta=number("beta", controls.BETA),
+        body_mass_g=number("body_mass_g", controls.BODY_MASS_G),
+        slope_deg=number("slope_deg", controls.SLOPE_DEG),
+        d31_init=number("d31_init", lo=0.0, hi=2 * math.pi),
+        speed=None if speed == "max" else float(speed),
+        time_s=0.0,
+        ramp=ramp,
+        ramp_running=False,
+        ramp_started_at_s=None,
+        job_duration_s=number("job_duration_s", default=30.0, lo=1.0, hi=600.0),
+        api_url=str(raw.get("api_url") or DEFAULT_API_URL),
+        ground=ground,
+    )

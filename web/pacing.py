@@ -20,18 +20,22 @@ class SimClock:
     def __init__(self, max_lag_s: float = 0.2) -> None:
         self.max_lag_s = max_lag_s
         self.debt_s = 0.0
+        self.lag_s = 0.0  # uncapped: how far behind the wall clock the walk is (the status)
 
     def reset(self) -> None:
         self.debt_s = 0.0
+        self.lag_s = 0.0
 
     def tick(self, wall_dt_s: float, speed: float) -> float:
         """Add `wall_dt_s` of wall time at `speed`; returns the simulated seconds now due."""
         wall_dt_s = max(0.0, wall_dt_s)
         self.debt_s = min(self.debt_s + wall_dt_s * speed, self.max_lag_s * speed)
+        self.lag_s += wall_dt_s * speed
         return self.debt_s
 
     def paid(self, sim_s: float) -> None:
         self.debt_s -= sim_s
+        self.lag_s = max(0.0, self.lag_s - sim_s)
 
 
 class RateMeter:

@@ -32,13 +32,18 @@ import viser
 from sim_core.contract import METACHRONAL, TRIPOD, Ramp
 from web import controls
 from web.caption import CAPTION
+from web.export import Settings, load_settings
+from web.jobs import JobView, job_status_html
 from web.paths import DEFAULT_API_URL
 from web.requests import (
     Export,
+    LoadSettings,
+    OpenJob,
     Request,
     RequestQueue,
     Reset,
     SetD31Window,
+    SetDraw3D,
     SetFollow,
     SetFootfallWindow,
     SetGround,
@@ -48,10 +53,19 @@ from web.requests import (
     StartRamp,
     StepCycle,
     StopRamp,
+    SubmitJob,
 )
 
 PLAY, PAUSE = "Play", "Pause"
 STEP = "Step one cycle"
+SUBMIT_RUN, SUBMIT_RAMP = "Submit as a run job", "Submit the ramp as a hysteresis job"
+OPEN_JOB = "Open job by id"
+LOAD_SETTINGS = "Load settings (JSON)"
+DRAW_3D = "draw the 3D walk"
+DRAW_3D_HINT = (
+    "Off: the 3D view holds its last pose and the simulation gets the core a browser without a "
+    "GPU spends drawing it; the plots and readouts stay live."
+)
 RAMP_START, RAMP_STOP = "Start ramp", "Stop ramp"
 # export buttons: label -> what (web/export.py)
 EXPORT_BUTTONS = {
@@ -93,6 +107,7 @@ class Readouts:
     slope_deg: float = controls.SLOPE_DEG.initial
     heading_deg: float | None = None
     ground: str = "constraint"
+    lag_s: float = 0.0  # simulated seconds the walk is behind the wall clock at this speed
 
 
 # A heading this far from +x (the slope's uphill direction) gets a word of explanation.
@@ -132,7 +147,10 @@ def format_readouts(r: Readouts) -> dict[str, str]:
         status = "starting"
     elif r.rtf < BEHIND_RATIO * r.target_speed:
         # other work on the cores (API jobs), or a speed above what stepping alone reaches
-        status = f"behind: {r.rtf:.2f}x of {r.target_speed:g}x (machine cannot keep up)"
+        status = (
+            f"behind: {r.rtf:.2f}x of {r.target_speed:g}x, {r.lag_s:.1f} s behind real time "
+            "(machine cannot keep up)"
+        )
     else:
         status = f"keeping up with {r.target_speed:g}x"
     turned = heading_note(r.heading_deg)
@@ -155,6 +173,15 @@ def format_readouts(r: Readouts) -> dict[str, str]:
         "ramp": r.ramp or "off",
         "status": status,
     }
+
+
+def note_html(text: str, *, error: bool = False) -> str:
+    """A one-line note under a control (what a load did, or why it did not)."""
+    colour = "#b00" if error else "#555"
+    return (
+        f'<div data-note style="font-size:0.8em;color:{colour};overflow-wrap:anywhere">'
+        f"{html.escape(text)}</div>"
+    )
 
 
 def status_html(status: str) -> str:
@@ -220,6 +247,8 @@ class Panels:
             self.window = self._slider("footfall", controls.FOOTFALL_WINDOW_S, SetFootfallWindow)
             self.d31_window = gui.add_number(D31_WINDOW_LABEL, 0.0, min=0.0, max=3600.0, step=1.0)
             self.d31_window.on_update(self._on_d31_window)
+            self.draw_3d = gui.add_checkbox(DRAW_3D, True, hint=DRAW_3D_HINT)
+            self.draw_3d.on_update(self._queue(lambda: SetDraw3D(bool(self.draw_3d.value))))
             self.camera = gui.add_button_group("camera", controls.CAMERA_MODES)  # as speed
             self.camera.on_click(self._queue(lambda: SetFollow(str(self.camera.value))))
             # the paper's ground keeps walking up and down a slope; today's contact turns
@@ -246,6 +275,7 @@ class Panels:
             self.ramp_ramp = gui.add_number("ramp (s)", r.initial, min=r.lo, max=r.hi, step=r.step)
             self.ramp = gui.add_button(RAMP_START)
             self.ramp.on_click(self._on_ramp)
+            self.ramp_plot = gui.add_html("<em>a ramp's path: Δ31 against what it ramps</em>")
             self._ramping = False
             self._disabled: str | None = None  # the slider a running ramp has disabled
         with gui.add_folder("Bifurcation"):
@@ -263,9 +293,21 @@ class Panels:
                 button = gui.add_button(label)
                 button.on_click(self._export(what))
                 self.exports[what] = button
+            # the settings file read back: the walk restarts at what it says
+            self.load = gui.add_upload_button(LOAD_SETTINGS, mime_type="application/json")
+            self.load.on_upload(self._on_load)
+            self.load_note = gui.add_html("")
         with gui.add_folder("Submit as a job"):
             self.api_url = gui.add_text("API URL", DEFAULT_API_URL)
             self.job_duration = gui.add_number("job duration (s)", 30.0, min=1.0, max=600.0)
+            self.submit_run = gui.add_button(SUBMIT_RUN)
+            self.submit_run.on_click(self._queue(lambda: SubmitJob("run")))
+            self.submit_ramp = gui.add_button(SUBMIT_RAMP)
+            self.submit_ramp.on_click(self._queue(lambda: SubmitJob("hysteresis")))
+            self.job_id = gui.add_text("job id", "")
+            self.open_job = gui.add_button(OPEN_JOB)
+            self.open_job.on_click(self._queue(lambda: OpenJob(str(self.job_id.value))))
+            self.job_status = gui.add_html(job_status_html(JobView()))
             self.job = gui.add_html("<em>the current settings as a REST job</em>")
         with gui.add_folder("Readouts"):
             blank = format_readouts(
@@ -367,6 +409,35 @@ class Panels:
         if event.client is not None:
             self.atlas_axis = str(self.atlas_axis_buttons.value)
 
+    def _on_load(self, event: viser.GuiEvent) -> None:
+        """A settings file arrived: read it here (pure), the loop applies it."""
+        if event.client is None:
+            return
+        upload = self.load.value
+        try:
+            settings = load_settings(upload.content)
+        except ValueError as exc:
+            self.load_note.content = note_html(f"{upload.name} not loaded: {exc}", error=True)
+            return
+        self.load_note.content = note_html(f"loaded {upload.name}")
+        self.requests.put(LoadSettings(settings))
+
+    def load_inputs(self, s: Settings) -> None:
+        """Loop thread: the loaded file's ramp and job inputs into their boxes."""
+        if s.ramp is not None:
+            self.ramp_param_name = s.ramp.param
+            self.ramp_which.value = controls.RAMP_LABELS[s.ramp.param]  # type: ignore[misc]  # viser types the setter on a subclass
+            r = s.ramp
+            boxes = ((self.ramp_start, r.start), (self.ramp_turn, r.turn),
+                     (self.ramp_hold, r.hold_s), (self.ramp_ramp, r.ramp_s))  # fmt: skip
+            for box, v in boxes:
+                box.value = v  # type: ignore[misc]  # viser types the setter on a subclass
+        self.job_duration.value = s.job_duration_s  # type: ignore[misc]  # viser types the setter on a subclass
+        self.api_url.value = s.api_url  # type: ignore[misc]  # viser types the setter on a subclass
+        label = next((k for k, v in controls.SPEEDS.items() if v == s.speed), None)
+        if label is not None:
+            self.speed.value = label  # type: ignore[misc]  # viser types the setter on a subclass
+
     def _export(self, what: str) -> Callable[[viser.GuiEvent], None]:
         def callback(event: viser.GuiEvent) -> None:
             client = event.client
@@ -419,6 +490,22 @@ class Panels:
         if is_ramping != self._ramping:
             self._ramping = is_ramping
             self.ramp.label = RAMP_STOP if is_ramping else RAMP_START
+
+    def show_choices(self, choices: dict[str, str]) -> None:
+        """Each button group's label names the choice in force ("speed — 1x"): viser's button
+        groups do not show which button was pressed last. Loop thread; sent only on change."""
+        groups = {
+            "speed": self.speed,
+            "camera": self.camera,
+            "ground": self.ground,
+            "ramp drives": self.ramp_param,
+            "atlas over": self.atlas_axis_buttons,
+        }
+        for name, choice in choices.items():
+            label = f"{name} — {choice}"
+            if self._last.get(f"choice:{name}") != label:
+                self._last[f"choice:{name}"] = label
+                groups[name].label = label
 
     def show_readouts(self, r: Readouts) -> None:
         for label, text in format_readouts(r).items():

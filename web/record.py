@@ -76,6 +76,44 @@ class Conditions:
 
 
 @dataclass(frozen=True)
+class Mark:
+    """A change of conditions on the Delta31 history, at the first event under the new ones."""
+
+    time_s: float
+    label: str
+
+
+MARK_MERGE_S = 1.0  # changes closer than this are one mark (a drag, typed digits)
+_PARAM_WORDS = (
+    ("beta", "β {:.3f}"),
+    ("body_mass_g", "mass {:.2f} g"),
+    ("slope_deg", "slope {:.1f}°"),
+)
+_SHORT = {"beta": "β", "body_mass_g": "mass", "slope_deg": "slope"}
+
+
+def _differs(a: float, b: float) -> bool:
+    return not (a == b or (math.isnan(a) and math.isnan(b)))
+
+
+def change_label(before: Conditions, now: Conditions) -> str:
+    """What changed between two events' conditions, in a few words ("" if nothing a person
+    would mark): a ramp's phase ("ramp β up"), or outside ramps the parameters set."""
+    if now.ramp != before.ramp:
+        if not now.ramp:
+            return "ramp over"
+        return f"ramp {_SHORT.get(now.ramp_param, now.ramp_param)} {now.ramp}"
+    if now.ramp:
+        return ""  # the ramp moves its parameter at every event: only its phases are marks
+    words = [
+        fmt.format(getattr(now, name))
+        for name, fmt in _PARAM_WORDS
+        if _differs(getattr(now, name), getattr(before, name))
+    ]
+    return ", ".join(words)
+
+
+@dataclass(frozen=True)
 class D31Event:
     """One of the core's Delta31 events with the conditions in force then."""
 
@@ -92,6 +130,7 @@ class D31Conditions:
     def __init__(self) -> None:
         self._at: list[Conditions] = []
         self._ramp_from = 0
+        self._marks: list[Mark] = []
 
     def __len__(self) -> int:
         return len(self._at)
@@ -100,12 +139,26 @@ class D31Conditions:
         """The simulation started over (its event list with it)."""
         self._at.clear()
         self._ramp_from = 0
+        self._marks.clear()
+
+    @property
+    def marks(self) -> list[Mark]:
+        """Where the conditions changed: a parameter set by a person, a ramp's phase."""
+        return list(self._marks)
 
     def note(self, events: CoreEvents, now: Conditions) -> None:
         """The events the core added since the last call happened under `now` (the loop calls
         this after every chunk of stepping, with the conditions it stepped under)."""
         if len(events) < len(self._at):  # the core started over without our being told
             self.clear()
+        if len(events) > len(self._at) and self._at and now != self._at[-1]:
+            label = change_label(self._at[-1], now)
+            if label:
+                t = events[len(self._at)][0]
+                if self._marks and t - self._marks[-1].time_s < MARK_MERGE_S:
+                    self._marks[-1] = Mark(t, label)  # a slider dragged: one mark, its end
+                else:
+                    self._marks.append(Mark(t, label))
         self._at.extend(itertools.repeat(now, len(events) - len(self._at)))
 
     def start_ramp(self) -> None:

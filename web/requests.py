@@ -10,10 +10,12 @@ stop is kept in its place so that "set beta, then reset" still means what it say
 from __future__ import annotations
 
 import queue
+import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from sim_core.contract import Ramp
+from web.export import Settings
 
 
 @dataclass(frozen=True)
@@ -47,6 +49,15 @@ class StepCycle:
 @dataclass(frozen=True)
 class SetFollow:
     mode: str  # one of controls.CAMERA_MODES
+
+
+@dataclass(frozen=True)
+class SetDraw3D:
+    """Stream the 3D walk (True) or hold the last pose (False): a browser without a GPU renders
+    continuously while poses arrive (viser re-renders for 250 ms after each scene change),
+    which takes a core the simulation could use; the plots and readouts stay live."""
+
+    on: bool
 
 
 @dataclass(frozen=True)
@@ -91,12 +102,36 @@ class Export:
     send: Callable[[str, bytes], None] = field(compare=False, repr=False)
 
 
+@dataclass(frozen=True)
+class SubmitJob:
+    """POST the current settings to the API as a job of `kind` ("run", or "hysteresis": the
+    ramp set up in the ramp inputs) and follow it (web/jobs.py)."""
+
+    kind: str
+
+
+@dataclass(frozen=True)
+class OpenJob:
+    """Follow an existing job of any kind by its id: its progress, then its figure."""
+
+    job_id: str
+
+
+@dataclass(frozen=True)
+class LoadSettings:
+    """Walk at the settings of an exported settings file (`export.load_settings`): its ground,
+    beta, mass and slope, speed and initial Delta31 (a restart), its ramp in the ramp inputs."""
+
+    settings: Settings = field(compare=False)
+
+
 Request = (
     SetParam
     | SetSpeed
     | SetPlaying
     | StepCycle
     | SetFollow
+    | SetDraw3D
     | SetFootfallWindow
     | Reset
     | SetGround
@@ -104,11 +139,15 @@ Request = (
     | StartRamp
     | StopRamp
     | Export
+    | SubmitJob
+    | OpenJob
+    | LoadSettings
 )
 
 # Settings: a later one of the same type makes an earlier one pointless.
 _SETTINGS = (
     SetParam,
+    SetDraw3D,
     SetSpeed,
     SetPlaying,
     SetFollow,
@@ -152,9 +191,21 @@ class RequestQueue:
 
     def __init__(self) -> None:
         self._q: queue.SimpleQueue[Request] = queue.SimpleQueue()
+        self._arrived = threading.Event()  # wakes the loop: a request is applied when it comes
 
     def put(self, request: Request) -> None:
         self._q.put(request)
+        self._arrived.set()
+
+    def pending(self) -> bool:
+        """Whether a request waits (the loop stops stepping between slices to apply it)."""
+        return not self._q.empty()
+
+    def wait(self, timeout_s: float) -> bool:
+        """Sleep until a request arrives or `timeout_s` passes; True if one arrived."""
+        arrived = self._arrived.wait(max(0.0, timeout_s))
+        self._arrived.clear()
+        return arrived or self.pending()
 
     def drain(self) -> list[Request]:
         """Everything queued so far, coalesced; never blocks."""

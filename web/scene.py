@@ -89,14 +89,19 @@ def torso_body_id(model: mujoco.MjModel) -> int:
 class HexapodScene:
     """Owns every 3D node. Call `update` from the loop thread only."""
 
-    def __init__(self, server: viser.ViserServer, model: mujoco.MjModel) -> None:
+    def __init__(
+        self, server: viser.ViserServer, model: mujoco.MjModel, *, shadows: bool = False
+    ) -> None:
         self.server = server
+        # Shadows are extra render passes of every frame; a browser rendering WebGL in software
+        # (no GPU) pays them on the CPU the simulation needs (issue 43). Off unless asked.
+        server.scene.configure_default_lights(enabled=True, cast_shadow=shadows)
         self._feet = foot_geom_ids(model)
         self._torso = torso_body_id(model)
         self._follow = controls.DEFAULT_CAMERA
         self._frame = server.scene.add_frame(BODIES_NODE, show_axes=False)
         self._bodies = add_body_meshes(server, model, BODIES_NODE)
-        server.scene.add_grid(
+        self._grid = server.scene.add_grid(
             f"{BODIES_NODE}/floor",
             infinite_grid=True,
             cell_size=0.005,
@@ -106,7 +111,7 @@ class HexapodScene:
             fade_distance=0.6,
             plane_color=(235, 230, 215),
             plane_opacity=0.6,
-            shadow_opacity=0.25,
+            shadow_opacity=0.25 if shadows else 0.0,
         )
         r = float(model.geom_size[self._feet[0], 0]) * 2.2
         self._markers = [

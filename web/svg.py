@@ -10,13 +10,16 @@ from __future__ import annotations
 import html
 import itertools
 import math
+import re
 import textwrap
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+import numpy as np
+
 from sim_core.contract import LEG_NAMES, TWO_PI, SurfaceAtlas
 from web.bifurcation import FinderPoints
-from web.record import CoreEvents, D31Event
+from web.record import CoreEvents, D31Event, Mark
 
 LEG_ORDER = LEG_NAMES  # the paper's legs 1-6, rows top to bottom
 # Fig. 4's colouring by leg pair: fore (legs 1-2) red, middle (3-4) blue, hind (5-6) green;
@@ -59,13 +62,39 @@ class Frame:
         return self.h - BOTTOM - self.legend_h
 
 
+def dots(
+    points: Sequence[tuple[float, float]],
+    r: float,
+    colour: str,
+    opacity: float = 1.0,
+    cls: str = "dots",
+) -> str:
+    """Many dots as ONE path element (a zero-length stroke with round caps per point): a browser
+    lays out and paints one node instead of one <circle> per point, which is what kept a
+    software-rendered page's main thread busy when 1 200 of them were redrawn 5 times a second.
+    `data-n` says how many dots it holds."""
+    d = "".join(f"M{x:.1f},{y:.1f}h0" for x, y in points)
+    return (
+        f'<path class="{cls}" data-n="{len(points)}" d="{d}" fill="none" stroke="{colour}" '
+        f'stroke-opacity="{opacity:.2f}" stroke-width="{2 * r:g}" stroke-linecap="round"/>'
+    )
+
+
+def n_dots(svg: str, cls: str = "dots") -> int:
+    """How many dots the `dots` paths of class `cls` in `svg` hold (for tests and probes)."""
+    return sum(int(n) for n in re.findall(f'class="{cls}" data-n="(\\d+)"', svg))
+
+
 def _open(
     kind: str, title: str, *, w: float = W, h: float = H, legend_h: float = 0.0, **attrs: str
 ) -> list[str]:
+    """The panel's frame. Its width on the page is w / W of the panel's, so that every panel
+    draws its text at one size whatever its viewBox (a narrower one is not blown up)."""
     extra = "".join(f' data-{k.replace("_", "-")}="{html.escape(v)}"' for k, v in attrs.items())
     bottom = h - BOTTOM - legend_h
     return [
-        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w} {h}" width="100%" '
+        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w} {h}" '
+        f'width="{100 * min(1.0, w / W):.0f}%" '
         f'data-plot="{kind}"{extra} style="background:#fff">',
         f'<text x="{LEFT}" y="11" {FONT} font-weight="bold">{html.escape(title)}</text>',
         f'<rect x="{LEFT}" y="{TOP}" width="{w - LEFT - RIGHT}" height="{bottom - TOP}" '
@@ -189,7 +218,13 @@ def footfall_svg(
 MAX_DRAWN = 1200
 
 
-def d31_svg(events: CoreEvents, t_now: float, window_s: float | None, gait: str) -> str:
+def d31_svg(
+    events: CoreEvents,
+    t_now: float,
+    window_s: float | None,
+    gait: str,
+    marks: Sequence[Mark] = (),
+) -> str:
     """Delta31 at each leg-1 touchdown, (time_s, Delta31) as `Simulation.d31_events` has them,
     over the last `window_s` (None: the whole run), with the two gaits' lines; beyond MAX_DRAWN
     points every k-th is drawn (the title says so)."""
@@ -222,9 +257,8 @@ def d31_svg(events: CoreEvents, t_now: float, window_s: float | None, gait: str)
         if len(seg) >= 2:
             path = " ".join(f"{x:.1f},{y:.1f}" for x, y in seg)
             out.append(f'<polyline points="{path}" fill="none" stroke="#444" stroke-width="0.6"/>')
-    r = 1.6 if len(pts) < 300 else 1.0
-    for x, y in pts:
-        out.append(f'<circle cx="{x:.1f}" cy="{y:.1f}" r="{r}" fill="#222"/>')
+    out.append(dots(pts, 1.6 if len(pts) < 300 else 1.0, "#222"))
+    out += _marks(f, [m for m in marks if t0 <= m.time_s <= t1])
     fmt = "{:.0f}" if span >= 4 else "{:.1f}"
     out += _x_ticks(f, _time_ticks(t0, t1), fmt)
     out.append(_time_axis_label(f))
@@ -232,11 +266,31 @@ def d31_svg(events: CoreEvents, t_now: float, window_s: float | None, gait: str)
     return "\n".join(out)
 
 
+MARK_COLOUR = "#9467bd"
+
+
+def _marks(f: Frame, marks: Sequence[Mark]) -> list[str]:
+    """A thin vertical line where the conditions changed, with what changed beside it (three
+    heights in turn, so neighbouring labels do not print over each other)."""
+    out = []
+    for k, m in enumerate(marks):
+        x = f.x(m.time_s)
+        out.append(
+            f'<line class="mark" x1="{x:.1f}" y1="{TOP}" x2="{x:.1f}" y2="{f.bottom}" '
+            f'stroke="{MARK_COLOUR}" stroke-width="0.6" stroke-dasharray="2 2"/>'
+        )
+        out.append(
+            f'<text class="mark" x="{x + 2:.1f}" y="{TOP + 9 + 9 * (k % 3)}" {FONT} '
+            f'fill="{MARK_COLOUR}">{html.escape(m.label)}</text>'
+        )
+    return out
+
+
 # The finder's states, coloured by gait (issue 28): tripod orange, metachronal green, other grey
 GAIT_COLOURS = {"tripod": "#ff7f0e", "metachronal": "#2ca02c", "other": "#7f7f7f"}
 # this session's ramp: its path, drawn as it goes, one colour per direction (holds grey)
 RAMP_COLOURS = {"down": "#8c564b", "up": "#9467bd", "hold": "#999999"}
-LEGEND_H = 37.0  # up to three legend rows under the ticks
+LEGEND_H = 48.0  # up to four legend rows under the ticks (a long row wraps: `_legend`)
 BIF_H = H + LEGEND_H
 
 
@@ -244,12 +298,16 @@ def _legend(f: Frame, rows: Sequence[Sequence[tuple[str, str]]]) -> list[str]:
     """Legend rows under the x ticks: (markup of a symbol + words, colour) each, left to right.
     Below the plot so it never covers data or the gait lines' labels."""
     out = []
-    for r, row in enumerate(rows):
-        y = f.bottom + 22 + 11 * r
-        x = float(LEFT)
+    r = -1
+    for row in rows:
+        r, x = r + 1, float(LEFT)
         for text, colour in row:
+            width = 5.2 * len(html.unescape(text))
+            if x > LEFT and x + width > f.w - 2:  # the row would leave the panel: wrap
+                r, x = r + 1, float(LEFT)
+            y = f.bottom + 22 + 11 * r
             out.append(f'<text x="{x:.0f}" y="{y:.0f}" {FONT} fill="{colour}">{text}</text>')
-            x += 5.2 * len(html.unescape(text)) + 10
+            x += width + 10
     return out
 
 
@@ -321,12 +379,8 @@ def bifurcation_svg(
         if lo <= b <= hi:
             colour = GAIT_COLOURS.get(gait, GAIT_COLOURS["other"])
             out.append(_marker("stable", f.x(b), f.y(d), colour))
-    for e in trail:
-        if lo <= e.at.beta <= hi:
-            out.append(
-                f'<circle cx="{f.x(e.at.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" fill="#000" '
-                'fill-opacity="0.35"/>'
-            )
+    trail_xy = [(f.x(e.at.beta), f.y(e.d31)) for e in trail if lo <= e.at.beta <= hi]
+    out.append(dots(trail_xy, 1.0, "#000", 0.35, "trail"))
     ramp = _ramp_lines(f, ramp_path, lo, hi)
     out += ramp
     beta, d31 = live
@@ -368,13 +422,19 @@ def _note(f: Frame, note: str, width: int = 52) -> str:
     )
 
 
-def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> list[str]:
-    """The ramp's (beta, Delta31) path: one polyline per stretch of one direction, broken where
-    Delta31 wraps across 0 = 2 pi (a wrap is not a swing through pi)."""
+def _ramp_lines(
+    f: Frame, path: Sequence[D31Event], lo: float, hi: float, param: str = "beta"
+) -> list[str]:
+    """The ramp's (parameter, Delta31) path: one polyline per stretch of one direction, broken
+    where Delta31 wraps across 0 = 2 pi (a wrap is not a swing through pi)."""
     out: list[str] = []
     segments: list[tuple[str, list[D31Event]]] = []
+
+    def at(e: D31Event) -> float:
+        return float(getattr(e.at, param))
+
     for i, e in enumerate(path):
-        if not e.at.ramp or not lo <= e.at.beta <= hi:
+        if not e.at.ramp or not lo <= at(e) <= hi:
             continue
         prev = path[i - 1] if i > 0 else None
         if (
@@ -388,7 +448,7 @@ def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> lis
         segments[-1][1].append(e)
     for direction, seg in segments:
         colour = RAMP_COLOURS.get(direction, "#444")
-        pts = " ".join(f"{f.x(e.at.beta):.1f},{f.y(e.d31):.1f}" for e in seg)
+        pts = " ".join(f"{f.x(at(e)):.1f},{f.y(e.d31):.1f}" for e in seg)
         if len(seg) >= 2:
             out.append(
                 f'<polyline class="ramp" data-direction="{html.escape(direction)}" '
@@ -397,10 +457,36 @@ def _ramp_lines(f: Frame, path: Sequence[D31Event], lo: float, hi: float) -> lis
         else:
             e = seg[0]
             out.append(
-                f'<circle class="ramp" cx="{f.x(e.at.beta):.1f}" cy="{f.y(e.d31):.1f}" r="1" '
+                f'<circle class="ramp" cx="{f.x(at(e)):.1f}" cy="{f.y(e.d31):.1f}" r="1" '
                 f'fill="{colour}"/>'
             )
     return out
+
+
+def ramp_path_svg(
+    path: Sequence[D31Event], param: str, axis_label: str, value_range: tuple[float, float]
+) -> str:
+    """Delta31 against the ramped parameter during the latest ramp (Fig. 6a's own axes for a
+    beta ramp; the same for body mass or slope), a line per direction as it goes."""
+    lo, hi = value_range
+    f = Frame(lo, hi, 0.0, TWO_PI, h=H + 11.0, legend_h=11.0)
+    out = _open(
+        "ramp-path",
+        f"Ramp: Δ31 vs {axis_label}",
+        h=H + 11.0,
+        legend_h=11.0,
+        param=param,
+        n_events=str(len(path)),
+    )
+    out += _y_angle_axis(f) + _reference_lines(f)
+    out += _ramp_lines(f, path, lo, hi, param)
+    span = hi - lo
+    step = next(s for s in (0.01, 0.02, 0.05, 0.1, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0) if span / s <= 6)
+    ticks = [step * k for k in range(math.ceil(lo / step), math.floor(hi / step) + 1)]
+    out += _x_ticks(f, ticks, "{:.2f}" if step < 0.1 else "{:g}")
+    out += _legend(f, [[(f"— {d}", RAMP_COLOURS[d]) for d in ("down", "up")]])
+    out.append("</svg>")
+    return "\n".join(out)
 
 
 # The atlas's regions (`surface_atlas.region`): both gaits purple, one gait its colour
@@ -500,29 +586,43 @@ def atlas_svg(
     return "\n".join(out)
 
 
-RM = 170  # the return map's square viewBox
+RM = 190  # the return map's square viewBox (drawn at RM / W of the panel's width)
+RM_TITLE_H = 10.0  # room under the ticks for the x axis' title
+RECENCY_SHADES = 6  # the return map's age groups, each one path of one opacity
 
 
 def return_map_svg(pairs: Sequence[tuple[float, float]], lag: int = 4) -> str:
     """Delta31(n) -> Delta31(n + lag) of the current run: a fixed point sits on the diagonal;
     newer pairs are darker."""
-    f = Frame(0.0, TWO_PI, 0.0, TWO_PI, w=RM, h=RM)
+    f = Frame(0.0, TWO_PI, 0.0, TWO_PI, w=RM, h=RM, legend_h=RM_TITLE_H)
     out = _open(
-        "return-map", f"Return map: Δ31(n) → Δ31(n+{lag})", w=RM, h=RM, n_pairs=str(len(pairs))
+        "return-map",
+        f"Return map: Δ31(n) → Δ31(n+{lag})",
+        w=RM,
+        h=RM,
+        legend_h=RM_TITLE_H,
+        n_pairs=str(len(pairs)),
     )
     out += _y_angle_axis(f)
+    mid_x, mid_y = (f.x(0.0) + f.x(TWO_PI)) / 2, (f.y(0.0) + f.y(TWO_PI)) / 2
+    out.append(
+        f'<text class="axis-title" x="{mid_x:.1f}" y="{f.bottom + 21}" {FONT} fill="#666" '
+        f'text-anchor="middle">Δ31(n) (rad)</text>'
+    )
+    out.append(
+        f'<text class="axis-title" x="8" y="{mid_y:.1f}" {FONT} fill="#666" text-anchor="middle" '
+        f'transform="rotate(-90 8 {mid_y:.1f})">Δ31(n+{lag}) (rad)</text>'
+    )
     out.append(
         f'<line x1="{f.x(0):.1f}" y1="{f.y(0):.1f}" x2="{f.x(TWO_PI):.1f}" '
         f'y2="{f.y(TWO_PI):.1f}" stroke="#999" stroke-width="0.6" stroke-dasharray="3 2"/>'
     )
-    shown = list(pairs)[-MAX_DRAWN:]
-    n = len(shown)
-    for k, (x, y) in enumerate(shown):
-        opacity = 0.15 + 0.85 * (k + 1) / n
-        out.append(
-            f'<circle cx="{f.x(x):.1f}" cy="{f.y(y):.1f}" r="1.2" fill="#222" '
-            f'fill-opacity="{opacity:.2f}"/>'
-        )
+    shown = [(f.x(x), f.y(y)) for x, y in list(pairs)[-MAX_DRAWN:]]
+    # newer darker: RECENCY_SHADES groups of equal size, oldest faintest
+    for k, group in enumerate(np.array_split(np.arange(len(shown)), RECENCY_SHADES)):
+        if len(group):
+            pts = [shown[i] for i in group]
+            out.append(dots(pts, 1.2, "#222", 0.15 + 0.85 * (k + 1) / RECENCY_SHADES))
     for v, label in ((0.0, "0"), (TWO_PI / 3, "2π/3"), (math.pi, "π"), (TWO_PI, "2π")):
         out.append(
             f'<text x="{f.x(v):.1f}" y="{f.bottom + 11}" {FONT} text-anchor="middle">{label}</text>'

@@ -70,7 +70,20 @@ def _add_numerics(sub: Any) -> None:
     p.add_argument("--no-doc", action="store_true", help="do not touch any markdown file")
     p.add_argument("--from-json", default=None, metavar="PATH",
                    help="redraw figures and table from a numerics.json; no simulation")  # fmt: skip
+    p.add_argument("--solver-options", action="store_true",
+                   help="instead of the grid: MuJoCo's solver options (iterations, solver, "
+                   "cone, warm start, tolerance) and the controller period at the default "
+                   "timestep, each one's speed and outcome error side by side")  # fmt: skip
     p.set_defaults(func=_cmd_numerics)
+
+
+def _cmd_solver_options() -> int:
+    from sim_core.numerics.solver import options_markdown, solver_options_study
+
+    rows, _ = solver_options_study(progress=print)
+    print()
+    print(options_markdown(rows))
+    return 0
 
 
 def _cmd_numerics(args: argparse.Namespace) -> int:
@@ -78,6 +91,8 @@ def _cmd_numerics(args: argparse.Namespace) -> int:
     from sim_core.numerics.report import load_grid, plot_grid, save_grid, update_numerics_doc
 
     prog = "insect-gait numerics"
+    if args.solver_options:
+        return _cmd_solver_options()
     # a quick grid never overwrites the committed full one
     out = Path(args.out or ("out/numerics-quick" if args.quick else RESULTS_DIR))
     try:

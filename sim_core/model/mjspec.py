@@ -65,6 +65,11 @@ def _capsule_inertia(mass: float, length: float, radius: float) -> np.ndarray:
     return np.array([axial, transverse, transverse])
 
 
+SOLVERS = {"newton": mujoco.mjtSolver.mjSOL_NEWTON, "cg": mujoco.mjtSolver.mjSOL_CG,
+           "pgs": mujoco.mjtSolver.mjSOL_PGS}  # fmt: skip
+CONES = {"elliptic": mujoco.mjtCone.mjCONE_ELLIPTIC, "pyramidal": mujoco.mjtCone.mjCONE_PYRAMIDAL}
+
+
 def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> mujoco.MjSpec:
     """The hexapod's spec. visual=False leaves out what only drawing needs (the body box, the
     leg capsules, the light): their masses are zero and inertias explicit, so the dynamics are
@@ -74,10 +79,14 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
     opt = spec.option
     opt.timestep = p.dt
     opt.integrator = integrator_enum(p.integrator)
-    opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    opt.cone = CONES[p.cone]
     opt.impratio = p.impratio
     opt.noslip_iterations = p.noslip_iterations
     opt.tolerance = p.solver_tolerance
+    opt.solver = SOLVERS[p.solver]
+    opt.iterations = p.solver_iterations
+    if not p.warmstart:
+        opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_WARMSTART)
     opt.gravity = gravity_vector(slope_deg)
     # The hexapod is one constraint island whenever a foot touches, so MuJoCo's island
     # discovery only costs: off, one simulation runs 4-5% faster with bit-identical results.

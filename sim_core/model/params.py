@@ -342,6 +342,28 @@ class ModelParams(BaseModel):
         "Delta31 to 1e-4 rad (docs/NUMERICS.md)",
         gt=0,
     )
+    solver: Literal["newton", "cg", "pgs"] = Field(
+        "newton",
+        description="[invented] MuJoCo's constraint solver (MuJoCo's default); the options "
+        "are compared for speed and outcome in `insect-gait numerics --solver-options`",
+    )
+    solver_iterations: int = Field(
+        100,
+        description="[invented] the constraint solver's iteration cap (MuJoCo's default; it "
+        "needs ~1-2 per step at the default timestep)",
+        ge=1,
+        le=1000,
+    )
+    cone: Literal["elliptic", "pyramidal"] = Field(
+        "elliptic",
+        description="[invented] friction cone; elliptic is the physical one (and impratio's "
+        "stance grip is calibrated on it)",
+    )
+    warmstart: bool = Field(
+        True,
+        description="[invented] start each step's constraint solve from the last step's forces "
+        "(MuJoCo's default)",
+    )
     touchdown_interpolation: bool = Field(
         True,
         description="[invented] landing instant from the interpolated clearance crossing "

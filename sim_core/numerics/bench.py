@@ -19,7 +19,7 @@ PAPER_INTEGRATOR = "rk4"
 PAPER_DT = 2e-5
 
 
-def _single(spec: RunSpec, params: ModelParams | None = None) -> tuple[float, float]:
+def single_rate(spec: RunSpec, params: ModelParams | None = None) -> tuple[float, float]:
     """(simulated s per wall s, controller share of step time) for one simulation."""
     runner = BatchRunner([spec], params, nthread=1)
     runner.run(max_blocks=1)  # compile/warm up outside the clock
@@ -49,13 +49,13 @@ def run_bench(sim_seconds: float = 2.0, nsim: int = 32, verbose: bool = True) ->
     p = ModelParams()
     default = RunSpec(beta=0.66, d31_init=2.5, duration_s=sim_seconds)
     paper = default.model_copy(update={"integrator": PAPER_INTEGRATOR, "dt_s": PAPER_DT})
-    single_rtf, share = _single(default)
+    single_rtf, share = single_rate(default)
     batch_rate = _batch(default, nsim)
-    rk4_rtf, rk4_share = _single(paper)
+    rk4_rtf, rk4_share = single_rate(paper)
     penalty = ModelParams(ground="penalty")
-    pen_rtf, pen_share = _single(default, penalty)
+    pen_rtf, pen_share = single_rate(default, penalty)
     pen_batch = _batch(default, nsim, penalty)
-    pen_rk4_rtf, _ = _single(paper, penalty)
+    pen_rk4_rtf, _ = single_rate(paper, penalty)
     report = {
         "integrator": p.integrator,
         "dt_s": p.dt,

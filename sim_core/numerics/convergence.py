@@ -219,12 +219,6 @@ def grid_study(
         return spec_grid(betas, inits, duration_s=duration_s, integrator=integ, dt_s=dt,
                          control_dt_s=max(p.control_dt, dt))  # fmt: skip
 
-    def worst_error(finals: Sequence[float | None], against: Sequence[float | None]) -> float:
-        return max(
-            abs(float(angle_diff(a, b))) if a is not None and b is not None else math.pi
-            for a, b in zip(finals, against, strict=True)
-        )
-
     t_ref = time.perf_counter()
     ref_runs = simulate_batch(specs(*REFERENCE), p, nthread=1)  # timed like every grid point
     ref = [r.measures.d31_final for r in ref_runs]
@@ -320,6 +314,14 @@ def grid_study(
                 progress(f"{point.label:30s} dt {dt:8.2g} s: {point.status:10s} "
                          f"{wall:7.3f} wall s per sim s{batch}{err}")  # fmt: skip
     return out, info
+
+
+def worst_error(finals: Sequence[float | None], against: Sequence[float | None]) -> float:
+    """The largest |Delta31 difference| run by run; a run without an outcome counts as pi."""
+    return max(
+        abs(float(angle_diff(a, b))) if a is not None and b is not None else math.pi
+        for a, b in zip(finals, against, strict=True)
+    )
 
 
 def same_gaits(

@@ -22,7 +22,7 @@ import numpy as np
 import pytest
 
 from web.page_probe import READ_BY_LABEL
-from web.panels import PRESET_METACHRONAL
+from web.panels import LOAD_SETTINGS, PRESET_METACHRONAL, SUBMIT_RUN
 
 pytestmark = pytest.mark.browser
 
@@ -72,8 +72,12 @@ def viewer(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     # the viewer's output goes to a file: a pipe nobody reads could fill and stall it, and the
     # file says why if it dies mid-module
     with open(log_path, "w") as log:
+        # an API address where nothing listens: a submit must say so (and never reach a real
+        # service that a developer's `make run` keeps on :8000)
+        api = f"http://127.0.0.1:{_free_port()}"
         proc = subprocess.Popen(
-            [sys.executable, "-m", "sim_core.cli", "viewer", "--port", str(port)],
+            [sys.executable, "-m", "sim_core.cli", "viewer", "--port", str(port),
+             "--api-url", api],
             cwd=home, stdout=log, stderr=subprocess.STDOUT, text=True,
         )  # fmt: skip
     try:
@@ -201,6 +205,8 @@ def test_page_renders_a_readable_gait_and_the_slider_drives_the_simulation(
         if close.count() > 0:
             close.first.click()
         page.mouse.move(400, 700)  # no hover tooltip on the slider in the picture
+        # the slider's focus scrolled the panel: the picture shows the plots from the top
+        page.evaluate("document.querySelector('svg[data-plot=footfall]').scrollIntoView()")
         page.wait_for_timeout(300)
         SHOT.parent.mkdir(parents=True, exist_ok=True)
         page.screenshot(path=str(SHOT))
@@ -355,6 +361,67 @@ def test_a_body_mass_ramp_follows_hold_ramp_ramp_hold(viewer: str, browser: Any)
         masses = [float(r["body_mass_g"]) for r in rows]
         assert max(masses) == pytest.approx(5.0, abs=0.15) and masses[-1] == pytest.approx(3.0)
         _wait_read(page, "body mass (simulation, g)", "3.00")
+        # the ramp's own panel: Delta31 against the mass, both directions drawn; the history
+        # marked at each phase; the button group names the parameter it drives
+        plot = page.locator("svg[data-plot=ramp-path][data-param=body_mass_g]")
+        plot.wait_for(timeout=30_000)
+        assert plot.locator("polyline[data-direction=up]").count() >= 1
+        assert plot.locator("polyline[data-direction=down]").count() >= 1
+        marks = page.locator("svg[data-plot=d31] text.mark").all_text_contents()
+        assert "ramp mass up" in marks and "ramp over" in marks, marks
+        page.get_by_text("ramp drives — body mass (g)").wait_for(timeout=10_000)
+        assert errors == [], errors
+    finally:
+        page.close()
+
+
+def _load(page: Any, path: Path) -> None:
+    with page.expect_file_chooser(timeout=30_000) as chooser:
+        page.get_by_role("button", name=LOAD_SETTINGS, exact=True).click()
+    chooser.value.set_files(str(path))
+
+
+def test_a_submit_says_where_the_job_went_and_settings_load_back(
+    viewer: str, browser: Any, tmp_path: Path
+) -> None:
+    import json
+
+    page, errors = _open(browser, viewer, draw_3d=False)
+    try:
+        # the viewer posts the job itself; with no API at its address it says so, in words
+        page.get_by_role("button", name=SUBMIT_RUN, exact=True).click()
+        status = page.locator("[data-job-status=unreachable]")
+        status.wait_for(timeout=30_000)
+        assert "refused" in status.inner_text().lower()
+
+        # the exported settings, edited, load back: the walk restarts where the file says
+        page.get_by_role("button", name="1x", exact=True).click()
+        page.get_by_text("speed — 1x").wait_for(timeout=10_000)
+        with page.expect_download(timeout=30_000) as info:
+            page.get_by_role("button", name="settings (JSON)", exact=True).click()
+        original = Path(info.value.path()).read_bytes()
+        edited = json.loads(original) | {"beta": 0.62, "body_mass_g": 4.5, "slope_deg": -5.0,
+                                         "speed": "max", "ground": "penalty"}  # fmt: skip
+        (tmp_path / "edited.json").write_text(json.dumps(edited))
+        _load(page, tmp_path / "edited.json")
+        _wait_read(page, "β (simulation)", "0.6200")
+        _wait_read(page, "body mass (simulation, g)", "4.50")
+        _wait_read(page, "slope (simulation, °)", "-5.0")
+        _wait_read(page, "ground", "paper's ground")
+        page.get_by_text("speed — max").wait_for(timeout=10_000)
+        # a file out of the controls' range is refused, naming the field; nothing changes
+        (tmp_path / "bad.json").write_text(json.dumps(edited | {"beta": 0.9}))
+        _load(page, tmp_path / "bad.json")
+        note = page.locator("[data-note]").filter(has_text="not loaded")
+        note.wait_for(timeout=30_000)
+        assert "beta: 0.9 is outside 0.55..0.8" in note.inner_text()
+        assert _read(page, "β (simulation)") == "0.6200"
+        # and the original file puts everything back
+        (tmp_path / "original.json").write_bytes(original)
+        _load(page, tmp_path / "original.json")
+        _wait_read(page, "ground", "today's contact")
+        _wait_read(page, "body mass (simulation, g)", f"{json.loads(original)['body_mass_g']:.2f}")
+        page.get_by_text("speed — 1x").wait_for(timeout=10_000)
         assert errors == [], errors
     finally:
         page.close()

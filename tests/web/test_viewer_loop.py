@@ -127,7 +127,7 @@ def test_the_footfall_bars_are_the_stance_read_at_every_control_period() -> None
             if direct[first][1][leg]:
                 assert any(a <= t0 < b for a, b in bars[leg]), (leg, bars[leg])
         assert sum(map(len, bars)) >= 6  # a few steps per leg: the check saw transitions
-        app._draw_panels(None, None, None)
+        app._draw_panels()
         assert app.panels.footfall.content == footfall_svg(bars, sim.time_s, window)
     finally:
         app.stop()
@@ -139,7 +139,7 @@ def test_a_reset_starts_the_record_and_its_panels_over_and_an_idle_plot_is_not_r
     app = ViewerApp("127.0.0.1", 0)
     try:
         app._step(0.3, time.perf_counter() + 600)
-        app._draw_panels(None, None, None)
+        app._draw_panels()
         assert 'class="stance"' in app.panels.footfall.content
         n = len(app.sim.d31_events)
         assert n > 0 and len(app.d31_conditions) == n
@@ -147,17 +147,17 @@ def test_a_reset_starts_the_record_and_its_panels_over_and_an_idle_plot_is_not_r
         # nothing stepped, nothing changed: the panels are not rebuilt
         app.panels.footfall.content = "idle"
         app.panels.d31.content = "idle"
-        app._draw_panels(None, None, None)
+        app._draw_panels()
         assert app.panels.footfall.content == app.panels.d31.content == "idle"
         app.apply(Reset(2.0))
         assert app.sim.time_s == 0.0 and len(app.sim.d31_events) == len(app.d31_conditions) == 0
-        app._draw_panels(None, None, None)  # a new walk: redrawn, empty
+        app._draw_panels()  # a new walk: redrawn, empty
         assert 'class="stance"' not in app.panels.footfall.content
         assert 'data-n-events="0"' in app.panels.d31.content
         app._step(0.05, time.perf_counter() + 600)
         times, _ = app.sim.footfall_since(None)
         assert times[0] < 0.05 and len(app.d31_conditions) == len(app.sim.d31_events)
-        app._draw_panels(None, None, None)
+        app._draw_panels()
         assert app.panels.footfall.content != "idle"
     finally:
         app.stop()
@@ -243,5 +243,34 @@ def test_paused_the_walk_steps_one_gait_cycle_at_a_time() -> None:
         assert 1 <= len(app.sim.d31_events) - n0 <= 2
         assert len(app.d31_conditions) == len(app.sim.d31_events)
         assert not app.playing
+    finally:
+        app.stop()
+
+
+def test_loaded_settings_restart_the_walk_where_the_file_says() -> None:
+    from dataclasses import replace
+
+    from sim_core.contract import Ramp
+    from web.export import load_settings, settings_json
+    from web.requests import LoadSettings
+
+    app = ViewerApp("127.0.0.1", 0)
+    try:
+        app._step(0.05, time.perf_counter() + 600)
+        saved = replace(
+            app.settings(), beta=0.62, body_mass_g=4.5, slope_deg=5.0, d31_init=3.0, speed=None,
+            ground="penalty", ramp=Ramp("body_mass_g", 3.0, 6.0, 2.0, 10.0), job_duration_s=45.0,
+        )  # fmt: skip
+        app.apply(LoadSettings(load_settings(settings_json(saved))))
+        sim = app.sim
+        assert (sim.beta, sim.body_mass_g, sim.slope_deg, sim.time_s) == (0.62, 4.5, 5.0, 0.0)
+        assert (app.ground, app.d31_init, app.speed) == ("penalty", 3.0, None)
+        assert app.panels.ramp_param_name == "body_mass_g" and app.panels.ramp_turn.value == 6.0
+        assert app.panels.job_duration.value == 45.0 and app.ramp is None  # set up, not started
+        app._draw_readouts(None, None, None)
+        assert app.panels.sliders["beta"].value == 0.62  # the sliders show what was loaded
+        assert app.panels.speed.label == "speed — max"
+        assert app.panels.ground.label == "ground — paper's ground"
+        assert app.panels.ramp_param.label == "ramp drives — body mass (g)"
     finally:
         app.stop()

@@ -21,7 +21,7 @@ from web import controls, export
 from web.bifurcation import WatchedFile, finder_points, load_validated
 from web.record import Conditions, D31Event, d31_since, stance_intervals
 from web.surface_svg import drift_colour, drift_level, surface_svg
-from web.svg import MAX_DRAWN, atlas_svg, bifurcation_svg, d31_svg, return_map_svg
+from web.svg import MAX_DRAWN, atlas_svg, bifurcation_svg, d31_svg, n_dots, return_map_svg
 
 
 def _run(d31_init: float, final: float | None, settled: bool, attractor: int | None) -> dict:
@@ -147,7 +147,7 @@ def test_the_whole_runs_d31_events_draw_a_bounded_number() -> None:
     assert [t for t, _ in d31_since(core, 499.75)] == pytest.approx([499.8, 499.9])
     whole = d31_svg(core, 500.0, None, "metachronal")
     assert "whole run" in whole and 'data-t0="0.000"' in whole and 'data-n-events="5000"' in whole
-    assert whole.count("<circle") <= MAX_DRAWN and "1 in 5 drawn" in whole
+    assert n_dots(whole) <= MAX_DRAWN and "1 in 5 drawn" in whole
     last = d31_svg(d31_since(core, 470.0), 500.0, 30.0, "metachronal")
     assert "last 30 s" in last and 'data-t0="470.000"' in last
 
@@ -209,7 +209,7 @@ def test_the_return_map_and_the_status_box() -> None:
     from web.panels import status_html
 
     svg = return_map_svg([(2.0, 2.01), (2.01, 2.02)])
-    assert 'data-plot="return-map"' in svg and svg.count("<circle") == 2
+    assert 'data-plot="return-map"' in svg and n_dots(svg) == 2
     assert 'data-n-pairs="2"' in svg
     long = "behind: 0.62x of 1x (machine cannot keep up); " + "x" * 200
     box = status_html(long)

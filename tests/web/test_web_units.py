@@ -12,7 +12,7 @@ from web.pacing import RateMeter, SimClock
 from web.panels import Readouts, format_readouts
 from web.record import Conditions, D31Conditions, D31Event, d31_since, stance_intervals
 from web.requests import Request, RequestQueue, Reset, SetParam, StartRamp, StopRamp, coalesce
-from web.svg import d31_svg, footfall_svg
+from web.svg import d31_svg, footfall_svg, n_dots
 
 
 def test_sliders_map_to_values_the_core_accepts() -> None:
@@ -124,6 +124,10 @@ def test_sim_clock_caps_the_debt_when_the_machine_is_slow() -> None:
     assert clock.tick(0.1, 1.0) == pytest.approx(0.1)
     clock.paid(0.1)
     assert clock.tick(10.0, 1.0) == pytest.approx(0.2)  # not 10 s of catching up
+    clock.paid(0.2)
+    assert clock.lag_s == pytest.approx(9.8)  # but the status says how far behind it is
+    clock.reset()
+    assert clock.lag_s == 0.0
     meter = RateMeter(window_s=1.0)
     meter.add(0.0, 0.0)
     meter.add(1.0, 0.5)
@@ -152,7 +156,7 @@ def test_d31_line_breaks_where_the_angle_wraps() -> None:
     ev = [(0.1, 6.2), (0.2, 0.05), (0.3, 0.1), (0.4, math.nan)]
     d = d31_svg(ev, 1.0, 1.0, "other")
     assert d.count("<polyline") == 1  # 6.2 -> 0.05 is a wrap, not a line through pi
-    assert d.count("<circle") == 3 and "nan" not in d  # a non-finite value is not drawn
+    assert n_dots(d) == 3 and "nan" not in d  # a non-finite value is not drawn
 
 
 def test_a_typed_keystroke_outside_the_range_is_not_a_value_yet() -> None:
@@ -192,6 +196,8 @@ def test_readouts_do_not_claim_keeping_up_while_paused() -> None:
     assert s["real-time factor"].startswith("paused")
     slow = Readouts(0.66, 1.0, 2.5, 0.66, "metachronal", 2.0, 0.93, 1.2, 1.0, 30.0, "")
     assert format_readouts(slow)["status"].startswith("behind: 0.93x of 1x")
+    late = Readouts(**{**slow.__dict__, "lag_s": 12.34})
+    assert "12.3 s behind real time" in format_readouts(late)["status"]
 
 
 def test_footfall_shows_the_chosen_window_with_legs_coloured_by_pair() -> None:
@@ -271,3 +277,81 @@ def test_a_turned_insect_is_explained_not_left_to_guess() -> None:
     assert "turned -90°" in heading_note(270.0)
     r = Readouts(0.66, 1.0, 2.5, 0.66, "tripod", 3.0, 1.0, 1.2, 1.0, 30.0, "", heading_deg=94.0)
     assert "no steering" in format_readouts(r)["status"]
+
+
+def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
+    import json
+
+    from sim_core.contract import Ramp
+    from web.export import Settings, load_settings, settings_json
+
+    s = Settings(
+        beta=0.62, body_mass_g=4.5, slope_deg=-7.5, d31_init=3.0, speed=None, time_s=12.0,
+        ramp=Ramp("beta", 0.70, 0.62, 5.0, 20.0), ramp_running=False, ramp_started_at_s=None,
+        job_duration_s=45.0, api_url="http://h:1", ground="penalty",
+    )  # fmt: skip
+    back = load_settings(settings_json(s))
+    assert (back.beta, back.body_mass_g, back.slope_deg, back.d31_init) == (0.62, 4.5, -7.5, 3.0)
+    assert back.speed is None and back.ground == "penalty" and back.ramp == s.ramp
+    assert (back.job_duration_s, back.api_url) == (45.0, "http://h:1")
+    raw = json.loads(settings_json(s))
+    for key, value, words in (
+        ("beta", 0.9, "beta: 0.9 is outside 0.55..0.8"),
+        ("body_mass_g", "heavy", "body_mass_g: a number is expected"),
+        ("speed", 3, "speed: one of"),
+        ("ground", "ice", "ground: one of"),
+        ("ramp", {"param": "beta"}, "ramp: param, start, turn"),
+    ):
+        with pytest.raises(ValueError, match=words):
+            load_settings(json.dumps(raw | {key: value}).encode())
+    with pytest.raises(ValueError, match="not JSON"):
+        load_settings(b"beta,0.62\n")
+
+
+def test_the_d31_history_marks_what_a_person_changed_and_each_ramp_phase() -> None:
+    from web.record import Conditions, D31Conditions
+
+    rec = D31Conditions()
+    events: list[tuple[float, float]] = []
+
+    def walk(t0: float, n: int, at: Conditions) -> None:
+        events.extend((t0 + 0.1 * k, 2.0) for k in range(n))
+        rec.note(events, at)
+
+    base = Conditions(0.66, 3.0, 0.0)
+    walk(0.0, 20, base)  # 0 .. 1.9 s
+    walk(2.0, 3, Conditions(0.64, 3.0, 0.0))  # beta set at 2.0
+    walk(2.3, 3, Conditions(0.62, 3.0, 0.0))  # 0.3 s later, typed on: one mark, its end
+    walk(5.0, 10, Conditions(0.62, 4.5, 0.0))
+    walk(8.0, 5, Conditions(0.62, 4.5, 0.0, "hold", "beta"))
+    walk(9.0, 5, Conditions(0.63, 4.5, 0.0, "up", "beta"))
+    walk(9.5, 5, Conditions(0.64, 4.5, 0.0, "up", "beta"))  # the ramp moving: no mark
+    walk(12.0, 3, Conditions(0.62, 4.5, 0.0))
+    assert [(round(m.time_s, 1), m.label) for m in rec.marks] == [
+        (2.3, "β 0.620"),
+        (5.0, "mass 4.50 g"),
+        (8.0, "ramp β hold"),
+        (9.0, "ramp β up"),
+        (12.0, "ramp over"),
+    ]
+    svg = d31_svg(events, 12.5, None, "metachronal", rec.marks)
+    assert svg.count('<line class="mark"') == 5 and "ramp β up" in svg
+    rec.clear()
+    assert rec.marks == []
+
+
+def test_legends_wrap_inside_the_panel_and_the_return_map_reads_like_its_neighbours() -> None:
+    import html
+    import re
+
+    from web.svg import W, bifurcation_svg, return_map_svg
+
+    svg = bifurcation_svg(None, "", [], (0.66, 2.0), (0.55, 0.80))
+    words = re.findall(r'<text x="([\d.]+)" y="[\d.]+" [^>]*fill="#[0-9a-f]+">([^<]+)<', svg)
+    assert len(words) >= 9  # every legend entry is drawn...
+    for x, text in words:  # ...and ends inside the panel (5.2 units a character at size 9)
+        assert float(x) + 5.2 * len(html.unescape(text)) <= W, (x, text)
+    rm = return_map_svg([(2.0, 2.01)])
+    # drawn at its viewBox's share of the panel: its 9-unit type is the others' size
+    assert 'viewBox="0 0 190 190" width="63%"' in rm
+    assert "Δ31(n) (rad)" in rm and "Δ31(n+4) (rad)" in rm

@@ -50,6 +50,45 @@ def branch_betas(surface: DriftSurface, window: tuple[float, float]) -> list[flo
     return [b for b in surface.betas if has(b)]
 
 
+def fold_end(betas: list[float], grid_betas: list[float], high: bool) -> float | None:
+    """Where a branch ends: the tripod's (`high`) is the last beta of its stretch from the
+    lowest beta it lives at, the metachronal's the first of its stretch down from the highest
+    (an isolated zero beyond a gap is not the branch's end)."""
+    if not betas:
+        return None
+    order = sorted(grid_betas) if high else sorted(grid_betas, reverse=True)
+    inside = set(betas)
+    start = order.index(min(betas) if high else max(betas))
+    end = order[start]
+    for b in order[start:]:
+        if b not in inside:
+            break
+        end = b
+    return end
+
+
+def ramps(params: ModelParams) -> list[dict[str, Any]]:
+    """Fig. 6a's two protocols at the reproduction's rate: from the metachronal side at 0.70
+    down to 0.62 and back, and from the tripod at 0.62 up to 0.70 and back."""
+    from sim_core.paper.figures import Config
+    from sim_core.paper.sweep import sweep
+
+    cfg = Config()
+    out = []
+    for start, turn, d31 in ((cfg.beta_high, cfg.beta_low, cfg.start_d31),
+                             (cfg.beta_low, cfg.beta_high, cfg.tripod_start_d31)):  # fmt: skip
+        res = sweep(RunSpec(beta=start, d31_init=d31), parameter="beta", turn=turn,
+                    hold_s=cfg.hold_s, ramp_s=cfg.ramp_s, params=params)  # fmt: skip
+        s = res.summary
+        first = [round(x["value"], 4) for x in s["first_leg"]]
+        second = [round(x["value"], 4) for x in s["second_leg"]]
+        out.append({"start": start, "turn": turn, "first_leg_switches": first,
+                    "second_leg_switches": second, "loop": s["loop"], "width": s["width"],
+                    "gaits": [s["gait_at_start"], s["gait_at_turn"], s["gait_at_end"]],
+                    "error": res.error})  # fmt: skip
+    return out
+
+
 def free_runs(params: ModelParams, betas: list[float]) -> list[dict[str, Any]]:
     specs = [RunSpec(beta=b, d31_init=d, duration_s=FREE_RUN_S, dt_s=dt)
              for b in betas for d in STARTS.values() for dt in (None, params.dt / 2)]  # fmt: skip
@@ -75,6 +114,9 @@ def main() -> None:
     ap.add_argument("--cache", default="out/campaign5/cache")
     ap.add_argument("--out", default="out/campaign5")
     ap.add_argument("--workers", type=int, default=2)
+    ap.add_argument("--free-betas", default="",
+                    help="more betas for the free runs, comma-separated")  # fmt: skip
+    ap.add_argument("--ramps", action="store_true", help="also Fig. 6a's two beta ramps")
     a = ap.parse_args()
     name, params = candidate(a)
     t0 = time.perf_counter()
@@ -85,10 +127,10 @@ def main() -> None:
     print(f"{name}: refined surface ({surface.sim_s:.0f} simulated s, "
           f"{time.perf_counter() - t0:.0f} s): metachronal stable at {meta}; "
           f"tripod at {trip}")  # fmt: skip
-    around: set[float] = set()
-    for betas, end in ((meta, min), (trip, max)):
-        if betas:
-            b = end(betas)
+    around: set[float] = {float(x) for x in a.free_betas.split(",") if x.strip()}
+    for betas, high in ((meta, False), (trip, True)):
+        b = fold_end(betas, list(surface.betas), high)
+        if b is not None:
             around |= {round(b - 0.01, 2), b, round(b + 0.01, 2)}
     runs = free_runs(params, sorted(x for x in around if 0.5 < x < 1.0))
     for r in runs:
@@ -96,12 +138,17 @@ def main() -> None:
         print(f"  beta {r['beta']:.2f} from {r['start']} {'dt/2' if r['half_dt'] else 'dt  '}: "
               f"{final} {r['gait']} settled={r['settled']} landing {r['landing_share']} "
               f"speed x{r['speed_ratio'] and round(r['speed_ratio'], 3)}")  # fmt: skip
+    swept = ramps(params) if a.ramps else []
+    for r in swept:
+        print(f"  ramp beta {r['start']} -> {r['turn']} -> {r['start']}: switches on the way "
+              f"{r['first_leg_switches']}, back {r['second_leg_switches']}, loop {r['loop']}, "
+              f"gaits (start, turn, end) {r['gaits']}")  # fmt: skip
     out = Path(a.out)
     out.mkdir(parents=True, exist_ok=True)
     report = {"name": name, "params": params.model_dump(mode="json", exclude_defaults=True),
               "metachronal_betas": meta, "tripod_betas": trip,
               "zeros": [z.model_dump() for z in surface.zeros], "free_runs": runs,
-              "wall_s": time.perf_counter() - t0}  # fmt: skip
+              "ramps": swept, "wall_s": time.perf_counter() - t0}  # fmt: skip
     (out / f"confirm_{name}.json").write_text(json.dumps(report))
     print(f"{report['wall_s']:.0f} s; wrote {out / f'confirm_{name}.json'}")
 
