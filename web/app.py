@@ -90,7 +90,7 @@ log = logging.getLogger(__name__)
 @dataclass(frozen=True)
 class LoopConfig:
     fps: float = 30.0  # pose streaming rate; ~30 Hz is plenty for a walking insect
-    readout_hz: float = 5.0  # the readouts and status line (issue 43: at least 4 Hz)
+    readout_hz: float = 5.0  # the readouts and status line (people read them)
     panel_hz: float = 5.0  # diagrams, at most; less often when drawing them costs more
     draw_share: float = 0.15  # the loop's time the diagrams' drawing may take at most
     shadows: bool = False  # cast shadows in the 3D view (extra render passes every frame)

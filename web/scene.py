@@ -94,7 +94,7 @@ class HexapodScene:
     ) -> None:
         self.server = server
         # Shadows are extra render passes of every frame; a browser rendering WebGL in software
-        # (no GPU) pays them on the CPU the simulation needs (issue 43). Off unless asked.
+        # (no GPU) pays them on the CPU the simulation needs. Off unless asked.
         server.scene.configure_default_lights(enabled=True, cast_shadow=shadows)
         self._feet = foot_geom_ids(model)
         self._torso = torso_body_id(model)

@@ -286,7 +286,7 @@ def _marks(f: Frame, marks: Sequence[Mark]) -> list[str]:
     return out
 
 
-# The finder's states, coloured by gait (issue 28): tripod orange, metachronal green, other grey
+# The finder's states, coloured by gait: tripod orange, metachronal green, other grey
 GAIT_COLOURS = {"tripod": "#ff7f0e", "metachronal": "#2ca02c", "other": "#7f7f7f"}
 # this session's ramp: its path, drawn as it goes, one colour per direction (holds grey)
 RAMP_COLOURS = {"down": "#8c564b", "up": "#9467bd", "hold": "#999999"}

@@ -75,7 +75,7 @@ class Held(Physics):
 
 
 class SurfaceJob(Held):
-    """The drift surface (issue 39): walks held at each Delta31 by a weak pin on the fore and
+    """The drift surface: walks held at each Delta31 by a weak pin on the fore and
     hind oscillators, resets on; per probe the drift per gait cycle with its standard error,
     per beta the zeros and near-zero bands, over beta the stable branches and folds."""
 

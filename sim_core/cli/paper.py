@@ -235,7 +235,7 @@ def _cmd_finder(args: argparse.Namespace) -> int:
 def _add_finder_check(sub: Any) -> None:
     p = sub.add_parser(
         "finder-check",
-        help="check the fixed-point finder against independent 40 s runs (issue 28)",
+        help="check the fixed-point finder against independent 40 s runs",
     )
     p.add_argument("--beta", type=float, nargs="+", default=[0.62, 0.655, 0.70],
                    help="betas to check (default %(default)s)")  # fmt: skip

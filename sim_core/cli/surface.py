@@ -14,7 +14,7 @@ from sim_core.cli.common import EXIT_USAGE
 from sim_core.cli.paper import _add_backend_args, backend_from_args
 from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
 
-# the betas issue 39 validates at: the Fig. 7 betas and the two ends of the paper's window
+# the betas the surface is validated at: the Fig. 7 betas and the two ends of the paper's window
 CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
 # the atlas from the surface: 13 betas across the paper's window and past it, 0.01 apart
 ATLAS_BETAS = tuple(round(0.60 + 0.01 * k, 2) for k in range(13))

@@ -17,7 +17,7 @@ RECORD_DT_S = 2e-3
 
 # The smallest physics step a run may take: a tenth of the finest step the model ever needed
 # (RK4 at 1e-5 s is the converged reference of docs/NUMERICS.md); finer buys no accuracy, only
-# time, and at 1e-12 s the runner's per-period buffers alone asked for 67 GiB (issue 30).
+# time, and at 1e-12 s the runner's per-period buffers alone asked for 67 GiB.
 MIN_DT_S = 1e-6
 # Physics steps (duration_s / dt_s) one run may take: the longest run (600 s) at the reference
 # step 1e-5 s, which admits every integrator at its measured stable limit for 600 s. Measured

@@ -20,8 +20,8 @@ import numpy as np
 TWO_PI = 2.0 * math.pi
 TRIPOD = math.pi
 METACHRONAL = TWO_PI / 3.0
-# The footfall rules (`footfall_gait`; issue 30, point 2: the old Delta31 windows cut through
-# the model's own branches at beta 0.56 and >= 0.75 and on downhill slopes).
+# The footfall rules (`footfall_gait`; Delta31 windows would cut through the model's own
+# branches at beta 0.56 and >= 0.75 and on downhill slopes).
 # tripod: each tripod's three legs are in the air together for at least this share of the time
 # any of them is (the "tripod coordination strength" of Wosnitza et al., J. Exp. Biol. 216,
 # 480 (2013)): half, the midpoint between a lock-step tripod (1) and three legs that never all
@@ -60,7 +60,7 @@ TAIL_DRIFT_SETTLED = 2e-4
 # tail, 40 points resolve a slope to ~1e-5 rad per cycle, 20x below the rule.
 SETTLED_MIN_TAIL = 40
 # A slope walk still walks up or down the slope while the body's heading stays within this
-# (deg) of the slope's line (issue 30: 60 s at +-20 deg); the default contact turns 70-110 deg
+# (deg) of the slope's line (over 60 s at +-20 deg); the default contact turns 70-110 deg
 # downhill, the paper's ground stays within 1 (docs/MODEL.md, "Slopes").
 HEADING_KEPT_DEG = 15.0
 # What a sound run looks like, for the warnings a result carries (`run_warnings`): at the

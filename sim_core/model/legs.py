@@ -7,7 +7,7 @@ Phase convention (paper): phi = 0 at the PEP, phi = phi_AEP = 2 pi (1 - beta) at
 - Swing that has not touched down by the AEP: the closed curve continues along its lower side,
   the AEP-PEP line, at the stance speed; reaching the PEP without touchdown starts a new swing.
   With `late_swing_descent` q > 0 it also keeps descending below the line at q times the
-  curve's final descent speed (h pi p per unit s), reaching for the ground (issue 31's other
+  curve's final descent speed (h pi p per unit s), reaching for the ground (the other
   reading of "until the leg touches the ground").
 - Stance: a straight line from the landing position LP (the commanded tip position at the
   detected touchdown) to the PEP, covered as phi goes from its value at touchdown to 2 pi.

@@ -157,7 +157,7 @@ class ModelParams(BaseModel):
         0.0,
         "a foot still in the air past the AEP descends below the AEP-PEP line at this share of "
         "the swing curve's final descent speed: 0 = it follows the line (our reading of 'until "
-        "the leg touches the ground'), 1 = keeps reaching down (the other reading, issue 31)",
+        "the leg touches the ground'), 1 = keeps reaching down (the other reading)",
         ge=0,
         le=2,
     )
@@ -167,7 +167,7 @@ class ModelParams(BaseModel):
         description="[invented] frame of the tip trajectories (Fig. 3): 'body' = they pitch and "
         "roll with the body (our reading of 'the line segment between the AEP and the PEP is "
         "parallel to the body'); 'level' = the ground's frame turned to the body's heading, "
-        "about each leg's hip (issue 31's audit, row 4; about the body's origin the legs "
+        "about each leg's hip (about the body's origin the legs "
         "would give the body no attitude stiffness: it flips within 1 s)",
     )
 
@@ -301,7 +301,7 @@ class ModelParams(BaseModel):
         0,
         description="[invented] MuJoCo's no-slip solver passes after the main solver "
         "(constraint ground): > 0 removes the soft contact's tangential creep, a candidate "
-        "cause of the body turning on slopes (issue 30); 0 = off, the calibrated default",
+        "cause of the body turning on slopes; 0 = off, the calibrated default",
         ge=0,
         le=100,
     )

@@ -1,4 +1,4 @@
-"""The finder's reading put through the rest of the four checks a claim needs (issue 28; the
+"""The finder's reading put through the rest of the four checks a claim needs (the
 developers' guide, "How to do science"): besides **settled** (the finder's own rule), does
 **dt/2** give the same attractors, do the feet land near the AEP there (**landing share**),
 and does the structure survive **+-10%** of each calibrated parameter (and how far does the
@@ -6,7 +6,7 @@ fold move)?
 
 - `numerics`: every stable point the finder reports at the given betas is re-run from the
   point itself for `CHECK_S` at the default step and at half of it; both must settle within
-  `SAME_TOL` of each other (`SAME_TOL_FOLD` within `FOLD_MARGIN` of a fold, issue 31's rule),
+  `SAME_TOL` of each other (`SAME_TOL_FOLD` within `FOLD_MARGIN` of a fold),
   and the default run's landing share must lie in `LANDING_OK`.
 - `robustness`: with each of `CALIBRATED` at 0.9x and 1.1x, a tripod start (`TRIPOD_START`) at
   each of `FOLD_BETAS` tells where the tripod still lives (its fold bracket), and a metachronal
@@ -29,10 +29,10 @@ from sim_core.model.spec import RunResult, RunSpec
 from sim_core.paper.fixedpoints import FinderOutput
 
 CHECK_S = 40.0  # the finder's run length (FinderConfig.duration_s)
-SAME_TOL = 0.05  # rad: issue 31's "each within 0.05 rad" ...
+SAME_TOL = 0.05  # rad: "each within 0.05 rad" ...
 SAME_TOL_FOLD = 0.1  # ... "0.1 within 0.01 of a fold"
 FOLD_MARGIN = 0.01
-LANDING_OK = (0.9, 1.1)  # issue 31's sane walking: feet land near the AEP
+LANDING_OK = (0.9, 1.1)  # sane walking: feet land near the AEP
 # The invented parameters that were chosen by calibration against the gait (docs/MODEL.md says
 # so in each reason): fore-aft load sharing, stance height, lift-joint stiffness and damping,
 # swing apex, sprawl.

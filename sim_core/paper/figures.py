@@ -53,7 +53,7 @@ class Config:
     fig5_betas: tuple[float, ...] = (0.62, 0.70)
     map_betas: tuple[float, ...] = (0.64, 0.655, 0.675)  # Fig. 7
     # Figs. 7-8 are read from the drift surface (`paper.surface`, protocol in SurfaceConfig)
-    # over these 25 betas, 0.005 apart, containing the Fig. 7 betas (issue 39: >= 25 betas
+    # over these 25 betas, 0.005 apart, containing the Fig. 7 betas (>= 25 betas
     # from 0.60 to 0.72)
     surface_betas: tuple[float, ...] = tuple(round(0.60 + 0.005 * k, 3) for k in range(25))
     surface: SurfaceConfig = field(default_factory=SurfaceConfig)

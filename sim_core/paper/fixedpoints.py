@@ -1,5 +1,5 @@
 """The settled fixed-point finder: which gaits are stable at one condition, and where the
-border between their basins runs, read from settled walking (issue 28).
+border between their basins runs, read from settled walking.
 
 Why not a smoothed return map (the old Figs. 7-8): near the branches this model's Delta31
 drifts by 0-5 mrad per gait cycle, far below what 3 s runs resolve, and a kernel-smoothed
@@ -100,7 +100,7 @@ class FinderConfig:
     # settled by then goes on to `duration_s` (`Probe.stop_if_settled_s`: one run, not a
     # short try and a re-run from the start).
     bisect_duration_s: float = 20.0
-    border_tol_rad: float = 0.02  # the bracket of a border's starts (issue 28)
+    border_tol_rad: float = 0.02  # the bracket of a border's starts
     # At most this many borders per condition, preferring those in the paper's window: each
     # costs ~6 runs (0.79 -> 0.02 rad).
     max_borders: int = 2

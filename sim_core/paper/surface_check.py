@@ -2,7 +2,7 @@
 
 The finder (`paper.fixedpoints`) reads stable states from settled free runs and borders by
 bisecting starts; the surface (`paper.surface`) reads zeros of the drift at held Delta31. They
-agree when (issue 39, point 3):
+agree when:
 - every resolved stable zero of the surface has a stable state of the finder within
   `STABLE_TOL` rad, and every stable state of the finder inside the window has a stable zero
   within `STABLE_TOL`, unless the surface marks that place unresolved (an unresolved zero or a

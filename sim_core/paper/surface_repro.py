@@ -41,13 +41,13 @@ from sim_core.runs.backends import Backend, Executor, RunStats
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk
 
-MECHANISM_BETAS = (0.62, 0.655, 0.70)  # the mechanism figure's columns (issue 39, point 6)
+MECHANISM_BETAS = (0.62, 0.655, 0.70)  # the mechanism figure's columns
 # A ghost on the surface: where |d| dips, without changing sign, to at most this share of its
 # largest value on either side: a free run slows there at least twofold (the finder's ghost is
 # the slowest passage of a free run: the same bottleneck, read without running through it)
 GHOST_DIP = 0.5
 # a settled free run lies on the surface when a stable zero (or a near-zero band) is this close:
-# issue 39's matching tolerance for stable states
+# the matching tolerance for stable states
 FREE_RUN_TOL = 0.03
 
 

@@ -1,4 +1,4 @@
-"""Is the finder right? Its answers checked against independent long runs (issue 28).
+"""Is the finder right? Its answers checked against independent long runs.
 
 Two checks at each beta:
 
