@@ -566,16 +566,17 @@ class ViewerApp:
             (self._walk, t_now, window),
             lambda: footfall_svg(footfall_bars(sim, window), t_now, window),
         )
-        w, events = self.d31_window_s, sim.d31_events
+        w, events, job = self.d31_window_s, sim.d31_events, self.jobs.view
         self._redraw(
             self.panels.d31,
-            (self._walk, len(events), t_now, w, gait),
+            (self._walk, len(events), t_now, w, gait, job.id, len(job.d31_series)),
             lambda: d31_svg(
                 events if w is None else d31_since(events, t_now - w),
                 t_now,
                 w,
                 gait,
                 self.d31_conditions.marks,
+                (job.id[:8], job.d31_series) if job.d31_series else None,
             ),
         )
         self._redraw(

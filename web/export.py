@@ -97,7 +97,8 @@ def ramp_csv(path: Iterable[D31Event], ramp: Ramp | None, started_at_s: float | 
 
 
 def run_job(s: Settings) -> dict[str, Any]:
-    """A `run` job at the current beta, mass and slope from the last initial Delta31."""
+    """A `run` job at the current beta, mass and slope from the last initial Delta31, with its
+    time series (the viewer draws the job's Delta31 beside the live walk's)."""
     return {
         "kind": "run",
         "beta": round(s.beta, 6),
@@ -106,6 +107,7 @@ def run_job(s: Settings) -> dict[str, Any]:
         "d31_init": [round(s.d31_init, 6)],
         "duration_s": s.job_duration_s,
         "ground": s.ground,
+        "include_series": True,
     }
 
 

@@ -33,6 +33,9 @@ class JobView:
     message: str = ""  # the API's error or note, or why the API could not be reached
     figure_png: bytes | None = None  # the job's figure once it is done
     url: str = ""  # the job's own address
+    # a done run job's first run, (time_s, Delta31) at each leg-1 touchdown, when the job kept
+    # its series (the viewer's own run jobs do): drawn on the Delta31 history
+    d31_series: tuple[tuple[float, float], ...] = ()
 
     @property
     def finished(self) -> bool:
@@ -128,9 +131,18 @@ class JobWatcher:
                 job = json.loads(_request(view.url, None, self.timeout_s))
             if job["status"] == "done":
                 png = _request(f"{view.url}/figure.png", None, 60.0)
-                self._set(generation, replace(view, figure_png=png))
+                result = json.loads(_request(f"{view.url}/result", None, 60.0))
+                self._set(generation, replace(view, figure_png=png,
+                                              d31_series=first_run_d31(result)))  # fmt: skip
         except Exception as exc:  # the API absent, refusing, or answering nonsense
             self._set(generation, replace(view, status="unreachable", message=_why(exc)))
+
+
+def first_run_d31(result: dict[str, Any]) -> tuple[tuple[float, float], ...]:
+    """(time_s, Delta31) of a run job's first run from its stored result (`GET .../result`),
+    or () when the job kept no series or is of another kind."""
+    rows = result.get("result", {}).get("series", {}).get("d31", [])
+    return tuple((float(r["time_s"]), float(r["d31"])) for r in rows if r.get("run") == 0)
 
 
 def job_status_html(view: JobView) -> str:

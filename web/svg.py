@@ -224,6 +224,7 @@ def d31_svg(
     window_s: float | None,
     gait: str,
     marks: Sequence[Mark] = (),
+    job: tuple[str, Sequence[tuple[float, float]]] | None = None,
 ) -> str:
     """Delta31 at each leg-1 touchdown, (time_s, Delta31) as `Simulation.d31_events` has them,
     over the last `window_s` (None: the whole run), with the two gaits' lines; beyond MAX_DRAWN
@@ -257,6 +258,14 @@ def d31_svg(
         if len(seg) >= 2:
             path = " ".join(f"{x:.1f},{y:.1f}" for x, y in seg)
             out.append(f'<polyline points="{path}" fill="none" stroke="#444" stroke-width="0.6"/>')
+    if job is not None:  # a finished job's run, on the same time axis (both start at 0)
+        name, series = job
+        xy = [(f.x(t), f.y(d)) for t, d in series if t0 <= t <= t1 and math.isfinite(d)]
+        out.append(dots(xy[-MAX_DRAWN:], 1.2, JOB_COLOUR, 0.8, "job"))
+        out.append(
+            f'<text class="job" x="{LEFT + 3}" y="{f.bottom - 4}" {FONT} fill="{JOB_COLOUR}">'
+            f"● job {html.escape(name)}</text>"
+        )
     out.append(dots(pts, 1.6 if len(pts) < 300 else 1.0, "#222"))
     out += _marks(f, [m for m in marks if t0 <= m.time_s <= t1])
     fmt = "{:.0f}" if span >= 4 else "{:.1f}"
@@ -267,6 +276,7 @@ def d31_svg(
 
 
 MARK_COLOUR = "#9467bd"
+JOB_COLOUR = "#e377c2"  # a finished job's Delta31 beside the live walk's
 
 
 def _marks(f: Frame, marks: Sequence[Mark]) -> list[str]:

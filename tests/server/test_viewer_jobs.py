@@ -24,11 +24,16 @@ def test_a_job_submitted_from_the_viewer_is_followed_to_its_figure(
 ) -> None:
     srv = make_server()
     w = JobWatcher(poll_s=0.1)
-    w.submit(srv.url, SHORT)
+    w.submit(srv.url, {**SHORT, "include_series": True})  # as the viewer's run bodies do
     assert w.view.status == "submitting"
     v = wait_for(lambda: _finished(w), timeout=120)
     assert v.status == "done" and v.kind == "run" and v.id
     assert v.figure_png is not None and v.figure_png.startswith(PNG)
+    # the job's own Delta31 at each leg-1 touchdown, for the viewer's history panel
+    with srv.client() as c:
+        rows = c.get(f"/v1/jobs/{v.id}/result").json()["result"]["series"]["d31"]
+    assert len(v.d31_series) == len(rows) > 0
+    assert v.d31_series[0] == (rows[0]["time_s"], rows[0]["d31"])
     html = job_status_html(v)
     assert 'data-job-status="done"' in html and "data:image/png;base64," in html
     assert f"{srv.url}/v1/jobs/{v.id}" in html
@@ -39,6 +44,7 @@ def test_a_job_submitted_from_the_viewer_is_followed_to_its_figure(
     w.open(srv.url, f"  {other['id']} ")
     v2 = wait_for(lambda: _finished(w) if w.view.id == other["id"] else None, timeout=120)
     assert v2.status == "done" and v2.figure_png is not None
+    assert v2.d31_series == ()  # that job kept no series: nothing to draw beside the walk
 
 
 def test_a_refused_body_and_an_absent_api_are_said_in_words(make_server: Any) -> None:

@@ -355,3 +355,17 @@ def test_legends_wrap_inside_the_panel_and_the_return_map_reads_like_its_neighbo
     # drawn at its viewBox's share of the panel: its 9-unit type is the others' size
     assert 'viewBox="0 0 190 190" width="63%"' in rm
     assert "Δ31(n) (rad)" in rm and "Δ31(n+4) (rad)" in rm
+
+
+def test_a_finished_jobs_delta31_is_drawn_beside_the_live_walk() -> None:
+    from web.jobs import first_run_d31
+
+    result = {"result": {"series": {"d31": [
+        {"run": 0, "time_s": 0.1, "d31": 2.0}, {"run": 0, "time_s": 0.2, "d31": 2.1},
+        {"run": 1, "time_s": 0.1, "d31": 3.0}]}}}  # fmt: skip
+    series = first_run_d31(result)
+    assert series == ((0.1, 2.0), (0.2, 2.1))
+    assert first_run_d31({"result": {"runs": []}}) == ()
+    svg = d31_svg([(0.1, 2.05)], 1.0, None, "metachronal", (), ("abc123", series))
+    assert n_dots(svg, "job") == 2 and n_dots(svg) == 1 and "● job abc123" in svg
+    assert "job" not in d31_svg([(0.1, 2.05)], 1.0, None, "metachronal")
