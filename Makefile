@@ -61,6 +61,7 @@ test: $(DEV_STAMP) $(PLUGIN)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
+	$(BIN)/lint-imports
 	$(BIN)/pytest
 
 lint: $(DEV_STAMP)
