@@ -81,9 +81,10 @@ class Mark:
 
     time_s: float
     label: str
+    by_person: bool = True  # a parameter set by a person (False: a ramp's phase, never merged)
 
 
-MARK_MERGE_S = 1.0  # changes closer than this are one mark (a drag, typed digits)
+MARK_MERGE_S = 1.0  # a person's changes closer than this are one mark (a drag, typed digits)
 _PARAM_WORDS = (
     ("beta", "β {:.3f}"),
     ("body_mass_g", "mass {:.2f} g"),
@@ -152,13 +153,21 @@ class D31Conditions:
         if len(events) < len(self._at):  # the core started over without our being told
             self.clear()
         if len(events) > len(self._at) and self._at and now != self._at[-1]:
-            label = change_label(self._at[-1], now)
+            before = self._at[-1]
+            label = change_label(before, now)
             if label:
                 t = events[len(self._at)][0]
-                if self._marks and t - self._marks[-1].time_s < MARK_MERGE_S:
+                by_person = not now.ramp and not before.ramp  # not a ramp's phase
+                last = self._marks[-1] if self._marks else None
+                if (
+                    by_person
+                    and last is not None
+                    and last.by_person
+                    and (t - last.time_s < MARK_MERGE_S)
+                ):
                     self._marks[-1] = Mark(t, label)  # a slider dragged: one mark, its end
                 else:
-                    self._marks.append(Mark(t, label))
+                    self._marks.append(Mark(t, label, by_person))
         self._at.extend(itertools.repeat(now, len(events) - len(self._at)))
 
     def start_ramp(self) -> None:

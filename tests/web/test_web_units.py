@@ -323,15 +323,15 @@ def test_the_d31_history_marks_what_a_person_changed_and_each_ramp_phase() -> No
     walk(2.0, 3, Conditions(0.64, 3.0, 0.0))  # beta set at 2.0
     walk(2.3, 3, Conditions(0.62, 3.0, 0.0))  # 0.3 s later, typed on: one mark, its end
     walk(5.0, 10, Conditions(0.62, 4.5, 0.0))
-    walk(8.0, 5, Conditions(0.62, 4.5, 0.0, "hold", "beta"))
-    walk(9.0, 5, Conditions(0.63, 4.5, 0.0, "up", "beta"))
+    walk(8.0, 3, Conditions(0.62, 4.5, 0.0, "hold", "beta"))
+    walk(8.3, 5, Conditions(0.63, 4.5, 0.0, "up", "beta"))  # 0.3 s later: a mark of its own
     walk(9.5, 5, Conditions(0.64, 4.5, 0.0, "up", "beta"))  # the ramp moving: no mark
     walk(12.0, 3, Conditions(0.62, 4.5, 0.0))
     assert [(round(m.time_s, 1), m.label) for m in rec.marks] == [
         (2.3, "β 0.620"),
         (5.0, "mass 4.50 g"),
         (8.0, "ramp β hold"),
-        (9.0, "ramp β up"),
+        (8.3, "ramp β up"),
         (12.0, "ramp over"),
     ]
     svg = d31_svg(events, 12.5, None, "metachronal", rec.marks)
