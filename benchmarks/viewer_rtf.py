@@ -35,7 +35,7 @@ from playwright.sync_api import Page, sync_playwright
 from sim_core import RunSpec
 from sim_core.numerics.bench import single_rate
 from web.app import LoopConfig, ViewerApp
-from web.page_probe import READ_BY_LABEL
+from web.page_probe import READ_BY_LABEL, TAG_BY_LABEL
 from web.panels import DRAW_3D, PAUSE, PLAY
 from web.requests import SetParam, SetPlaying
 
@@ -72,12 +72,6 @@ COUNT_CHANGES = """([read, label, ms]) => new Promise(done => {
     const v = get(label); if (v !== last) { changes++; last = v; } }, 10);
   setTimeout(() => { clearInterval(id); done(changes); }, ms);
 })"""
-TAG_BOX = """label => {
-  const l = [...document.querySelectorAll('label')].find(e => e.textContent.trim() === label);
-  let node = l.parentElement;
-  while (node && !node.querySelector('input:not([type=hidden])')) node = node.parentElement;
-  node.querySelector('input:not([type=hidden])').setAttribute('data-bench-box', '1');
-}"""
 
 
 def _free_port() -> int:
@@ -126,8 +120,8 @@ def _window(app: ViewerApp, page: Page, seconds: float) -> dict[str, Any]:
 
 def _typed_latency(app: ViewerApp, page: Page, trials: int) -> dict[str, Any]:
     """Type a beta into its box at full speed and press Enter, `trials` times."""
-    page.evaluate(TAG_BOX, BETA_BOX)
-    box = page.locator("[data-bench-box='1']")
+    page.evaluate(TAG_BY_LABEL, [BETA_BOX, "beta"])
+    box = page.locator("[data-probe-box='beta']")
     to_sim, to_page, prefixes = [], [], 0
     values = [0.64, 0.66, 0.62, 0.68, 0.63, 0.67]
     for k in range(trials):

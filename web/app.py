@@ -538,7 +538,7 @@ class ViewerApp:
                 lag_s=self._clock.lag_s,
             )
         )
-        speed = next((k for k, v in controls.SPEEDS.items() if v == self.speed), "1x")
+        speed = controls.speed_label(self.speed) or controls.DEFAULT_SPEED
         ramp_param = self.ramp.param if self.ramp is not None else self.panels.ramp_param_name
         self.panels.show_choices(
             {

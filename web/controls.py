@@ -106,6 +106,11 @@ def d31_init_value(slider: float) -> float:
     return min(TWO_PI, max(0.0, D31_INIT.clamp(slider)))
 
 
+def speed_label(value: float | None) -> str | None:
+    """The button label of a multiple of real time (None: "max"); None if no button has it."""
+    return next((k for k, v in SPEEDS.items() if v == value), None)
+
+
 def speed_value(label: str) -> float | None:
     """Multiplier of real time for a dropdown label; unknown labels mean real time."""
     return SPEEDS.get(label, 1.0)

@@ -10,3 +10,12 @@ READ_BY_LABEL = """label => {
   while (node && !node.querySelector('input:not([type=hidden])')) node = node.parentElement;
   return node ? node.querySelector('input:not([type=hidden])').value : null;
 }"""
+
+# Mark the text input next to the control labelled `label` with data-probe-box="tag", so that
+# a locator can type into it (`[data-probe-box=tag]`).
+TAG_BY_LABEL = """([label, tag]) => {
+  const l = [...document.querySelectorAll('label')].find(e => e.textContent.trim() === label);
+  let node = l.parentElement;
+  while (node && !node.querySelector('input:not([type=hidden])')) node = node.parentElement;
+  node.querySelector('input:not([type=hidden])').setAttribute('data-probe-box', tag);
+}"""

@@ -434,7 +434,7 @@ class Panels:
                 box.value = v  # type: ignore[misc]  # viser types the setter on a subclass
         self.job_duration.value = s.job_duration_s  # type: ignore[misc]  # viser types the setter on a subclass
         self.api_url.value = s.api_url  # type: ignore[misc]  # viser types the setter on a subclass
-        label = next((k for k, v in controls.SPEEDS.items() if v == s.speed), None)
+        label = controls.speed_label(s.speed)
         if label is not None:
             self.speed.value = label  # type: ignore[misc]  # viser types the setter on a subclass
 

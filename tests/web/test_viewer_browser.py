@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 import pytest
 
-from web.page_probe import READ_BY_LABEL
+from web.page_probe import READ_BY_LABEL, TAG_BY_LABEL
 from web.panels import LOAD_SETTINGS, PRESET_METACHRONAL, SUBMIT_RUN
 
 pytestmark = pytest.mark.browser
@@ -39,12 +39,6 @@ ARGS = [
     "--enable-unsafe-swiftshader",
 ]
 VIEWPORT = {"width": 1280, "height": 800}
-TAG_BY_LABEL = """([label, tag]) => {
-  const l = [...document.querySelectorAll('label')].find(e => e.textContent.trim() === label);
-  let node = l.parentElement;
-  while (node && !node.querySelector('input:not([type=hidden])')) node = node.parentElement;
-  node.querySelector('input:not([type=hidden])').setAttribute('data-test-box', tag);
-}"""
 RECT = """name => {
   const s = document.querySelector(`svg[data-plot=${name}]`);
   if (!s) return null;
@@ -130,7 +124,7 @@ def _type_into(page: Any, label: str, text: str) -> Any:
     """Focus the number box of control `label`, select its text, type `text` at human pace."""
     tag = label.encode().hex()
     page.evaluate(TAG_BY_LABEL, [label, tag])
-    field = page.locator(f"[data-test-box='{tag}']")
+    field = page.locator(f"[data-probe-box='{tag}']")
     field.evaluate("el => { el.focus(); el.select(); }")
     field.press_sequentially(text, delay=KEY_DELAY_MS)
     return field
