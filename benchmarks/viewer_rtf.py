@@ -2,8 +2,9 @@
 (no browser), then the viewer with one headless Chromium (software WebGL, the same cores):
 its real-time factor while streaming at 1x, its stepping rate at "max" (and again with the 3D
 view held, its checkbox off), how often the readouts refresh in the page, how much of the
-page's main thread is taken by long tasks, the input latency of a typed beta (last keystroke
--> applied in the simulation -> shown in the readout) and of a click (Pause / Play -> applied
+page's main thread is taken by long tasks, the input latency of a typed beta (Enter
+-> applied in the simulation -> shown in the readout, and the keystroke prefixes applied), of a
+slider step (key -> applied) and of a click (Pause / Play -> applied
 -> the status line says so), as percentiles. With `--api-jobs N`, the real-time factor again
 while the REST API runs N simulation jobs.
 
@@ -42,6 +43,7 @@ from web.requests import SetParam, SetPlaying
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
         "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]  # fmt: skip
 BETA_BOX, BETA_READOUT = "β (duty factor)", "β (simulation)"
+KEY_DELAY_MS = 120  # a fast typist; typed latency is measured from Enter
 # Page instruments: every keydown and mousedown with its wall time (Date.now(), the clock
 # Python's time.time() reads), and the main thread's long tasks (the browser's own timeline).
 INSTRUMENT = """() => {
@@ -119,34 +121,54 @@ def _window(app: ViewerApp, page: Page, seconds: float) -> dict[str, Any]:
 
 
 def _typed_latency(app: ViewerApp, page: Page, trials: int) -> dict[str, Any]:
-    """Type a beta into its box at full speed and press Enter, `trials` times."""
+    """Type a beta into its box at a fast human pace and press Enter, `trials` times: Enter ->
+    applied -> shown, and how many keystroke prefixes reached the simulation (should be 0)."""
     page.evaluate(TAG_BY_LABEL, [BETA_BOX, "beta"])
     box = page.locator("[data-probe-box='beta']")
     to_sim, to_page, prefixes = [], [], 0
-    values = [0.64, 0.66, 0.62, 0.68, 0.63, 0.67]
+    values = [0.64, 0.66, 0.625, 0.68, 0.635, 0.67]
     for k in range(trials):
         v = values[k % len(values)]
         text, shown = f"{v:g}", f"{v:.4f}"
         page.evaluate(WATCH, [READ_BY_LABEL, BETA_READOUT, shown, "equals"])
         box.evaluate("el => { el.focus(); el.select(); }")
         t_start = time.time()
-        box.press_sequentially(text, delay=0)
+        box.press_sequentially(text, delay=KEY_DELAY_MS)
+        time.sleep(KEY_DELAY_MS / 1000.0)
         box.press("Enter")
         page.wait_for_function("window.__seen !== null", timeout=60_000)
         keys = page.evaluate("() => window.__keys")
-        t_key = [t for key, t in keys if key == text[-1]][-1] / 1000.0  # the value's last key
+        t_enter = [t for key, t in keys if key == "Enter"][-1] / 1000.0
         t_seen = page.evaluate("() => window.__seen") / 1000.0
         t_sim = _applied_after(app, t_start, lambda r, v=v: r == SetParam("beta", v))
         early = [r for t, r in app.applied if t >= t_start and isinstance(r, SetParam)
                  and r.name == "beta" and abs(r.value - v) > 1e-9]  # fmt: skip
         prefixes += len(early)
         if t_sim is not None:
-            to_sim.append(t_sim - t_key)
-        to_page.append(t_seen - t_key)
+            to_sim.append(t_sim - t_enter)
+        to_page.append(t_seen - t_enter)
         page.keyboard.press("Tab")
         time.sleep(0.3)
     return {"to_simulation_s": _pct(to_sim), "to_readout_s": _pct(to_page),
             "prefixes_applied": prefixes}  # fmt: skip
+
+
+def _slider_latency(app: ViewerApp, page: Page, trials: int) -> dict[str, Any]:
+    """Move the beta slider one step with the keyboard (a drag's first value, which waits out
+    the typing check): key -> applied in the simulation."""
+    to_sim = []
+    thumb = page.locator("[role=slider]").first
+    thumb.focus()
+    for k in range(trials):
+        key = "ArrowRight" if k % 2 == 0 else "ArrowLeft"
+        t_start = time.time()
+        thumb.press(key)
+        t_key = [t for name, t in page.evaluate("() => window.__keys") if name == key][-1] / 1e3
+        t_sim = _applied_after(app, t_start, lambda r: isinstance(r, SetParam) and r.name == "beta")
+        if t_sim is not None:
+            to_sim.append(t_sim - t_key)
+        time.sleep(0.6)  # past STREAM_S: each move is a drag's first value
+    return {"to_simulation_s": _pct(to_sim)}
 
 
 def _click_latency(app: ViewerApp, page: Page, trials: int) -> dict[str, Any]:
@@ -206,14 +228,19 @@ def _print(report: dict[str, Any]) -> None:
               f"readouts {w['readout_hz']:4.1f} Hz  long tasks {100 * w['long_task_share']:3.0f}%"
               f" of the page's main thread")  # fmt: skip
         print(f"  status: {w['status']}")
-    for name, lat in (("typed beta", report["typed"]), ("click", report["click"])):
+    lats = (("typed beta", report["typed"]), ("click", report["click"]),
+            ("slider key", report["slider"]))  # fmt: skip
+    for name, lat in lats:
         for what, p in lat.items():
             if isinstance(p, dict):
                 print(
                     f"{name:10s} {what:18s} n {p['n']:2d}  p50 {p['p50'] or 0:6.3f} s  "
                     f"p95 {p['p95'] or 0:6.3f} s  max {p['max'] or 0:6.3f} s"
                 )
-    print(f"typed prefixes applied (0.6 of 0.62 ...): {report['typed']['prefixes_applied']}")
+    print(
+        f"typed prefixes applied (0.6 of 0.62 ...): {report['typed']['prefixes_applied']}"
+        f" (typed at {KEY_DELAY_MS} ms a key, Enter {KEY_DELAY_MS} ms after the last)"
+    )
 
 
 def main() -> None:
@@ -247,6 +274,7 @@ def main() -> None:
             report["streaming_1x"] = _window(app, page, args.seconds)
             report["typed"] = _typed_latency(app, page, args.trials)
             report["click"] = _click_latency(app, page, max(1, args.trials // 4))
+            report["slider"] = _slider_latency(app, page, args.trials)
             page.get_by_role("button", name="max", exact=True).click()
             time.sleep(1.0)
             report["max_speed"] = _window(app, page, args.seconds)

@@ -7,8 +7,10 @@ synchronously with `event.client is None`; those echoes are ignored, so the loop
 requests to itself.
 
 Typed values. A number box sends every keystroke ("0.62" arrives as 0, 0, 0.6, 0.62), so:
-- a value that cannot be one yet (outside the slider's range, or not a number) is not applied
-  (`SliderRange.typed`); the box clamps it itself when the person leaves it;
+- the live sliders (beta, mass, slope) apply a typed number on Enter, or when the person uses
+  another control, never per keystroke; a drag streams (`web.entry.LiveSlider`);
+- in the other boxes a value that cannot be one yet (outside the range, or not a number) is not
+  applied (`SliderRange.typed`); the box clamps it itself when the person leaves it;
 - the loop never writes a value back into a control because a person changed it: the simulation
   takes exactly what the box holds. The slider of a parameter a ramp drives is disabled while
   the ramp runs and not written meanwhile; the loop writes it once when the ramp starts (its
@@ -32,6 +34,7 @@ import viser
 from sim_core.contract import METACHRONAL, TRIPOD, Ramp
 from web import controls
 from web.caption import CAPTION
+from web.entry import DirtyLag, LiveSlider, watch_forms
 from web.export import Settings, load_settings
 from web.jobs import JobView, job_status_html
 from web.paths import DEFAULT_API_URL
@@ -194,13 +197,6 @@ def status_html(status: str) -> str:
     )
 
 
-def _set(name: str) -> Callable[[float], Request]:
-    def make(value: float) -> Request:
-        return SetParam(name, value)
-
-    return make
-
-
 class Panels:
     """Builds the GUI once; the loop thread calls the `show_*`/`sync_*` methods."""
 
@@ -219,13 +215,17 @@ class Panels:
             self.d31 = gui.add_html("<em>Δ31: waiting for leg-1 touchdowns</em>")
             self.return_map = gui.add_html("<em>return map: waiting for touchdowns</em>")
         with gui.add_folder("Controls"):
-            self.sliders = {
-                "beta": self._slider("beta", controls.BETA, _set("beta")),
-                "body_mass_g": self._slider(
-                    "body_mass_g", controls.BODY_MASS_G, _set("body_mass_g")
-                ),
-                "slope_deg": self._slider("slope_deg", controls.SLOPE_DEG, _set("slope_deg")),
+            # a drag streams, a typed number waits for Enter (web/entry.py)
+            lag = DirtyLag()  # one browser page's lag, shared by its boxes
+            self.live = {
+                key: LiveSlider(server, spec, self._live(key), lag)
+                for key, spec in (
+                    ("beta", controls.BETA),
+                    ("body_mass_g", controls.BODY_MASS_G),
+                    ("slope_deg", controls.SLOPE_DEG),
+                )
             }
+            self.sliders = {key: live.slider for key, live in self.live.items()}
             self.beta = self.sliders["beta"]
             # Buttons, not a dropdown: a dropdown opens when Tab reaches it, and Tab out of the
             # slope box then spread the speed list over the plots. The status readout says
@@ -318,6 +318,7 @@ class Panels:
             self.status = gui.add_html(status_html(blank.pop("status")))
             self.readouts = {k: gui.add_text(k, v, disabled=True) for k, v in blank.items()}
         self._last: dict[str, str] = {}
+        self.typed_on_enter = watch_forms(server, list(self.live.values()))
 
     # --- callbacks: queue only -----------------------------------------------------------------
     def _slider(
@@ -343,6 +344,15 @@ class Panels:
 
         handle.on_update(callback)
         return handle
+
+    def _live(self, key: str) -> Callable[[float], None]:
+        """What a live slider does with a value to apply: note the edit, queue the request."""
+
+        def apply(value: float) -> None:
+            self._edited_at[key] = time.monotonic()
+            self.requests.put(SetParam(key, value))
+
+        return apply
 
     def _queue(self, make: Callable[[], Request]) -> Callable[[viser.GuiEvent], None]:
         def callback(event: viser.GuiEvent) -> None:
@@ -454,6 +464,9 @@ class Panels:
     # --- loop thread only ----------------------------------------------------------------------
     def editing(self, key: str, now: float | None = None) -> bool:
         """Whether a person changed control `key` within the last `EDIT_QUIET_S` seconds."""
+        live = self.live.get(key)
+        if live is not None and live.gate.typing:
+            return True  # a typed value waits for Enter in this box
         t = self._edited_at.get(key)
         now = time.monotonic() if now is None else now
         return t is not None and now - t < EDIT_QUIET_S
