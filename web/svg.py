@@ -61,6 +61,11 @@ class Frame:
         """The plot area's lower edge; below it the ticks (and a legend, for taller panels)."""
         return self.h - BOTTOM - self.legend_h
 
+    @property
+    def right(self) -> float:
+        """The plot area's right edge."""
+        return self.w - RIGHT
+
 
 def dots(
     points: Sequence[tuple[float, float]],
@@ -279,20 +284,49 @@ MARK_COLOUR = "#9467bd"
 JOB_COLOUR = "#e377c2"  # a finished job's Delta31 beside the live walk's
 
 
+MARK_ROWS = 3  # label heights in turn
+CHAR_W = 5.0  # px per character of a 9 px sans-serif label (an upper estimate for layout)
+
+
 def _marks(f: Frame, marks: Sequence[Mark]) -> list[str]:
-    """A thin vertical line where the conditions changed, with what changed beside it (three
-    heights in turn, so neighbouring labels do not print over each other)."""
-    out = []
-    for k, m in enumerate(marks):
+    """A thin vertical line where the conditions changed, with what changed beside it.
+
+    Each label takes the first of three rows where it does not print over the previous label
+    there (right of its line, or left of it at the plot's right edge); where none is free (a
+    short ramp's phases on a long history) the line keeps its words as a tooltip and in
+    `data-label`, and the last label printed counts the marks it stands for ("+2").
+    """
+    out: list[str] = []
+    row_end = [-math.inf] * MARK_ROWS
+    last_text: int | None = None  # index in `out` of the latest label printed
+    extra = 0
+    for m in marks:
         x = f.x(m.time_s)
+        label = html.escape(m.label)
         out.append(
-            f'<line class="mark" x1="{x:.1f}" y1="{TOP}" x2="{x:.1f}" y2="{f.bottom}" '
-            f'stroke="{MARK_COLOUR}" stroke-width="0.6" stroke-dasharray="2 2"/>'
+            f'<line class="mark" data-label="{label}" x1="{x:.1f}" y1="{TOP}" x2="{x:.1f}" '
+            f'y2="{f.bottom}" stroke="{MARK_COLOUR}" stroke-width="0.6" stroke-dasharray="2 2">'
+            f"<title>{label}</title></line>"
         )
+        width = CHAR_W * len(m.label)
+        left = x + 2 if x + 2 + width <= f.right else x - 2 - width
+        row = next((r for r in range(MARK_ROWS) if left >= row_end[r]), None)
+        if row is None:
+            extra += 1
+            continue
+        if last_text is not None and extra:
+            out[last_text] = out[last_text].replace("</text>", f" +{extra}</text>")
+        extra = 0
+        row_end[row] = left + width + 4
+        anchor = "start" if left > x else "end"
+        tx = x + 2 if anchor == "start" else x - 2
         out.append(
-            f'<text class="mark" x="{x + 2:.1f}" y="{TOP + 9 + 9 * (k % 3)}" {FONT} '
-            f'fill="{MARK_COLOUR}">{html.escape(m.label)}</text>'
+            f'<text class="mark" x="{tx:.1f}" y="{TOP + 9 + 9 * row}" text-anchor="{anchor}" '
+            f'{FONT} fill="{MARK_COLOUR}">{label}</text>'
         )
+        last_text = len(out) - 1
+    if last_text is not None and extra:
+        out[last_text] = out[last_text].replace("</text>", f" +{extra}</text>")
     return out
 
 

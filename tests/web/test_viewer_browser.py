@@ -396,7 +396,8 @@ def test_a_body_mass_ramp_follows_hold_ramp_ramp_hold(viewer: str, browser: Any)
         plot.wait_for(timeout=30_000)
         assert plot.locator("polyline[data-direction=up]").count() >= 1
         assert plot.locator("polyline[data-direction=down]").count() >= 1
-        marks = page.locator("svg[data-plot=d31] text.mark").all_text_contents()
+        lines = page.locator("svg[data-plot=d31] line.mark")
+        marks = [lines.nth(k).get_attribute("data-label") for k in range(lines.count())]
         assert "ramp mass up" in marks and "ramp over" in marks, marks
         page.get_by_text("ramp drives — body mass (g)").wait_for(timeout=10_000)
         assert errors == [], errors

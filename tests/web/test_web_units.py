@@ -1,6 +1,7 @@
 """The viewer's pure parts: slider mapping, ramp, request queue, buffers, pacing, readouts."""
 
 import math
+import re
 import threading
 
 import numpy as np
@@ -12,7 +13,7 @@ from web.pacing import RateMeter, SimClock
 from web.panels import Readouts, format_readouts
 from web.record import Conditions, D31Conditions, D31Event, d31_since, stance_intervals
 from web.requests import Request, RequestQueue, Reset, SetParam, StartRamp, StopRamp, coalesce
-from web.svg import d31_svg, footfall_svg, n_dots
+from web.svg import CHAR_W, d31_svg, footfall_svg, n_dots
 
 
 def test_sliders_map_to_values_the_core_accepts() -> None:
@@ -309,7 +310,7 @@ def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
 
 
 def test_the_d31_history_marks_what_a_person_changed_and_each_ramp_phase() -> None:
-    from web.record import Conditions, D31Conditions
+    from web.record import Conditions, D31Conditions, Mark
 
     rec = D31Conditions()
     events: list[tuple[float, float]] = []
@@ -336,6 +337,23 @@ def test_the_d31_history_marks_what_a_person_changed_and_each_ramp_phase() -> No
     ]
     svg = d31_svg(events, 12.5, None, "metachronal", rec.marks)
     assert svg.count('<line class="mark"') == 5 and "ramp β up" in svg
+    # a short ramp's phases on a long history: lines all kept, labels never over each other
+    crowded = [Mark(50.0 + 0.1 * k, f"ramp mass phase {k}", False) for k in range(6)]
+    svg = d31_svg([(0.1 * k, 2.0) for k in range(800)], 80.0, None, "other", crowded)
+    assert svg.count('<line class="mark"') == 6
+    texts = re.findall(
+        r'<text class="mark" x="([\d.]+)" y="([\d.]+)" text-anchor="(\w+)"[^>]*>([^<]*)<', svg
+    )
+    assert texts and len(texts) < 6 and texts[-1][3].endswith(f"+{6 - len(texts)}")
+    spans = []
+    for x, y, anchor, text in texts:
+        width = CHAR_W * len(text)
+        left = float(x) if anchor == "start" else float(x) - width
+        spans.append((float(y), left, left + width))
+    for a in spans:
+        for b in spans:
+            if a is not b and a[0] == b[0]:
+                assert a[2] <= b[1] or b[2] <= a[1], (a, b)
     rec.clear()
     assert rec.marks == []
 
