@@ -167,8 +167,7 @@ def _param_overrides(command: str, text: str) -> dict[str, Any] | None:
 def _add_slope_heading(sub: Any) -> None:
     p = sub.add_parser(
         "slope-heading",
-        help="issue 30 point 5: does the body keep its heading on a slope? (per ground and "
-        "no-slip setting)",
+        help="does the body keep its heading on a slope? (per ground and no-slip setting)",
     )
     p.add_argument("--slopes", type=float, nargs="+", default=[-20.0, 20.0])
     p.add_argument("--duration-s", type=float, default=60.0)
@@ -233,7 +232,7 @@ def _cmd_slope_heading(args: argparse.Namespace) -> int:
 def _add_timing_lines(sub: Any) -> None:
     p = sub.add_parser(
         "timing-lines",
-        help="issue 31 step 1: test the two-timing-lines hypothesis (open-loop jumps per leg "
+        help="test the two-timing-lines hypothesis (open-loop jumps per leg "
         "pair, the middle lift-off -> hind touchdown lag, the reduced model's branch)",
     )
     p.add_argument("--betas", type=float, nargs="+", default=[0.62, 0.645, 0.70],
@@ -314,7 +313,7 @@ def _cmd_timing_lines(args: argparse.Namespace) -> int:
 def _add_readings(sub: Any) -> None:
     p = sub.add_parser(
         "readings",
-        help="issue 31 step 2: screen the other readings of the paper's text (8 starts per "
+        help="screen the other readings of the paper's text (8 starts per "
         "beta, settled finals and their gaits, per ground)",
     )
     # the names live with the study (sim_core.studies.readings.READINGS), which loads MuJoCo:

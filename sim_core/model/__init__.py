@@ -3,7 +3,7 @@
 numba's on-disk cache (`cache=True` on the kernels) notices an edit only in the file that
 defines a function, not in a function it calls from another file: after an edit of
 `legs.swing_point`, `controller.plan_block` kept running the old swing curve from its cache
-(measured 2026-11-26: a new option had no effect until the cache was cleared). So the kernels
+(a new option once had no effect until the cache was cleared). So the kernels
 are cached in a folder named after a hash of this package's sources, set here before any of
 them is compiled: an edit anywhere in the package starts a fresh cache.
 """

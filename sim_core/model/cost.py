@@ -4,7 +4,7 @@ that cost, so that a request that could only exhaust the machine is refused at t
 MuJoCo-free (`sim_core.contract` re-exports it): the CLI and the REST API refuse with the same
 numbers and the same sentences (`sim_core.model.spec.cost_problem`). The byte counts were
 measured with tracemalloc on the worker's own path (`server.kinds.execute`, then `json.dumps`)
-at beta 0.66, 1 and 3 s, one and two runs (2026-11-26); they are estimates, rounded up.
+at beta 0.66, 1 and 3 s, one and two runs; they are estimates, rounded up.
 """
 
 from __future__ import annotations

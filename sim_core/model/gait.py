@@ -49,7 +49,7 @@ WINDOW_LAST = 8
 # and gait, the API's run and sweep, the fixed-point finder, the reproduction's finals): the
 # least-squares drift per gait cycle over the last quarter of a run, below this (rad per leg-1
 # touchdown).
-# Measured 2026-11-26 (40 s runs, beta 0.62-0.70, 8 starts each): true attractors drift
+# Measured (40 s runs, beta 0.62-0.70, 8 starts each): true attractors drift
 # <= 0.1 mrad per cycle over 30-40 s, while a tripod start at beta 0.655 still slides off its
 # ghost at 0.4-0.8 mrad per cycle after 30-40 s (and at 2.8 mrad later): the old 5 mrad rule
 # called those settled. A passage slower than 0.2 mrad per cycle moves < 0.1 rad in 500
@@ -65,7 +65,7 @@ SETTLED_MIN_TAIL = 40
 HEADING_KEPT_DEG = 15.0
 # What a sound run looks like, for the warnings a result carries (`run_warnings`): at the
 # defaults (beta 0.58-0.75, both gaits, 5 s) the measured duty factor is 0.003-0.008 below the
-# commanded beta and feet land at 1.009-1.018 of their swing (measured 2026-11-25).
+# commanded beta and feet land at 1.009-1.018 of their swing (measured).
 DUTY_TOLERANCE = 0.02
 LANDING_BAND = (0.9, 1.1)
 # stance feet leaving and pressing in again, per touchdown: up to 1.3 on today's contact and

@@ -18,7 +18,7 @@ from sim_core.model.gait import TWO_PI
 from sim_core.model.params import Integrator, ModelParams, step_problem
 
 # Body mass: the legs are position-servoed and carry any load, so the model "walks" at ~3.0
-# cm/s from 1 ug to 30 g (measured 2026-11-25, 1 s runs at beta 0.66): the mass does not stop
+# cm/s from 1 ug to 30 g (measured in 1 s runs at beta 0.66): the mass does not stop
 # an unphysical insect, the bounds must. Below 0.5 g the body would weigh less than its own
 # six legs (6 x 0.11 g = 0.66 g, Table I); the top is ten times the paper's 3 g. The paper's
 # Fig. 9 ramps 1-6 g. The CLI and the REST API refuse with this range and this reason.
@@ -248,7 +248,7 @@ INSECT_WORDS: dict[str, str] = {
 }
 
 # Physical sanity, checked every control period (`guard.guard_codes`), each from what sound runs
-# do (3 s at slopes -30/0/+30 deg, beta 0.56-0.80, 1-12 g, Delta31 1.9 and 3.0; 2026-11-26):
+# do (3 s at slopes -30/0/+30 deg, beta 0.56-0.80, 1-12 g, Delta31 1.9 and 3.0):
 # - left_ground: the lowest coxa attachment higher above the floor than a leg reaches
 #   (`leg_reach`): no foot can touch, a geometric fact, no margin needed (sound runs keep the
 #   body centre at 6.6-6.9 mm; the reach is 12.95 mm).

@@ -11,5 +11,5 @@ version did not, or the version moved but the committed numbers did not.
 
 from __future__ import annotations
 
-# 1: the physics of 2026-11-28 (main at 1e3c8fb), when the key stopped hashing the sources
+# 1: the physics at commit 1e3c8fb, when the key stopped hashing the sources
 PHYSICS_VERSION = "1"

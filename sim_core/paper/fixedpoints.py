@@ -53,7 +53,7 @@ from sim_core.paper.returnmap import RETURN_MAP_SKIP, initial_values
 
 # Settled finals closer than this (rad) are one attractor: 10x the spread of a settled tail
 # (1-4 mrad measured) and 4x below the closest pair of distinct states seen (2.12 / 2.27 at
-# beta 0.62, measured 2026-11-26).
+# beta 0.62).
 CLUSTER_TOL = 0.05
 # A slowest passage counts as a ghost when Delta31 moves less than this per cycle there (the
 # old smoothed-map rule, GHOST_DRIFT in `analysis`) and the run later leaves it by > 0.1 rad.

@@ -13,7 +13,7 @@ Two checks at each beta:
   put to the finder's own test of an attractor: runs from `FinderConfig.kick_rad` below and
   above it; if neither comes back within `MATCH` it is listed as "not an attractor (kicks slide
   off)", not counted as missed (a settled stretch of a slow saddle passage, or a state whose
-  basin is not a neighbourhood in Delta31: 4.580 at 0.655, measured 2026-11-26).
+  basin is not a neighbourhood in Delta31: 4.580 at 0.655).
 
 Everything goes through the result cache, so the finder's own searches are read back when they
 were run before (`reproduce` at the same betas).
