@@ -5,8 +5,9 @@ Adding a kind is a new module and its name in `NAMES` (docs/API.md, "Adding a jo
 Shared pieces: `bounds` (ranges as numbers and as words), `base` (the request bases and `Kind`),
 `common` (the runners' and figures' helpers), `finder` (what the finder kinds share).
 
-Importing this package loads neither MuJoCo nor matplotlib: runners import the core when they
-run (in a worker process), figures import matplotlib when they draw.
+Importing this package loads neither MuJoCo nor matplotlib: the kinds `import sim_core`, whose
+names load on first use (sim_core/__init__.pyi, typed for mypy), so MuJoCo loads when a runner
+first calls the core (in a worker process); figures import matplotlib when they draw.
 """
 
 from __future__ import annotations

@@ -9,9 +9,9 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 
 from pydantic import Field, ValidationInfo, field_validator
 
+import sim_core
 from server.kinds.base import Kind, Progress
 from server.kinds.bounds import SWEEP_RANGES, in_range, range_text
-from server.kinds.common import core
 from server.kinds.surface import Held
 from sim_core.contract import AXIS_PARAM, AtlasAxis, SurfaceConfig
 
@@ -72,7 +72,7 @@ class AtlasJob(Held):
 def run(job: AtlasJob, progress: Progress, nthread: int) -> dict[str, Any]:
     """The atlas by the core's `surface_atlas` in this worker (a private cache), with one flat
     row per (beta, value)."""
-    sim = core()
+    sim = sim_core
     at = sim.Condition(job.body_mass_g, job.slope_deg)
     atlas = sim.surface_atlas(
         job.axis, sorted(set(job.betas)), sorted(set(job.values)), config=job.config(),

@@ -9,7 +9,6 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from server.kinds.base import BetaRange, Kind, Progress
 from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
-from server.kinds.common import core
 from server.kinds.finder import (
     FINDER_COLUMNS,
     FINDER_DEFAULTS,
@@ -93,7 +92,7 @@ def run(job: BifurcationJob, progress: Progress, nthread: int) -> dict[str, Any]
     uses) at every beta of the grid; its typed output (`FinderOutput`) plus flat rows."""
     cells = [Cell(beta=b, body_mass_g=job.body_mass_g, slope_deg=job.slope_deg)
              for b in job.beta_range.values()]  # fmt: skip
-    found = find(cells, job.finder_config(), finder_runner(core(), job, progress, nthread))
+    found = find(cells, job.finder_config(), finder_runner(job, progress, nthread))
     out = FinderOutput(source="REST bifurcation job: the settled fixed-point finder",
                        config=asdict(job.finder_config()), cells=found)  # fmt: skip
     return {"kind": "bifurcation", "finder": out.model_dump(mode="json"),

@@ -1,5 +1,5 @@
-"""What the kinds' runners and figures share: the lazily imported core, the failure message and
-its advice, a run's summary row, and the Delta31 axis.
+"""What the kinds' runners and figures share: the failure message and its advice, a run's
+summary row, and the Delta31 axis.
 
 Runs only inside worker processes (runners) or request threads (figures); importing it loads
 neither MuJoCo nor matplotlib.
@@ -36,15 +36,6 @@ SUMMARY_COLUMNS = (
     *(f.name for f in fields(RunMeasures) if f.name not in SUMMARY_ONLY),
     "n_touchdowns",
 )
-
-
-def core() -> Any:
-    """Import the core lazily: the API process never needs it to validate or queue a job."""
-    try:
-        import sim_core
-    except Exception as exc:  # an unfinished or broken core must fail jobs, not the worker
-        raise JobFailed(f"sim_core could not be imported: {type(exc).__name__}: {exc}") from exc
-    return sim_core
 
 
 def advice(job: Physics, failures: list[RunFailure]) -> str:

@@ -6,6 +6,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
+import sim_core
 from server.kinds.base import Physics, Progress
 from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
 from sim_core.contract import Cell, CellResult, FinderConfig, Probe
@@ -60,7 +61,7 @@ class Finder(Physics):
 FinderRun = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
 
 
-def finder_runner(core: Any, job: Finder, progress: Progress, nthread: int) -> FinderRun:
+def finder_runner(job: Finder, progress: Progress, nthread: int) -> FinderRun:
     """The finder's `run`: each round as one `simulate_batch` (this worker's threads), with
     the job's numerics; progress as the share of the job's estimated simulated time done."""
     budget = max(job.total_sim_seconds(), 1e-9)
@@ -69,10 +70,10 @@ def finder_runner(core: Any, job: Finder, progress: Progress, nthread: int) -> F
     def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
         nonlocal done
         specs = [
-            core.RunSpec(**p.spec_fields(), **c.spec_fields(), **job.numerics_fields())
+            sim_core.RunSpec(**p.spec_fields(), **c.spec_fields(), **job.numerics_fields())
             for c, p in batch
         ]
-        results = core.simulate_batch(specs, job.model_params(), nthread=nthread)
+        results = sim_core.simulate_batch(specs, job.model_params(), nthread=nthread)
         ran = [
             r.measures.duration_s or p.duration_s for (_, p), r in zip(batch, results, strict=True)
         ]

@@ -7,6 +7,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field, ValidationInfo, field_validator
 
+import sim_core
 from server.kinds.base import Kind, Physics, Progress, run_cost_problem
 from server.kinds.bounds import (
     BETA_BOUNDS,
@@ -18,7 +19,7 @@ from server.kinds.bounds import (
     in_range,
     range_text,
 )
-from server.kinds.common import core, d31_axis, failed
+from server.kinds.common import d31_axis, failed
 from sim_core.contract import RampParam
 
 if TYPE_CHECKING:
@@ -121,7 +122,7 @@ class HysteresisJob(Physics):
 def run(job: HysteresisJob, progress: Progress, nthread: int) -> dict[str, Any]:
     """Fig. 6a / 9: one run ramping `parameter` start -> turn -> start; Delta31 against the
     value at every leg-1 touchdown, and the transitions on each leg of the ramp."""
-    sim = core()
+    sim = sim_core
     spec = sim.RunSpec(**job.run_fields())
     res = sim.sweep(
         spec,

@@ -15,7 +15,7 @@ from server.kinds.bounds import (
     bounded,
     d31_list,
 )
-from server.kinds.common import core, d31_axis
+from server.kinds.common import d31_axis
 from server.kinds.run import simulate_each
 from sim_core.contract import RETURN_MAP_SKIP, return_map_from_series
 
@@ -41,7 +41,7 @@ def run(job: ReturnMapJob, progress: Progress, nthread: int) -> dict[str, Any]:
     """The paper's Fig. 7 construction, the core's own (`return_map_from_series`, as in
     `reproduce`): Delta31 at touchdown n against touchdown n + lag, the first
     RETURN_MAP_SKIP touchdowns of each run dropped; `n` counts from the run's first touchdown."""
-    results = simulate_each(core(), job, progress, nthread)
+    results = simulate_each(job, progress, nthread)
     records: list[dict[str, Any]] = []
     for d0, res in zip(job.d31_init, results, strict=True):
         rm = return_map_from_series(job.beta, [res.events.d31], lag=job.lag)

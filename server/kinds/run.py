@@ -7,11 +7,11 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field
 
+import sim_core
 from server.kinds.base import Kind, Progress, Timed
 from server.kinds.bounds import BETA_BOUNDS, BETA_DEFAULT, D31, bounded, core_default, d31_list
 from server.kinds.common import (
     SUMMARY_COLUMNS,
-    core,
     d31_axis,
     failed,
     summary_row,
@@ -51,14 +51,12 @@ class RunJob(Timed):
 
 
 def simulate_each(
-    core: Any, job: RunJob | ReturnMapJob, progress: Progress, nthread: int
-) -> list[Any]:
+    job: RunJob | ReturnMapJob, progress: Progress, nthread: int
+) -> list[sim_core.RunResult]:
     """One run per d31_init of a `run` or `return_map` job, one batch call; `JobFailed` naming
     every run that failed."""
-    specs = [core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
-    results: list[Any] = core.simulate_batch(
-        specs, job.model_params(), nthread=nthread, progress=progress
-    )
+    specs = [sim_core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
+    results = sim_core.simulate_batch(specs, job.model_params(), nthread=nthread, progress=progress)
     failures = [
         (f"run {i + 1} of {len(results)} (d31_init = {d:.4g})", r.failure)
         for i, (d, r) in enumerate(zip(job.d31_init, results, strict=True))
@@ -70,7 +68,7 @@ def simulate_each(
 
 
 def run(job: RunJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    results = simulate_each(core(), job, progress, nthread)
+    results = simulate_each(job, progress, nthread)
     runs = [r.to_dict() if job.include_series else r.summary() for r in results]
     records = [summary_row(d, r.summary()) for d, r in zip(job.d31_init, results, strict=True)]
     out: dict[str, Any] = {"kind": "run", "runs": runs, "records": records,

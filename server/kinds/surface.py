@@ -8,9 +8,9 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field, ValidationInfo, field_validator
 
+import sim_core
 from server.kinds.base import BetaRange, Kind, Physics, Progress
 from server.kinds.bounds import bounded, core_bounds, core_default
-from server.kinds.common import core
 from sim_core.contract import SurfaceConfig, pin_problem, surface_grid
 
 if TYPE_CHECKING:
@@ -90,7 +90,7 @@ def run(job: SurfaceJob, progress: Progress, nthread: int) -> dict[str, Any]:
     """The surface by the core's `drift_surface`, in this worker (a private cache: the job's
     probes are its own), refined (`refine`) as `insect-gait surface` refines it, with flat
     rows: one per probe, zero and near-zero band."""
-    s = core().drift_surface(
+    s = sim_core.drift_surface(
         job.beta_range.values(), config=job.config(), params=job.model_params(),
         body_mass_g=job.body_mass_g, slope_deg=job.slope_deg, numerics=job.spec_numerics(),
         refine=job.refine, progress=False, on_progress=lambda x: progress(min(0.99, x)),

@@ -5,11 +5,11 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Literal
 
+import sim_core
 from server.kinds.base import BetaRange, Kind, Progress, Timed
 from server.kinds.bounds import D31, core_default, d31_list
 from server.kinds.common import (
     SUMMARY_COLUMNS,
-    core,
     d31_axis,
     failed,
     summary_row,
@@ -32,12 +32,12 @@ class SweepJob(Timed):
 
 
 def _grid(
-    core: Any, job: SweepJob, progress: Progress, nthread: int
-) -> list[tuple[float, float, Any]]:
+    job: SweepJob, progress: Progress, nthread: int
+) -> list[tuple[float, float, sim_core.RunResult]]:
     """Every (beta, d31_init) of the job's grid as independent runs, one batch call."""
     pairs = [(b, d) for b in job.beta_range.values() for d in job.d31_init]
-    specs = core.spec_grid(job.beta_range.values(), job.d31_init, **job.run_fields())
-    results = core.simulate_batch(specs, job.model_params(), nthread=nthread, progress=progress)
+    specs = sim_core.spec_grid(job.beta_range.values(), job.d31_init, **job.run_fields())
+    results = sim_core.simulate_batch(specs, job.model_params(), nthread=nthread, progress=progress)
     failures = [
         (f"beta {b:.4g}, d31_init {d:.4g}", r.failure)
         for (b, d), r in zip(pairs, results, strict=True)
@@ -51,7 +51,7 @@ def _grid(
 def run(job: SweepJob, progress: Progress, nthread: int) -> dict[str, Any]:
     """Final Delta31 and gait for every beta of the grid and every initial Delta31."""
     records = []
-    grid = _grid(core(), job, progress, nthread)
+    grid = _grid(job, progress, nthread)
     for beta, d0, res in grid:
         row = summary_row(d0, res.summary())
         row["beta"] = beta
