@@ -11,8 +11,8 @@ from typing import Any, get_args
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE
-from sim_core.model.gait import TWO_PI
-from sim_core.model.params import INTEGRATORS, ModelParams
+from sim_core.cli.fields import add_field_flags, given
+from sim_core.model.params import ModelParams
 from sim_core.model.spec import INSECT_WORDS, RunSpec, cost_problem, numerics_problem
 
 # `run` without --duration-s runs until settled: a first command should name a gait. The settled
@@ -27,50 +27,40 @@ def _add_run(sub: Any) -> None:
     p = sub.add_parser(
         "run",
         help="simulate one walk and report Delta31 and the gait",
-        description="Simulate one walk. Values are checked against sim_core.contract, the same "
-        "rules and words as the REST API's.",
-        formatter_class=argparse.ArgumentDefaultsHelpFormatter,
+        description="Simulate one walk. Every option is a field of the run's spec (RunSpec, "
+        "sim_core.contract), checked by the same rules and in the same words as the REST "
+        "API's; --ground picks the model's ground.",
     )
-    p.add_argument("--beta", type=float, required=True, default=argparse.SUPPRESS,
-                   help="duty factor, 0.5 < beta < 1")  # fmt: skip
-    p.add_argument("--d31-init", type=float, default=TWO_PI / 3.0,
-                   help="initial Delta31 (phi3 - phi1), rad, 0..2 pi (default 2 pi/3 = "
-                   "%(default).3f)")  # fmt: skip
-    p.add_argument("--duration-s", type=float, default=argparse.SUPPRESS,
-                   help=f"simulated time, s, (0, 600] (default: until settled: the run stops "
-                   f"at {SETTLE_TRY_S:g} s if Delta31 has settled by the settled rule, else "
-                   f"goes on to {SETTLE_CAP_S:g} s)")  # fmt: skip
+    d = ModelParams()
+    names = add_field_flags(
+        p,
+        RunSpec,
+        required=("beta",),
+        defaults={
+            "duration_s": f"until settled: the run stops at {SETTLE_TRY_S:g} s if Delta31 has "
+            f"settled by the settled rule, else goes on to {SETTLE_CAP_S:g} s",
+            "stop_if_settled_s": f"{SETTLE_TRY_S:g} without --duration-s, else none",
+        },
+        null_means={
+            "integrator": f"the model's, {d.integrator}",
+            "dt_s": f"the model's, {d.dt:g}",
+            "control_dt_s": f"the model's, {d.control_dt:g}",
+            "pin_d31": "off (the paper's model)",
+        },
+    )
     p.add_argument("--ground", choices=GROUNDS, default=GROUNDS[0],
                    help="constraint: today's default contact; penalty: the paper's ground "
-                   "(keeps walking on slopes, docs/MODEL.md)")  # fmt: skip
-    p.add_argument("--body-mass-g", type=float, default=3.0, help="body mass, g, 0.5..30")
-    p.add_argument("--slope-deg", type=float, default=0.0, help="ground slope, deg, uphill +")
-    p.add_argument("--integrator", choices=INTEGRATORS, default=None,
-                   help="MuJoCo integrator; None = implicitfast")  # fmt: skip
-    p.add_argument("--dt-s", type=float, default=None,
-                   help="physics timestep, s; None = the default 5e-5")  # fmt: skip
-    p.add_argument("--control-dt-s", type=float, default=None,
-                   help="controller period, s (>= dt); None = 5e-4")  # fmt: skip
-    p.add_argument("--no-phase-reset", action="store_true", help="disable eq. 4")
+                   "(keeps walking on slopes, docs/MODEL.md) (default: %(default)s)")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(func=_cmd_run)
+    p.set_defaults(func=_cmd_run, run_fields=names)
 
 
 def _spec_from_args(args: argparse.Namespace) -> RunSpec:
-    duration_s = getattr(args, "duration_s", None)  # absent: until settled
-    until_settled = duration_s is None
-    return RunSpec(
-        beta=args.beta,
-        d31_init=args.d31_init,
-        duration_s=SETTLE_CAP_S if until_settled else duration_s,
-        stop_if_settled_s=SETTLE_TRY_S if until_settled else None,
-        body_mass_g=args.body_mass_g,
-        slope_deg=args.slope_deg,
-        phase_reset=not args.no_phase_reset,
-        integrator=args.integrator,
-        dt_s=args.dt_s,
-        control_dt_s=args.control_dt_s,
-    )
+    fields = given(args, args.run_fields)
+    if "duration_s" not in fields:  # until settled: a first command names a gait
+        fields["duration_s"] = SETTLE_CAP_S
+        fields.setdefault("stop_if_settled_s", SETTLE_TRY_S)
+    return RunSpec(**fields)
 
 
 def _validation_message(exc: ValidationError) -> str:

@@ -75,10 +75,12 @@ class RunSpec(BaseModel):
     )
     slope_deg: float = Field(0.0, gt=-90.0, lt=90.0, description="ground slope, deg, uphill +")
     phase_reset: bool = Field(True, description="phase resetting at touchdown (eq. 4)")
-    integrator: Integrator | None = Field(None, description="MuJoCo integrator; None = default")
+    integrator: Integrator | None = Field(None, description="MuJoCo integrator; null: the model's")
     dt_s: float | None = Field(None, gt=0.0, le=1e-2, description="physics timestep, s")
     control_dt_s: float | None = Field(None, gt=0.0, le=1e-2, description="controller period, s")
-    phi1_init: float = Field(0.0, ge=0.0, le=TWO_PI, description="initial phase of leg 1, rad")
+    phi1_init: float = Field(
+        0.0, ge=0.0, le=TWO_PI, description="initial phase of leg 1, rad in [0, 2 pi]"
+    )
     stop_if_settled_s: float | None = Field(
         None,
         gt=0.0,
@@ -94,7 +96,7 @@ class RunSpec(BaseModel):
         lt=TWO_PI,
         description="a measuring device, not the paper's model: hold Delta31 = Delta53 near "
         "this value, rad in [0, 2 pi), by a weak pin on the fore and hind oscillators (the "
-        "drift surface, sim_core.paper.surface); null: off (the paper's model)",
+        "drift surface, sim_core.paper.surface)",
     )
     pin_gain_per_s: float = Field(
         PIN_GAIN_PER_S,

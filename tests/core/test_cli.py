@@ -3,6 +3,7 @@
 import json
 import subprocess
 import sys
+from typing import Any
 
 import pytest
 
@@ -104,3 +105,31 @@ def test_the_products_help_lists_the_users_commands_and_the_lab_keeps_the_studie
     for name in studies:
         assert f"    {name} " not in product and f"    {name} " in lab, name
     assert "issue 3" not in product and "insect-gait-lab --help" in product
+
+
+def test_run_help_lists_every_runspec_field_with_its_default_from_the_model() -> None:
+    import argparse
+
+    from pydantic import BaseModel, Field
+
+    from sim_core.cli.fields import add_field_flags, flag
+    from sim_core.contract import RunSpec
+
+    parser: Any = build_parser()
+    sub = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    text = " ".join(sub.choices["run"].format_help().split())
+    for name, info in RunSpec.model_fields.items():
+        assert f"{flag(name)} " in text, name
+        assert " ".join((info.description or "").split())[:40] in text, name
+    assert "(default: 2 pi/3 = 2.094)" in text and "--no-phase-reset" in text
+
+    # a new field is a new flag with its words and default, and only given flags reach it
+    class Toy(BaseModel):
+        gain_per_s: float = Field(12.5, gt=0, description="a gain, 1/s (0, inf)")
+        on: bool = True
+
+    p = argparse.ArgumentParser()
+    names = add_field_flags(p, Toy)
+    assert "a gain, 1/s (0, inf) (default: 12.5)" in " ".join(p.format_help().split())
+    assert vars(p.parse_args([])) == {} and names == ["gain_per_s", "on"]
+    assert vars(p.parse_args(["--gain-per-s", "3", "--no-on"])) == {"gain_per_s": 3.0, "on": False}
