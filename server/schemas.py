@@ -6,6 +6,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, Field
 
+from server.kinds import ResultSpec
 from server.status import StatusValue
 
 
@@ -38,6 +39,14 @@ class Job(BaseModel):
     )
     spec: dict[str, Any]
     links: JobLinks
+
+
+class JobResult(BaseModel):
+    """A done job's result as JSON: its kind's result model (`server.kinds.<kind>`)."""
+
+    job_id: str
+    kind: str
+    result: ResultSpec
 
 
 class JobPage(BaseModel):

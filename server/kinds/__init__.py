@@ -18,7 +18,7 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeAlias, Union
 
 from pydantic import Field, TypeAdapter
 
-from server.kinds.base import JobFailed, Kind, Physics, Progress
+from server.kinds.base import JobFailed, Kind, Physics, Progress, Result
 from server.kinds.bounds import tidy
 
 # The registry: one line per kind, in the order the request union (and so OpenAPI) lists them.
@@ -52,6 +52,12 @@ else:
     AnyJob = Union[tuple(k.model for k in KINDS.values())]  # noqa: UP007
 JobSpec = Annotated[AnyJob, Field(discriminator="kind")]
 JOB_SPEC_ADAPTER: TypeAdapter[AnyJob] = TypeAdapter(JobSpec)
+# A result: one of the kinds' result models, told apart by `kind` (the schema in OpenAPI).
+if TYPE_CHECKING:
+    AnyResult: TypeAlias = Result
+else:
+    AnyResult = Union[tuple(k.result for k in KINDS.values())]  # noqa: UP007
+ResultSpec = Annotated[AnyResult, Field(discriminator="kind")]
 
 __all__ = [
     "JOB_SPEC_ADAPTER",
@@ -60,17 +66,21 @@ __all__ = [
     "NAMES",
     "RECORD_COLUMNS",
     "AnyJob",
+    "AnyResult",
     "JobFailed",
     "JobSpec",
     "Kind",
+    "ResultSpec",
     "execute",
 ]
 
 
 def execute(job: AnyJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    """Run `job` by its kind's runner (in a worker process); the result checked finite and its
-    floats tidied."""
-    result = KINDS[job.kind_name()].run(job, progress, nthread)
+    """Run `job` by its kind's runner (in a worker process); the result (its kind's `Result`)
+    as JSON-able data, a top-level null left out, checked finite and its floats tidied."""
+    outcome = KINDS[job.kind_name()].run(job, progress, nthread)
+    data = outcome.model_dump(mode="json")  # keeps NaN and inf as floats: checked below
+    result = {k: v for k, v in data.items() if v is not None}
     _check_finite(result)
     out: dict[str, Any] = _tidy(result)
     return out

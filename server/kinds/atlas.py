@@ -10,10 +10,10 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 from pydantic import Field, ValidationInfo, field_validator
 
 import sim_core
-from server.kinds.base import Kind, Progress
+from server.kinds.base import Kind, Progress, Result
 from server.kinds.bounds import SWEEP_RANGES, in_range, range_text
 from server.kinds.surface import Held
-from sim_core.contract import AXIS_PARAM, AtlasAxis, SurfaceConfig
+from sim_core.contract import AXIS_PARAM, AtlasAxis, SurfaceAtlas, SurfaceConfig
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -69,7 +69,14 @@ class AtlasJob(Held):
         return len(self.betas) * len(self.values) * len(self.config().d31_grid)
 
 
-def run(job: AtlasJob, progress: Progress, nthread: int) -> dict[str, Any]:
+class AtlasJobResult(Result):
+    """An atlas job's result: the core's typed atlas and one row per (beta, value)."""
+
+    kind: Literal["atlas"] = "atlas"
+    atlas: SurfaceAtlas = Field(description="the gait atlas read from drift surfaces")
+
+
+def run(job: AtlasJob, progress: Progress, nthread: int) -> AtlasJobResult:
     """The atlas by the core's `surface_atlas` in this worker (a private cache), with one flat
     row per (beta, value)."""
     sim = sim_core
@@ -85,7 +92,7 @@ def run(job: AtlasJob, progress: Progress, nthread: int) -> dict[str, Any]:
          "unresolved": p.unresolved}
         for p in atlas.points
     ]  # fmt: skip
-    return {"kind": "atlas", "atlas": atlas.model_dump(mode="json"), "records": rows}
+    return AtlasJobResult(atlas=atlas, records=rows)
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
@@ -105,4 +112,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.legend(fontsize="small", loc="best")
 
 
-KIND = Kind(model=AtlasJob, run=run, columns=COLUMNS, draw=draw)
+KIND = Kind(model=AtlasJob, run=run, result=AtlasJobResult, columns=COLUMNS, draw=draw)

@@ -274,8 +274,25 @@ class BetaRange(Strict):
         return [tidy(self.start + (self.stop - self.start) * i / (n - 1)) for i in range(n)]
 
 
+# One flat row of a kind's `records` (its `columns`): what the CSV export and the figure read.
+Record = dict[str, float | int | str | bool | None]
+
+
+class Result(BaseModel):
+    """What a kind's runner returns: the `result` of GET /v1/jobs/{id}/result, one model per
+    kind (tagged by `kind`), so the result's schema is in OpenAPI and mypy follows it from the
+    runner to the route. A top-level null (an optional table left out) is not stored."""
+
+    model_config = ConfigDict(extra="forbid")
+
+    records: list[Record] = Field(
+        description="one flat row per run, grid point or sample (the kind's columns; the CSV "
+        "export with table=records)"
+    )
+
+
 J = TypeVar("J", bound=Physics)
-Runner = Callable[[J, Progress, int], dict[str, Any]]
+Runner = Callable[[J, Progress, int], Result]
 Draw = Callable[["Figure", dict[str, Any], dict[str, Any]], None]
 
 
@@ -284,10 +301,11 @@ class Kind(Generic[J]):
     """One job kind, as its module `server/kinds/<name>.py` exports it (`KIND`).
 
     model: the request model (a `Physics` subclass with `kind: Literal["<name>"]`).
-    run: `run(job, progress, nthread) -> result`, called in a worker process only: a JSON-able
-        dict with a `records` list of flat rows (the CSV export and the figure read those) plus
-        whatever else the kind keeps; it raises `JobFailed` rather than return numbers from a
+    run: `run(job, progress, nthread) -> result`, called in a worker process only: the kind's
+        `Result` (a `records` list of flat rows, which the CSV export and the figure read, plus
+        whatever else the kind keeps); it raises `JobFailed` rather than return numbers from a
         failed simulation.
+    result: the kind's `Result` model (its schema is the result's in OpenAPI).
     columns: the columns of `records`, so that an empty table still has its header.
     draw: `draw(fig, spec, result)` draws the kind's figure on a matplotlib Figure (6.4 x 4.8
         in unless it resizes it), from the stored spec and result.
@@ -295,6 +313,7 @@ class Kind(Generic[J]):
 
     model: type[J]
     run: Runner[J]
+    result: type[Result]
     columns: tuple[str, ...]
     draw: Draw
 

@@ -7,7 +7,9 @@ import math
 from dataclasses import asdict
 from typing import TYPE_CHECKING, Any, Literal
 
-from server.kinds.base import BetaRange, Kind, Progress
+from pydantic import Field
+
+from server.kinds.base import BetaRange, Kind, Progress, Result
 from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
 from server.kinds.finder import (
     FINDER_COLUMNS,
@@ -87,7 +89,14 @@ class BifurcationJob(Finder):
         )  # fmt: skip
 
 
-def run(job: BifurcationJob, progress: Progress, nthread: int) -> dict[str, Any]:
+class BifurcationJobResult(Result):
+    """A bifurcation job's result: the finder's typed output and one row per point."""
+
+    kind: Literal["bifurcation"] = "bifurcation"
+    finder: FinderOutput = Field(description="the settled fixed-point finder's output")
+
+
+def run(job: BifurcationJob, progress: Progress, nthread: int) -> BifurcationJobResult:
     """Fig. 8 from settled walking: the fixed-point finder (`find`, the function `reproduce`
     uses) at every beta of the grid; its typed output (`FinderOutput`) plus flat rows."""
     cells = [Cell(beta=b, body_mass_g=job.body_mass_g, slope_deg=job.slope_deg)
@@ -95,8 +104,7 @@ def run(job: BifurcationJob, progress: Progress, nthread: int) -> dict[str, Any]
     found = find(cells, job.finder_config(), finder_runner(job, progress, nthread))
     out = FinderOutput(source="REST bifurcation job: the settled fixed-point finder",
                        config=asdict(job.finder_config()), cells=found)  # fmt: skip
-    return {"kind": "bifurcation", "finder": out.model_dump(mode="json"),
-            "records": finder_rows(found)}  # fmt: skip
+    return BifurcationJobResult(finder=out, records=finder_rows(found))
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
@@ -105,4 +113,6 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.grid(alpha=0.3)
 
 
-KIND = Kind(model=BifurcationJob, run=run, columns=FINDER_COLUMNS, draw=draw)
+KIND = Kind(
+    model=BifurcationJob, run=run, result=BifurcationJobResult, columns=FINDER_COLUMNS, draw=draw
+)

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from pydantic import Field, ValidationInfo, field_validator
 
 import sim_core
-from server.kinds.base import Kind, Physics, Progress, run_cost_problem
+from server.kinds.base import Kind, Physics, Progress, Result, run_cost_problem
 from server.kinds.bounds import (
     BETA_BOUNDS,
     BETA_DEFAULT,
@@ -119,7 +119,20 @@ class HysteresisJob(Physics):
         return out
 
 
-def run(job: HysteresisJob, progress: Progress, nthread: int) -> dict[str, Any]:
+class HysteresisJobResult(Result):
+    """A hysteresis job's result: Delta31 at every leg-1 touchdown against the ramped value."""
+
+    kind: Literal["hysteresis"] = "hysteresis"
+    parameter: RampParam = Field(description="the ramped parameter")
+    start: float = Field(description="its value at the start and the end")
+    turn: float = Field(description="its value at the turn")
+    summary: dict[str, Any] = Field(
+        description="transitions on each leg of the ramp, the loop's width and whether it is a "
+        "hysteresis loop (the core's sweep summary)"
+    )
+
+
+def run(job: HysteresisJob, progress: Progress, nthread: int) -> HysteresisJobResult:
     """Fig. 6a / 9: one run ramping `parameter` start -> turn -> start; Delta31 against the
     value at every leg-1 touchdown, and the transitions on each leg of the ramp."""
     sim = sim_core
@@ -141,14 +154,10 @@ def run(job: HysteresisJob, progress: Progress, nthread: int) -> dict[str, Any]:
         for t, v, d in zip(res.times_s, res.values, res.d31, strict=True)
     ]
     progress(1.0)
-    return {
-        "kind": "hysteresis",
-        "parameter": res.parameter,
-        "start": job.start,
-        "turn": job.turn,
-        "summary": res.summary,
-        "records": records,
-    }
+    return HysteresisJobResult(
+        parameter=job.parameter, start=job.start, turn=job.turn, summary=res.summary,
+        records=records,
+    )  # fmt: skip
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
@@ -173,4 +182,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.grid(alpha=0.3)
 
 
-KIND = Kind(model=HysteresisJob, run=run, columns=COLUMNS, draw=draw)
+KIND = Kind(model=HysteresisJob, run=run, result=HysteresisJobResult, columns=COLUMNS, draw=draw)

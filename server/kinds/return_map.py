@@ -5,7 +5,9 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Literal
 
-from server.kinds.base import Kind, Progress, Timed
+from pydantic import Field
+
+from server.kinds.base import Kind, Progress, Result, Timed
 from server.kinds.bounds import (
     BETA_BOUNDS,
     BETA_DEFAULT,
@@ -37,7 +39,16 @@ class ReturnMapJob(Timed):
         return len(self.d31_init)
 
 
-def run(job: ReturnMapJob, progress: Progress, nthread: int) -> dict[str, Any]:
+class ReturnMapJobResult(Result):
+    """A return_map job's result: the pairs as records, with each run's summary."""
+
+    kind: Literal["return_map"] = "return_map"
+    beta: float = Field(description="the duty factor of every run")
+    lag: int = Field(description="touchdowns between the two members of a pair")
+    runs: list[dict[str, Any]] = Field(description="each run's summary (RunResult.summary)")
+
+
+def run(job: ReturnMapJob, progress: Progress, nthread: int) -> ReturnMapJobResult:
     """The paper's Fig. 7 construction, the core's own (`return_map_from_series`, as in
     `reproduce`): Delta31 at touchdown n against touchdown n + lag, the first
     RETURN_MAP_SKIP touchdowns of each run dropped; `n` counts from the run's first touchdown."""
@@ -49,13 +60,7 @@ def run(job: ReturnMapJob, progress: Progress, nthread: int) -> dict[str, Any]:
             records.append({"d31_init": d0, "n": RETURN_MAP_SKIP + k, "d31_n": x,
                             "d31_n_plus_lag": y})  # fmt: skip
     runs = [r.summary() for r in results]
-    return {
-        "kind": "return_map",
-        "beta": job.beta,
-        "lag": job.lag,
-        "records": records,
-        "runs": runs,
-    }
+    return ReturnMapJobResult(beta=job.beta, lag=job.lag, records=records, runs=runs)
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
@@ -75,4 +80,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.grid(alpha=0.3)
 
 
-KIND = Kind(model=ReturnMapJob, run=run, columns=COLUMNS, draw=draw)
+KIND = Kind(model=ReturnMapJob, run=run, result=ReturnMapJobResult, columns=COLUMNS, draw=draw)

@@ -5,10 +5,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Literal
 
-from pydantic import Field
+from pydantic import BaseModel, Field
 
 import sim_core
-from server.kinds.base import Kind, Progress, Timed
+from server.kinds.base import Kind, Progress, Record, Result, Timed
 from server.kinds.bounds import BETA_BOUNDS, BETA_DEFAULT, D31, bounded, core_default, d31_list
 from server.kinds.common import (
     SUMMARY_COLUMNS,
@@ -67,18 +67,41 @@ def simulate_each(
     return results
 
 
-def run(job: RunJob, progress: Progress, nthread: int) -> dict[str, Any]:
+class SeriesTables(BaseModel):
+    """A run job's time series as flat tables (SERIES_COLUMNS; the CSV export's `table`)."""
+
+    d31: list[Record] = Field(description="Delta31 at every leg-1 touchdown of every run")
+    samples: list[Record] = Field(
+        description="every recorded sample: stance per leg (paper order), body position, m"
+    )
+
+
+class RunJobResult(Result):
+    """A run job's result."""
+
+    kind: Literal["run"] = "run"
+    runs: list[dict[str, Any]] = Field(
+        description="each run's summary (RunResult.summary: Delta31 at each touchdown, the "
+        "final Delta31, gait, duty factor, speed, failure ...), or with include_series its "
+        "whole record (RunResult.to_dict, with the sampled time series)"
+    )
+    warnings: list[str] = Field(description="what the runs' numbers say about themselves")
+    series: SeriesTables | None = Field(None, description="with include_series only")
+
+
+def run(job: RunJob, progress: Progress, nthread: int) -> RunJobResult:
     results = simulate_each(job, progress, nthread)
     runs = [r.to_dict() if job.include_series else r.summary() for r in results]
     records = [summary_row(d, r.summary()) for d, r in zip(job.d31_init, results, strict=True)]
-    out: dict[str, Any] = {"kind": "run", "runs": runs, "records": records,
-                           "warnings": warnings_of(results)}  # fmt: skip
-    if job.include_series:
-        out["series"] = series_tables(job.d31_init, runs)
-    return out
+    return RunJobResult(
+        runs=runs,
+        records=records,
+        warnings=warnings_of(results),
+        series=series_tables(job.d31_init, runs) if job.include_series else None,
+    )
 
 
-def series_tables(d31_init: list[float], runs: list[dict[str, Any]]) -> dict[str, Any]:
+def series_tables(d31_init: list[float], runs: list[dict[str, Any]]) -> SeriesTables:
     """The time series as flat tables: Delta31 at each leg-1 touchdown, and every recorded
     sample (stance per leg in the paper's order 1..6 = R1 L1 R2 L2 R3 L3, as
     `sim_core.leg_names()`; body position, m)."""
@@ -93,13 +116,13 @@ def series_tables(d31_init: list[float], runs: list[dict[str, Any]]) -> dict[str
             row.update({leg: int(on) for leg, on in zip(legs, stance, strict=True)})
             row.update({"x_m": pos[0], "y_m": pos[1], "z_m": pos[2]})
             samples.append(row)
-    return {"d31": d31_rows, "samples": samples}
+    return SeriesTables(d31=d31_rows, samples=samples)
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     """Delta31 over touchdowns; with the time series, Delta31 over time, the footfall of the
     first run and the body's path, in three panels."""
-    series = "series" in result
+    series = result.get("series") is not None
     if series:
         fig.set_size_inches(6.4, 9.6)
         ax, ax_foot, ax_pos = fig.subplots(3, 1)
@@ -151,4 +174,4 @@ def _body_path(ax: Axes, runs: list[dict[str, Any]]) -> None:
     ax.set_title("body position along the slope")
 
 
-KIND = Kind(model=RunJob, run=run, columns=SUMMARY_COLUMNS, draw=draw)
+KIND = Kind(model=RunJob, run=run, result=RunJobResult, columns=SUMMARY_COLUMNS, draw=draw)

@@ -9,9 +9,9 @@ from typing import TYPE_CHECKING, Any, Literal
 from pydantic import Field, ValidationInfo, field_validator
 
 import sim_core
-from server.kinds.base import BetaRange, Kind, Physics, Progress
+from server.kinds.base import BetaRange, Kind, Physics, Progress, Result
 from server.kinds.bounds import bounded, core_bounds, core_default
-from sim_core.contract import SurfaceConfig, pin_problem, surface_grid
+from sim_core.contract import DriftSurface, SurfaceConfig, pin_problem, surface_grid
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -86,7 +86,14 @@ class SurfaceJob(Held):
         return self.beta_range.steps * len(self.config().d31_grid)
 
 
-def run(job: SurfaceJob, progress: Progress, nthread: int) -> dict[str, Any]:
+class SurfaceJobResult(Result):
+    """A surface job's result: the core's typed surface and one row per probe and zero."""
+
+    kind: Literal["surface"] = "surface"
+    surface: DriftSurface = Field(description="the drift surface over the beta grid")
+
+
+def run(job: SurfaceJob, progress: Progress, nthread: int) -> SurfaceJobResult:
     """The surface by the core's `drift_surface`, in this worker (a private cache: the job's
     probes are its own), refined (`refine`) as `insect-gait surface` refines it, with flat
     rows: one per probe, zero and near-zero band."""
@@ -137,7 +144,7 @@ def run(job: SurfaceJob, progress: Progress, nthread: int) -> dict[str, Any]:
         }
         for n in s.near_zeros
     ]
-    return {"kind": "surface", "surface": s.model_dump(mode="json"), "records": rows}
+    return SurfaceJobResult(surface=s, records=rows)
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
@@ -175,4 +182,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
         ax.legend(fontsize="small")
 
 
-KIND = Kind(model=SurfaceJob, run=run, columns=COLUMNS, draw=draw)
+KIND = Kind(model=SurfaceJob, run=run, result=SurfaceJobResult, columns=COLUMNS, draw=draw)

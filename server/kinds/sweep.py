@@ -5,8 +5,10 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Literal
 
+from pydantic import Field
+
 import sim_core
-from server.kinds.base import BetaRange, Kind, Progress, Timed
+from server.kinds.base import BetaRange, Kind, Progress, Result, Timed
 from server.kinds.bounds import D31, core_default, d31_list
 from server.kinds.common import (
     SUMMARY_COLUMNS,
@@ -48,7 +50,14 @@ def _grid(
     return [(b, d, r) for (b, d), r in zip(pairs, results, strict=True)]
 
 
-def run(job: SweepJob, progress: Progress, nthread: int) -> dict[str, Any]:
+class SweepJobResult(Result):
+    """A sweep job's result: one summary row per (beta, initial Delta31)."""
+
+    kind: Literal["sweep"] = "sweep"
+    warnings: list[str] = Field(description="what the runs' numbers say about themselves")
+
+
+def run(job: SweepJob, progress: Progress, nthread: int) -> SweepJobResult:
     """Final Delta31 and gait for every beta of the grid and every initial Delta31."""
     records = []
     grid = _grid(job, progress, nthread)
@@ -56,7 +65,7 @@ def run(job: SweepJob, progress: Progress, nthread: int) -> dict[str, Any]:
         row = summary_row(d0, res.summary())
         row["beta"] = beta
         records.append(row)
-    return {"kind": "sweep", "records": records, "warnings": warnings_of([r for _, _, r in grid])}
+    return SweepJobResult(records=records, warnings=warnings_of([r for _, _, r in grid]))
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
@@ -72,4 +81,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.grid(alpha=0.3)
 
 
-KIND = Kind(model=SweepJob, run=run, columns=SUMMARY_COLUMNS, draw=draw)
+KIND = Kind(model=SweepJob, run=run, result=SweepJobResult, columns=SUMMARY_COLUMNS, draw=draw)

@@ -32,7 +32,7 @@ from server.estimates import eta_of, retry_after_s, wall_per_sim_second
 from server.jobs import JobRow, JobStore, QueueFull
 from server.kinds import RECORD_COLUMNS, JobSpec
 from server.kinds.run import SERIES_COLUMNS
-from server.schemas import Job, JobLinks, JobPage, Problem
+from server.schemas import Job, JobLinks, JobPage, JobResult, Problem
 from server.settings import Settings
 from server.status import FINISHED, JobStatus, StatusValue
 from sim_core.contract import DEFAULT_DT_S
@@ -183,8 +183,10 @@ def get_job(job: JobDep, store: StoreDep) -> Any:
     "/{job_id}/result",
     responses={
         200: {
-            "description": "the result as JSON, or CSV with ?format=csv (`table` picks which)",
-            "content": {"application/json": {}, "text/csv": {}},
+            "model": JobResult,
+            "description": "the result as JSON (its kind's result model), or CSV with "
+            "?format=csv (`table` picks which)",
+            "content": {"text/csv": {}},
         },
         **R404,
         **R409,

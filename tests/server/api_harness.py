@@ -195,3 +195,18 @@ def wait_status(
 
     result: dict[str, Any] = wait_for(check, timeout)
     return result
+
+
+def result_of(client: httpx.Client, job_id: str) -> dict[str, Any]:
+    """GET a done job's result as JSON, checked against the schema the API publishes for it
+    (`server.schemas.JobResult`: its kind's result model, as in /openapi.json)."""
+    from pydantic import TypeAdapter
+
+    from server.schemas import JobResult
+
+    r = client.get(f"/v1/jobs/{job_id}/result")
+    assert r.status_code == 200, r.text
+    body: dict[str, Any] = r.json()
+    checked = TypeAdapter(JobResult).validate_python(body)
+    assert checked.result.kind == body["kind"] == body["result"]["kind"]
+    return body

@@ -7,7 +7,7 @@ from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
-from api_harness import Server, submit, wait_status
+from api_harness import Server, result_of, submit, wait_status
 
 from sim_core.contract import Cell, CellResult, FinderConfig, FinderOutput, find
 from sim_core.paper.search import task_runner
@@ -44,7 +44,7 @@ def test_bifurcation_job_is_the_finder(make_server: Callable[..., Server], tmp_p
     with srv.client() as c:
         job = wait_status(c, submit(c, spec)["id"], {"done", "failed"})
         assert job["status"] == "done", job["error"]
-        result = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]
+        result = result_of(c, job["id"])["result"]
         assert c.get(f"/v1/jobs/{job['id']}/figure.png").content[:4] == b"\x89PNG"
         assert c.get(f"/v1/jobs/{job['id']}/result", params={"format": "csv"}).status_code == 200
     got = FinderOutput.model_validate(result["finder"])

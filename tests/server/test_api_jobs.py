@@ -13,7 +13,7 @@ from collections.abc import Callable
 from pathlib import Path
 
 import pytest
-from api_harness import SHORT, Server, pid_alive, submit, wait_for, wait_status
+from api_harness import SHORT, Server, pid_alive, result_of, submit, wait_for, wait_status
 
 from sim_core.contract import RETURN_MAP_SKIP
 
@@ -34,7 +34,7 @@ def test_submit_poll_result_csv_figure(make_server: Callable[..., Server]) -> No
             done["started_at"] >= done["created_at"] and done["finished_at"] >= done["started_at"]
         )
 
-        body = c.get(f"/v1/jobs/{job['id']}/result").json()
+        body = result_of(c, job["id"])
         assert body["job_id"] == job["id"] and body["kind"] == "run"
         runs = body["result"]["runs"]
         assert len(runs) == 2
@@ -90,7 +90,7 @@ def test_return_map_pairs_follow_the_runs(make_server: Callable[..., Server]) ->
         job = submit(c, {**spec, "lag": 2})
         done = wait_status(c, job["id"], {"done", "failed"})
         assert done["status"] == "done", done["error"]
-        result = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]
+        result = result_of(c, job["id"])["result"]
         assert result["lag"] == 2
         for d0, run in zip([1.0, 3.0], result["runs"], strict=True):
             # the core's construction, as `reproduce` builds Fig. 7: the first
@@ -118,7 +118,7 @@ def test_sweep_jobs_cover_their_grid(
             }
             job = wait_status(c, submit(c, spec)["id"], {"done", "failed"})
             assert job["status"] == "done", job["error"]
-            rows = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]["records"]
+            rows = result_of(c, job["id"])["result"]["records"]
             grid = {(round(r["beta"], 3), r["d31_init"]) for r in rows}
             assert grid == {(0.62, 2.0), (0.62, 3.0), (0.7, 2.0), (0.7, 3.0)}
             # the core's one settled rule: 0.5 s cannot show a settled drift, so no gait is
@@ -233,7 +233,7 @@ def test_empty_return_map_csv_has_its_header(make_server: Callable[..., Server])
         spec = {"kind": "return_map", "beta": 0.66, "duration_s": 0.3, "d31_init": [2.0]}
         job = wait_status(c, submit(c, {**spec, "lag": 10})["id"], {"done", "failed"})
         assert job["status"] == "done", job["error"]
-        assert c.get(f"/v1/jobs/{job['id']}/result").json()["result"]["records"] == []
+        assert result_of(c, job["id"])["result"]["records"] == []
         r = c.get(f"/v1/jobs/{job['id']}/result", params={"format": "csv"})
         assert r.text == "d31_init,n,d31_n,d31_n_plus_lag\n"
 
@@ -248,7 +248,7 @@ def test_grid_betas_come_back_as_people_write_them(make_server: Callable[..., Se
         }
         job = wait_status(c, submit(c, spec)["id"], {"done", "failed"})
         assert job["status"] == "done", job["error"]
-        rows = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]["records"]
+        rows = result_of(c, job["id"])["result"]["records"]
         assert [r["beta"] for r in rows] == [0.6, 0.62, 0.64, 0.66, 0.68, 0.7]
         text = c.get(f"/v1/jobs/{job['id']}/result", params={"format": "csv"}).text
         assert "0.6599999" not in text and "0.66," in text
@@ -264,7 +264,7 @@ def test_hysteresis_job_ramps_down_and_up(make_server: Callable[..., Server]) ->
         assert job["sim_seconds"] == pytest.approx(1.2)
         job = wait_status(c, job["id"], {"done", "failed"}, timeout=60)
         assert job["status"] == "done", job["error"]
-        result = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]
+        result = result_of(c, job["id"])["result"]
         assert result["parameter"] == "beta"
         rows = result["records"]
         assert len(rows) >= 6
@@ -375,7 +375,7 @@ def test_a_job_walks_on_the_ground_it_names(make_server: Callable[..., Server]) 
             job = submit(c, {**SHORT, "duration_s": 0.5, "include_series": True, "ground": ground})
             job = wait_status(c, job["id"], {"done", "failed"}, timeout=60)
             assert job["status"] == "done", job["error"]
-            (run,) = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]["runs"]
+            (run,) = result_of(c, job["id"])["result"]["runs"]
             finals[ground] = run["d31"]
         assert finals["constraint"] and finals["penalty"]
         assert finals["constraint"] != finals["penalty"]

@@ -8,7 +8,7 @@ import sqlite3
 from collections.abc import Callable
 
 import pytest
-from api_harness import SHORT, Server, pid_alive, submit, wait_for, wait_status
+from api_harness import SHORT, Server, pid_alive, result_of, submit, wait_for, wait_status
 
 MEDIUM = {"kind": "run", "beta": 0.66, "duration_s": 2.0, "d31_init": [2.0]}
 
@@ -19,7 +19,7 @@ def test_kill9_mid_job_then_restart(make_server: Callable[..., Server], max_requ
     with srv.client() as c:
         finished = wait_status(c, submit(c, SHORT)["id"], {"done", "failed"})
         assert finished["status"] == "done", finished["error"]
-        result_before = c.get(f"/v1/jobs/{finished['id']}/result").json()
+        result_before = result_of(c, finished["id"])
         interrupted = submit(c, MEDIUM)
         queued = submit(c, SHORT)
         wait_for(lambda: c.get(f"/v1/jobs/{interrupted['id']}").json()["progress"] > 0)
@@ -47,7 +47,7 @@ def test_kill9_mid_job_then_restart(make_server: Callable[..., Server], max_requ
         assert wait_status(c, queued["id"], {"done", "failed"})["status"] == "done"
         # what was finished before the crash is all still there
         assert c.get(f"/v1/jobs/{finished['id']}").json()["status"] == "done"
-        assert c.get(f"/v1/jobs/{finished['id']}/result").json() == result_before
+        assert result_of(c, finished["id"]) == result_before
         assert c.get("/v1/jobs").json()["total"] == 3
 
 

@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from api_harness import Server, submit, wait_status
+from api_harness import Server, result_of, submit, wait_status
 
 from sim_core.contract import DriftSurface, SurfaceAtlas, SurfaceConfig, surface_grid
 from sim_core.paper.surface import drift_surface
@@ -30,7 +30,7 @@ def test_surface_job_is_the_surface_command(
     with srv.client() as c:
         job = wait_status(c, submit(c, spec)["id"], {"done", "failed"}, timeout=240)
         assert job["status"] == "done", job["error"]
-        result = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]
+        result = result_of(c, job["id"])["result"]
         assert c.get(f"/v1/jobs/{job['id']}/figure.png").content[:4] == b"\x89PNG"
         csv = c.get(f"/v1/jobs/{job['id']}/result", params={"format": "csv"})
         assert csv.status_code == 200 and csv.text.startswith("beta,kind,pin_d31")
@@ -56,7 +56,7 @@ def test_atlas_job_is_the_atlas_command(make_server: Callable[..., Server], tmp_
     with srv.client() as c:
         job = wait_status(c, submit(c, spec)["id"], {"done", "failed"}, timeout=240)
         assert job["status"] == "done", job["error"]
-        result = c.get(f"/v1/jobs/{job['id']}/result").json()["result"]
+        result = result_of(c, job["id"])["result"]
         assert c.get(f"/v1/jobs/{job['id']}/figure.png").content[:4] == b"\x89PNG"
     got = SurfaceAtlas.model_validate(result["atlas"])
     cfg = SurfaceConfig(d31_grid=surface_grid(1.7, 2.3, 0.3))

@@ -294,6 +294,23 @@ def test_openapi_docs_are_served(client: httpx.Client) -> None:
     assert {"/v1/jobs", "/v1/jobs/{job_id}", "/v1/jobs/{job_id}/result"} <= set(paths)
 
 
+def test_every_kinds_result_schema_is_in_openapi(client: httpx.Client) -> None:
+    from server.kinds import KINDS
+
+    spec = client.get("/openapi.json").json()
+    ok = spec["paths"]["/v1/jobs/{job_id}/result"]["get"]["responses"]["200"]["content"]
+    assert ok["application/json"]["schema"] == {"$ref": "#/components/schemas/JobResult"}
+    assert "text/csv" in ok
+    schemas = spec["components"]["schemas"]
+    result = schemas["JobResult"]["properties"]["result"]
+    mapping = result["discriminator"]["mapping"]
+    assert set(mapping) == set(KINDS)  # one result model per kind, told apart by `kind`
+    for name, kind in KINDS.items():
+        model = schemas[kind.result.__name__]
+        assert mapping[name] == f"#/components/schemas/{kind.result.__name__}"
+        assert "records" in model["required"] and model["properties"]["kind"]["const"] == name
+
+
 @pytest.mark.parametrize("page", ["/docs", "/redoc"])
 def test_docs_work_offline(client: httpx.Client, page: str) -> None:
     """No external URL in the page: every script, style and icon it loads is served here."""
