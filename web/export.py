@@ -17,7 +17,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import asdict, dataclass
 from typing import Any
 
-from sim_core.contract import LEG_NAMES, Ramp
+from sim_core.contract import LEG_NAMES, Ramp, RunSpec
 from web.paths import DEFAULT_API_URL
 from web.record import D31Event, Interval
 
@@ -96,23 +96,42 @@ def ramp_csv(path: Iterable[D31Event], ramp: Ramp | None, started_at_s: float | 
     return _csv((*D31_COLUMNS, "scheduled"), rows)
 
 
+# The run fields the viewer sets, as RunSpec (the contract) names them; the job bodies carry
+# these from a validated RunSpec, so a body holds what the core itself would run.
+HELD_FIELDS = ("beta", "body_mass_g", "slope_deg")
+
+
+def _fields(spec: RunSpec, names: Sequence[str]) -> dict[str, Any]:
+    """RunSpec fields to 1e-6 of their unit (a ramp's value is continuous: 3.015, not
+    3.0149999999999864)."""
+    return {n: round(getattr(spec, n), 6) for n in names}
+
+
+def run_spec(s: Settings, **override: float) -> RunSpec:
+    """The contract's spec of the current walk (beta, mass, slope, the last start), checked by
+    the core's own rules; `override` replaces what a ramp sets."""
+    return RunSpec(
+        **({n: getattr(s, n) for n in HELD_FIELDS} | {"d31_init": s.d31_init} | override)
+    )
+
+
 def run_job(s: Settings) -> dict[str, Any]:
     """A `run` job at the current beta, mass and slope from the last initial Delta31, with its
     time series (the viewer draws the job's Delta31 beside the live walk's)."""
+    spec = run_spec(s, duration_s=s.job_duration_s)
     return {
         "kind": "run",
-        "beta": round(s.beta, 6),
-        "body_mass_g": round(s.body_mass_g, 6),
-        "slope_deg": round(s.slope_deg, 6),
-        "d31_init": [round(s.d31_init, 6)],
-        "duration_s": s.job_duration_s,
+        **_fields(spec, (*HELD_FIELDS, "duration_s")),
+        "d31_init": [round(spec.d31_init, 6)],  # the run job takes a list of starts
         "ground": s.ground,
         "include_series": True,
     }
 
 
 def hysteresis_job(s: Settings, ramp: Ramp) -> dict[str, Any]:
-    """The same ramp as a `hysteresis` job: the held parameters are the current ones."""
+    """The same ramp as a `hysteresis` job (the contract's `Ramp`'s fields are the job's): the
+    held parameters are the current ones, the ramped one starts at the ramp's start."""
+    spec = run_spec(s, **{ramp.param: ramp.start})
     return {
         "kind": "hysteresis",
         "parameter": ramp.param,
@@ -120,10 +139,7 @@ def hysteresis_job(s: Settings, ramp: Ramp) -> dict[str, Any]:
         "turn": ramp.turn,
         "hold_s": ramp.hold_s,
         "ramp_s": ramp.ramp_s,
-        "beta": round(s.beta if ramp.param != "beta" else ramp.start, 6),
-        "body_mass_g": round(s.body_mass_g if ramp.param != "body_mass_g" else ramp.start, 6),
-        "slope_deg": round(s.slope_deg if ramp.param != "slope_deg" else ramp.start, 6),
-        "d31_init": round(s.d31_init, 6),
+        **_fields(spec, (*HELD_FIELDS, "d31_init")),
         "ground": s.ground,
     }
 
