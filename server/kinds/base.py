@@ -21,23 +21,19 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validat
 from server.kinds.bounds import (
     BETA_BOUNDS,
     DT_REASON,
-    DURATION_BOUNDS,
     GROUND_DEFAULT,
     GROUND_HELP,
     GROUNDS,
-    MASS_BOUNDS,
     MAX_DT_S,
-    SLOPE_BOUNDS,
     IntLike,
     bounded,
-    core_default,
+    core_field,
     tidy,
 )
 from sim_core.contract import (
     DEFAULT_DT_S,
     DEFAULT_INTEGRATOR,
     INTEGRATORS,
-    MASS_REASON,
     Integrator,
     ModelParams,
     cost_problem,
@@ -75,40 +71,19 @@ class Physics(Strict):
     kind adds `kind: Literal["<name>"] = "<name>"`, the tag of the request union.
     """
 
-    body_mass_g: float = bounded(
-        core_default("body_mass_g"), "body_mass_g", "body mass, g", **MASS_BOUNDS, why=MASS_REASON
-    )
-    slope_deg: float = bounded(
-        core_default("slope_deg"), "slope_deg", "ground slope, deg, uphill +", **SLOPE_BOUNDS
-    )
-    phase_reset: bool = Field(
-        core_default("phase_reset"), description="phase resetting at touchdown (paper eq. 4)"
-    )
+    body_mass_g: float = core_field("body_mass_g")
+    slope_deg: float = core_field("slope_deg")
+    phase_reset: bool = core_field("phase_reset")
     integrator: Integrator | None = Field(
         None,
         description=f"MuJoCo integrator; allowed: {', '.join(INTEGRATORS)} or null "
         f"(the default, {DEFAULT_INTEGRATOR})",
         json_schema_extra={"allowed": f"{', '.join(INTEGRATORS)} or null"},
     )
-    dt_s: float | None = bounded(
-        None,
-        "dt_s",
-        "physics timestep, s",
-        gt=0.0,
-        le=MAX_DT_S,
-        nullable=True,
-        why=DT_REASON,
-        validate_default=True,
+    dt_s: float | None = core_field(
+        "dt_s", le=MAX_DT_S, nullable=True, why=DT_REASON, validate_default=True
     )
-    control_dt_s: float | None = bounded(
-        None,
-        "control_dt_s",
-        "controller period, s (>= dt_s)",
-        gt=0.0,
-        le=0.01,
-        nullable=True,
-        validate_default=True,
-    )
+    control_dt_s: float | None = core_field("control_dt_s", nullable=True, validate_default=True)
     ground: str = Field(
         GROUND_DEFAULT,
         description=GROUND_HELP,
@@ -216,12 +191,7 @@ def run_cost_problem(duration_s: float, info: ValidationInfo) -> str | None:
 class Timed(Physics):
     """Kinds whose runs last a fixed `duration_s`."""
 
-    duration_s: float = bounded(
-        core_default("duration_s"),
-        "duration_s",
-        "simulated time of each run, s",
-        **DURATION_BOUNDS,
-    )
+    duration_s: float = core_field("duration_s")
 
     @field_validator("duration_s")
     @classmethod

@@ -153,6 +153,28 @@ def bounded(
     )
 
 
+def core_field(
+    name: str,
+    *,
+    why: str | None = None,
+    nullable: bool = False,
+    validate_default: bool = False,
+    **tighter: float,
+) -> Any:
+    """A request field that is RunSpec's field `name`: its default, its words and its bounds
+    (or `tighter` ones, stated with `why`), all read from RunSpec, declared there once."""
+    info = RunSpec.model_fields[name]
+    what = info.description or name
+    if info.annotation is bool:
+        return Field(info.default, description=what)
+    bounds = Bounds(**core_bounds(name))
+    bounds.update(tighter)  # type: ignore[typeddict-item]  # only gt, ge, lt, le are passed
+    return bounded(
+        info.default, name, what, **bounds, nullable=nullable, why=why,
+        validate_default=validate_default,
+    )  # fmt: skip
+
+
 def tidy(x: float) -> float:
     """x to 12 significant digits: drops binary noise (0.6599999999999999 -> 0.66)."""
     return float(f"{x:.12g}")

@@ -9,12 +9,11 @@ from pydantic import Field
 
 from server.kinds.base import Kind, Progress, Result, Timed
 from server.kinds.bounds import (
-    BETA_BOUNDS,
-    BETA_DEFAULT,
     D31,
     TWO_PI,
     IntLike,
     bounded,
+    core_field,
     d31_list,
 )
 from server.kinds.common import d31_axis
@@ -31,7 +30,7 @@ class ReturnMapJob(Timed):
     """Fig. 7 of the paper: pairs (Delta31[n], Delta31[n + lag]) collected over several runs."""
 
     kind: Literal["return_map"] = "return_map"
-    beta: float = bounded(BETA_DEFAULT, "beta", "duty factor", **BETA_BOUNDS)
+    beta: float = core_field("beta")
     d31_init: list[D31] = d31_list([TWO_PI * i / 12.0 for i in range(12)])
     lag: IntLike = bounded(4, "lag", "touchdowns between the two members of a pair", ge=1, le=50)
 

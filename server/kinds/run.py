@@ -9,7 +9,7 @@ from pydantic import BaseModel, Field
 
 import sim_core
 from server.kinds.base import Kind, Progress, Record, Result, Timed
-from server.kinds.bounds import BETA_BOUNDS, BETA_DEFAULT, D31, bounded, core_default, d31_list
+from server.kinds.bounds import D31, core_default, core_field, d31_list
 from server.kinds.common import (
     SUMMARY_COLUMNS,
     d31_axis,
@@ -37,7 +37,7 @@ class RunJob(Timed):
     """Independent simulations at one beta, one per initial Delta31."""
 
     kind: Literal["run"] = "run"
-    beta: float = bounded(BETA_DEFAULT, "beta", "duty factor", **BETA_BOUNDS)
+    beta: float = core_field("beta")
     d31_init: list[D31] = d31_list([core_default("d31_init")])
     include_series: bool = Field(
         False, description="also keep each run's time series (large); for plots and CSV export"

@@ -77,7 +77,9 @@ class RunSpec(BaseModel):
     phase_reset: bool = Field(True, description="phase resetting at touchdown (eq. 4)")
     integrator: Integrator | None = Field(None, description="MuJoCo integrator; null: the model's")
     dt_s: float | None = Field(None, gt=0.0, le=1e-2, description="physics timestep, s")
-    control_dt_s: float | None = Field(None, gt=0.0, le=1e-2, description="controller period, s")
+    control_dt_s: float | None = Field(
+        None, gt=0.0, le=1e-2, description="controller period, s (>= dt_s)"
+    )
     phi1_init: float = Field(
         0.0, ge=0.0, le=TWO_PI, description="initial phase of leg 1, rad in [0, 2 pi]"
     )
