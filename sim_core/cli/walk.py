@@ -11,7 +11,7 @@ from typing import Any, get_args
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE
-from sim_core.cli.fields import add_field_flags, given
+from sim_core.cli.fields import add_field_flags, flag, given
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import INSECT_WORDS, RunSpec, cost_problem, numerics_problem
 
@@ -68,10 +68,14 @@ def _validation_message(exc: ValidationError) -> str:
     describes it (the REST API refuses the same values with the same bounds)."""
     parts = []
     for err in exc.errors():
-        field = ".".join(str(x) for x in err["loc"]) or "arguments"
+        field = ".".join(str(x) for x in err["loc"])
+        msg = str(err["msg"]).removeprefix("Value error, ")
+        if not field:  # a rule across fields: its words name them
+            parts.append(msg)
+            continue
         info = RunSpec.model_fields.get(field)
         what = f" ({info.description})" if info is not None and info.description else ""
-        parts.append(f"--{field.replace('_', '-')}: {err['msg']}{what}")
+        parts.append(f"{flag(field)}: {msg}{what}")
     return "; ".join(parts)
 
 

@@ -112,12 +112,24 @@ class RunSpec(BaseModel):
         problem = pin_problem(self.pin_d31, self.phase_reset)
         if problem:
             raise ValueError(problem)
-        if self.dt_s is not None and self.control_dt_s is not None:
-            if self.control_dt_s < self.dt_s * (1 - 1e-9):
-                raise ValueError("control_dt_s must be >= dt_s")
+        problem = control_problem(self.dt_s, self.control_dt_s)
+        if problem:
+            raise ValueError(problem)
         if self.stop_if_settled_s is not None and self.stop_if_settled_s > self.duration_s:
             raise ValueError("stop_if_settled_s must be <= duration_s")
         return self
+
+
+def control_problem(dt_s: float | None, control_dt_s: float | None) -> str | None:
+    """Why a controller period shorter than the physics step is refused (a null step is the
+    model's), in the words RunSpec, the CLI and the REST API share; None if it is not."""
+    if control_dt_s is None:
+        return None
+    dt = ModelParams().dt if dt_s is None else dt_s
+    if control_dt_s < dt * (1 - 1e-9):
+        shown = f"{dt:g}" if dt_s is not None else f"the default {dt:g}"
+        return f"control_dt_s ({control_dt_s:g}) must be >= dt_s ({shown})"
+    return None
 
 
 def check_field(name: str, value: float) -> None:
