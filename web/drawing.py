@@ -1,0 +1,233 @@
+"""What the loop draws (loop thread only): the readouts and status line, the footfall, Delta31
+and return-map panels, the bifurcation, atlas, drift-surface and ramp-path panels, and the job
+bodies; each panel rebuilt only when its inputs changed, at rates the loop sets."""
+
+from __future__ import annotations
+
+import html
+import json
+import math
+from collections.abc import Callable, Hashable
+
+import viser
+
+from sim_core.contract import (
+    ATLAS_AXES,
+    AXIS_LABEL,
+    RETURN_MAP_SKIP,
+    return_map_from_series,
+)
+from web import controls, export
+from web.bifurcation import finder_points
+from web.dispatch import Dispatch
+from web.jobs import job_status_html
+from web.panels import Readouts
+from web.record import d31_since, footfall_bars
+from web.surface_svg import surface_svg
+from web.svg import (
+    atlas_svg,
+    bifurcation_svg,
+    d31_svg,
+    footfall_svg,
+    ramp_path_svg,
+    return_map_svg,
+)
+
+
+class Drawing(Dispatch):
+    """The panels and readouts, drawn from the simulation's own record."""
+
+    def _draw_readouts(
+        self, rtf: float | None, stepping_rtf: float | None, frame_hz: float | None
+    ) -> None:
+        """Controls the loop changed, the readouts and the status line (cheap: a few short
+        strings, each sent only when it changed)."""
+        sim = self.sim
+        ramp = ""
+        if self.ramp is not None:
+            r = self.ramp
+            elapsed = sim.time_s - self._ramp_t0
+            value = getattr(sim, r.param)
+            ramp = (
+                f"{controls.RAMP_LABELS[r.param]} {self._ramp_phase}: {value:.3f} "
+                f"({min(elapsed, r.duration_s):.0f} of {r.duration_s:.0f} s)"
+            )
+        write, self._write = self._write, {}
+        self.panels.sync_controls(
+            self.playing, None if self.ramp is None else self.ramp.param, write
+        )
+        gait = sim.gait
+        heading = sim.heading_rad
+        self.panels.show_readouts(
+            Readouts(
+                beta=sim.beta,
+                time_s=sim.time_s,
+                speed_cm_s=sim.speed_cm_s,
+                duty_factor=sim.duty_factor,
+                gait=gait,
+                d31_now=sim.d31_now,
+                rtf=rtf,
+                stepping_rtf=stepping_rtf,
+                target_speed=self.speed,
+                frame_hz=frame_hz,
+                ramp=ramp,
+                error=self.error,
+                playing=self.playing,
+                body_mass_g=sim.body_mass_g,
+                slope_deg=sim.slope_deg,
+                heading_deg=None if heading is None else math.degrees(heading),
+                ground=self.ground,
+                lag_s=self._clock.lag_s,
+            )
+        )
+        speed = controls.speed_label(self.speed) or controls.DEFAULT_SPEED
+        ramp_param = self.ramp.param if self.ramp is not None else self.panels.ramp_param_name
+        self.panels.show_choices(
+            {
+                "speed": speed,
+                "camera": self.scene.follow,
+                "ground": controls.GROUND_LABEL[self.ground],
+                "ramp drives": controls.RAMP_LABELS.get(ramp_param, ramp_param),
+                "atlas over": self.panels.atlas_axis,
+            }
+        )
+        self.panels.show_html(self.panels.job, job_html(self.settings()))
+        view = self.jobs.view
+        if view is not self._job_shown:
+            self._job_shown = view
+            self.panels.show_html(self.panels.job_status, job_status_html(view))
+
+    def _draw_panels(self) -> None:
+        """The footfall diagram, Delta31 and the return map, each rebuilt only when its inputs
+        changed."""
+        sim = self.sim
+        gait = sim.gait
+        t_now, window = sim.time_s, self.footfall_window_s
+        self._redraw(
+            self.panels.footfall,
+            (self._walk, t_now, window),
+            lambda: footfall_svg(footfall_bars(sim, window), t_now, window),
+        )
+        w, events, job = self.d31_window_s, sim.d31_events, self.jobs.view
+        self._redraw(
+            self.panels.d31,
+            (self._walk, len(events), t_now, w, gait, job.id, len(job.d31_series)),
+            lambda: d31_svg(
+                events if w is None else d31_since(events, t_now - w),
+                t_now,
+                w,
+                gait,
+                self.d31_conditions.marks,
+                (job.id[:8], job.d31_series) if job.d31_series else None,
+            ),
+        )
+        self._redraw(
+            self.panels.return_map,
+            (self._walk, len(events), sim.beta),
+            lambda: return_map_svg(self._return_map()),
+        )
+
+    def _redraw(self, handle: viser.GuiHtmlHandle, key: Hashable, build: Callable[[], str]) -> None:
+        """Rebuild a panel only when `key`, the inputs it is drawn from, changed (the walk, the
+        record's length or time, the window): an idle plot costs nothing."""
+        if self._drawn.get(id(handle)) != key:
+            self._drawn[id(handle)] = key
+            self.panels.show_html(handle, build())
+
+    def _return_map(self) -> list[tuple[float, float]]:
+        """The current run's (Delta31 n, n + 4) pairs, the latest `return_map_len`, built by
+        the core's return-map construction (first RETURN_MAP_SKIP of the run dropped)."""
+        events = self.sim.d31_events
+        recent = events[-(self.cfg.return_map_len + 4) :]
+        whole = len(recent) == len(events)
+        rm = return_map_from_series(
+            self.sim.beta, [[d for _, d in recent]], lag=4, skip=RETURN_MAP_SKIP if whole else 0
+        )
+        return list(zip(rm.x.tolist(), rm.y.tolist(), strict=True))
+
+    def _draw_bifurcation(self) -> None:
+        self._draw_ramp_path()
+        finder, note = self.bifurcation.get()
+        events = self.sim.d31_events
+        trail = self.d31_conditions.events(events, -self.cfg.trail_len)
+        live = (self.sim.beta, events[-1][1] if events else None)
+        self.panels.show_html(
+            self.panels.bifurcation,
+            bifurcation_svg(
+                None if finder is None else finder_points(finder),
+                note,
+                trail,
+                live,
+                (controls.BETA.lo, controls.BETA.hi),
+                self.d31_conditions.ramp_path(events) if self._ramp_draws_on_beta() else [],
+            ),
+        )
+        axis = self.panels.atlas_axis if self.panels.atlas_axis in ATLAS_AXES else "mass"
+        atlas, anote = self.atlases[(axis, self.ground)].get()
+        value = self.sim.body_mass_g if axis == "mass" else self.sim.slope_deg
+        self.panels.show_html(
+            self.panels.atlas,
+            atlas_svg(
+                atlas,
+                anote,
+                axis,
+                AXIS_LABEL.get(axis, axis),
+                (self.sim.beta, value),
+                (controls.BETA.lo, controls.BETA.hi),
+            ),
+        )
+        surface, snote = self.surface.get()
+        # the map (~80 kB of SVG) is rebuilt only when the file changes or the live point
+        # enters another cell of the surface's grid (0.005 in beta, 0.05 rad): a walk that
+        # drifts slowly costs the browser a redraw every few seconds, not every 0.4 s
+        d31 = live[1]
+        cell = (round(self.sim.beta / 0.005), None if d31 is None else round(d31 / 0.05))
+        beta_range = (controls.BETA.lo, controls.BETA.hi)
+        self._redraw(
+            self.panels.surface,
+            (self.surface.version, cell, beta_range),
+            lambda: surface_svg(surface, snote, live, beta_range),
+        )
+
+    def _draw_ramp_path(self) -> None:
+        """The latest ramp's path on its own axes (the ramped parameter across), as it goes."""
+        ramp = self._last_ramp
+        if ramp is None:
+            return
+        path = self.d31_conditions.ramp_path(self.sim.d31_events)
+        rng = controls.RAMP_SLIDERS[ramp.param]
+        a, b = sorted((ramp.start, ramp.turn))
+        pad = 0.1 * (b - a) or rng.step
+        value_range = (max(rng.lo, a - pad), min(rng.hi, b + pad))
+        self._redraw(
+            self.panels.ramp_plot,
+            (self._walk, ramp, len(path)),
+            lambda: ramp_path_svg(
+                path, ramp.param, controls.RAMP_LABELS.get(ramp.param, ramp.param), value_range
+            ),
+        )
+
+    def _ramp_draws_on_beta(self) -> bool:
+        """A ramp's path goes on the (beta, Delta31) panel when it ramped beta."""
+        return self._last_ramp is not None and self._last_ramp.param == "beta"
+
+
+def job_html(s: export.Settings) -> str:
+    """The current settings as REST job bodies to copy, with the curl line and the URL."""
+    url = s.api_url.rstrip("/")
+    parts = [
+        f'<div data-job-url="{html.escape(url)}/v1/jobs" style="font-size:0.8em">',
+        f"<b>POST</b> <code>{html.escape(url)}/v1/jobs</code> "
+        f'(<a href="{html.escape(url)}/docs" target="_blank">API docs</a>)',
+    ]
+    for kind, body in export.jobs(s).items():
+        text = json.dumps(body, indent=1)
+        parts.append(
+            f"<div>a <b>{kind}</b> job{' (the ramp set up above)' if kind == 'hysteresis' else ''}:"
+            f'</div><pre data-job="{kind}" style="white-space:pre-wrap;user-select:all;'
+            f'margin:2px 0;padding:3px;background:#f4f4f4">{html.escape(text)}</pre>'
+            f'<pre style="white-space:pre-wrap;user-select:all;margin:2px 0;font-size:0.9em">'
+            f"{html.escape(export.curl(url, body))}</pre>"
+        )
+    parts.append("</div>")
+    return "".join(parts)
