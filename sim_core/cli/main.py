@@ -23,7 +23,7 @@ def build_parser() -> argparse.ArgumentParser:
         prog="insect-gait",
         description=__doc__.splitlines()[0] if __doc__ else "",
         epilog="The studies behind docs/REPRODUCTION.md (calibration, sensitivity, the "
-        "finder's checks, the campaigns' screens) are `insect-gait-lab --help`.",
+        "finder's checks, the campaigns' screens) are `python -m lab --help`.",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for family in (walk, numerics, paper, surface):

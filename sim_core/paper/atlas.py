@@ -128,7 +128,7 @@ def atlas_search(cfg: AtlasConfig, run: RunFn, *, log: Any = None) -> AtlasOutpu
         rows.append(find(cells, cfg.finder, run))
     rng = SWEEP_RANGE[cfg.axis]
     return AtlasOutput(
-        source=f"insect-gait-lab finder-atlas --axis {cfg.axis}: the settled fixed-point finder",
+        source=f"python -m lab finder-atlas --axis {cfg.axis}: the settled fixed-point finder",
         axis=cfg.axis, param=AXIS_PARAM[cfg.axis], betas=list(cfg.betas),
         values=list(cfg.values), cells=[c for row in rows for c in row],
         regions=[[region_of(c) for c in row] for row in rows], folds=atlas_folds(cfg, rows),

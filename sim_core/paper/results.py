@@ -47,7 +47,7 @@ RESULTS_DIR = results_dir()
 
 def atlas_file(folder: Path, axis: str) -> Path:
     """atlas_mass.json / atlas_slope.json in `folder`: the finder's atlas (`write_atlas`,
-    `insect-gait-lab finder-atlas`)."""
+    `python -m lab finder-atlas`)."""
     if axis not in ATLAS_AXES:
         raise ValueError(f"unknown atlas axis {axis!r}; choose from {ATLAS_AXES}")
     return folder / f"atlas_{axis}.json"

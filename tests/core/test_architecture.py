@@ -124,3 +124,18 @@ def test_every_public_name_has_a_home_and_loads() -> None:
     assert sorted(sim_core.__all__) == sorted(listed) and len(listed) == len(set(listed))
     for name in sim_core.__all__:
         assert getattr(sim_core, name) is not None
+
+
+def test_the_lab_is_not_installed_with_the_package() -> None:
+    """The studies live in lab/ (run as `python -m lab` from a checkout): no package pattern
+    that pyproject installs matches it, and no console script points into it."""
+    import fnmatch
+    import tomllib
+
+    project = tomllib.loads((REPO / "pyproject.toml").read_text())
+    include = project["tool"]["setuptools"]["packages"]["find"]["include"]
+    assert include and not any(fnmatch.fnmatch("lab", pat) for pat in include), include
+    assert not any(fnmatch.fnmatch("lab.campaigns", pat) for pat in include), include
+    scripts = project["project"]["scripts"].values()
+    assert all(not s.startswith("lab") for s in scripts), scripts
+    assert (REPO / "lab" / "__main__.py").is_file()

@@ -5,12 +5,12 @@ import math
 import numpy as np
 import pytest
 
+from lab.calibrate import reachable
+from lab.objectives import Evaluation
+from lab.space import SEARCH_SPACE
 from sim_core import ModelParams
 from sim_core.numerics.convergence import ConvergenceRow, convergence_check
 from sim_core.paper.protocols import ReturnMap, return_map
-from sim_core.studies.calibrate import reachable
-from sim_core.studies.objectives import Evaluation
-from sim_core.studies.space import SEARCH_SPACE
 
 
 def _ev(fast: list[float | None], slow: list[float | None], bis: list[float | None]) -> Evaluation:
@@ -67,7 +67,7 @@ def test_convergence_rows_and_a_tiny_check() -> None:
 
 
 def test_outcome_gap_counts_disagreements() -> None:
-    from sim_core.studies.objectives import outcome_gap
+    from lab.objectives import outcome_gap
 
     a = _ev([2.9, None, 1.0], [1.9], [])
     b = _ev([2.8, 2.0, None], [1.9], [])
@@ -89,7 +89,7 @@ def test_open_loop_drift_shapes_and_a_uniform_hind_bias() -> None:
 def test_sensitivity_writes_its_tornado_and_json(tmp_path) -> None:
     import json
 
-    from sim_core.studies.sensitivity import run_sensitivity
+    from lab.sensitivity import run_sensitivity
 
     report = run_sensitivity(tmp_path, names=["kp_yaw"], betas=(0.62,), n_init=2,
                              duration_s=0.5, log=lambda _: None)  # fmt: skip
@@ -140,8 +140,8 @@ def test_drift_error_shrinks_with_the_timestep_and_a_failed_probe_is_nan() -> No
 
 
 def test_drift_score_pushes_toward_the_target_the_short_way() -> None:
+    from lab.objectives import DRIFT_GRID, drift_score
     from sim_core.model.gait import angle_diff
-    from sim_core.studies.objectives import DRIFT_GRID, drift_score
 
     # a grid point just below the target must count a positive drift as a push toward it
     assert float(angle_diff(2.9, 2.7)) > 0 > float(angle_diff(2.9, 3.1))

@@ -10,7 +10,7 @@ import pkgutil
 
 import pytest
 
-import sim_core.studies.campaigns as campaigns
+import lab.campaigns as campaigns
 
 NAMES = [m.name for m in pkgutil.iter_modules(campaigns.__path__)]
 
@@ -21,7 +21,7 @@ def test_every_campaign_is_found() -> None:
 
 @pytest.mark.parametrize("name", NAMES)
 def test_a_campaign_imports_and_has_a_main(name: str) -> None:
-    mod = importlib.import_module(f"sim_core.studies.campaigns.{name}")
+    mod = importlib.import_module(f"lab.campaigns.{name}")
     assert callable(getattr(mod, "main", None))
     source = inspect.getsource(mod)
     assert "sys.path" not in source and "runner_mod." not in source
@@ -30,9 +30,9 @@ def test_a_campaign_imports_and_has_a_main(name: str) -> None:
 def test_the_border_sweeps_go_through_the_result_cache(tmp_path) -> None:
     """campaign 3's triangle sweeps are `sim_core.runs` tasks: cached by content, on any
     backend, so a rerun simulates nothing."""
+    from lab.campaigns.gait_campaign3 import border_sweeps
     from sim_core.runs.backends import InlineBackend
     from sim_core.runs.cache import ResultCache
-    from sim_core.studies.campaigns.gait_campaign3 import border_sweeps
 
     jobs = [({}, 0.64, 0.66, 0.1, 0.1, "up")]  # 0.2 s each way, held 0.1 s
     cache = ResultCache(tmp_path)

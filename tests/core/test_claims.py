@@ -1,5 +1,5 @@
 """The finder's four-check plumbing (`sim_core.paper.claims`) on short runs: what it runs, what
-it reports. The numbers themselves come from `insect-gait-lab finder-claims`
+it reports. The numbers themselves come from `python -m lab finder-claims`
 (docs/REPRODUCTION.md)."""
 
 from __future__ import annotations

@@ -7,7 +7,7 @@ from typing import Any
 
 import pytest
 
-from sim_core.cli.lab import main as lab_main
+from lab.cli import main as lab_main
 from sim_core.cli.main import build_parser, main
 
 BAD = [
@@ -63,7 +63,7 @@ def test_study_overrides_are_checked_before_anything_runs(args: list[str], capsy
     screen's settled stop must lie inside its runs."""
     assert lab_main(args) == 2
     err = capsys.readouterr().err.strip()
-    assert err.startswith(f"insect-gait-lab {args[0]}: error:") and "Traceback" not in err
+    assert err.startswith(f"python -m lab {args[0]}: error:") and "Traceback" not in err
 
 
 def test_the_first_run_names_its_gait_without_any_other_flag() -> None:
@@ -94,7 +94,7 @@ def test_a_fall_is_told_in_the_insects_words_and_a_blow_up_as_numerics(capsys) -
 
 
 def test_the_products_help_lists_the_users_commands_and_the_lab_keeps_the_studies() -> None:
-    from sim_core.cli.lab import build_parser as lab_parser
+    from lab.cli import build_parser as lab_parser
 
     product = build_parser().format_help()
     lab = lab_parser().format_help()
@@ -104,7 +104,7 @@ def test_the_products_help_lists_the_users_commands_and_the_lab_keeps_the_studie
         assert f"    {name} " in product, name
     for name in studies:
         assert f"    {name} " not in product and f"    {name} " in lab, name
-    assert "issue 3" not in product and "insect-gait-lab --help" in product
+    assert "issue 3" not in product and "python -m lab --help" in product
 
 
 def test_run_help_lists_every_runspec_field_with_its_default_from_the_model() -> None:

@@ -39,8 +39,8 @@ def test_damping_forms_differ() -> None:
 
 
 def test_support_ratio_moves_load_to_the_middle_pair_at_equal_total() -> None:
+    from lab.diagnostics import support_stiffness
     from sim_core.model.mjspec import joint_gains, lift_scale
-    from sim_core.studies.diagnostics import support_stiffness
 
     p = ModelParams(support_ratio=2.0)
     assert sum(lift_scale(p, pair) for pair in (0, 1, 2)) == 3.0  # equal total

@@ -5,8 +5,8 @@ import math
 import numpy as np
 import pytest
 
+from lab.diagnostics import _fit_ring, load_share, support_stiffness
 from sim_core import ModelParams
-from sim_core.studies.diagnostics import _fit_ring, load_share, support_stiffness
 
 
 def test_ring_fit_recovers_a_known_damped_oscillation() -> None:

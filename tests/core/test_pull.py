@@ -2,9 +2,9 @@
 
 import pytest
 
+from lab.objectives import PullEvaluation, evaluate_pull
+from lab.space import WIDE_SPACE
 from sim_core import ModelParams
-from sim_core.studies.objectives import PullEvaluation, evaluate_pull
-from sim_core.studies.space import WIDE_SPACE
 
 
 def _pe(fast: list[float | None], slow: list[float | None], share: float = 0.95,

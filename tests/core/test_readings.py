@@ -7,11 +7,7 @@ from pathlib import Path
 
 import pytest
 
-from sim_core import ModelParams, RunSpec, simulate
-from sim_core.paper.fixedpoints import FinderConfig
-from sim_core.runs.backends import InlineBackend
-from sim_core.runs.cache import ResultCache
-from sim_core.studies.readings import (
+from lab.readings import (
     READINGS,
     find_states,
     finder_table,
@@ -20,6 +16,10 @@ from sim_core.studies.readings import (
     table,
     variants,
 )
+from sim_core import ModelParams, RunSpec, simulate
+from sim_core.paper.fixedpoints import FinderConfig
+from sim_core.runs.backends import InlineBackend
+from sim_core.runs.cache import ResultCache
 
 
 def test_a_reading_changes_the_walk_and_ours_is_the_default() -> None:

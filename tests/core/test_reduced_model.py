@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from sim_core.studies.reduced_model import ReducedParams, attractors, simulate_reduced
+from lab.reduced_model import ReducedParams, attractors, simulate_reduced
 
 
 def test_without_resetting_delta31_stays_put() -> None:
@@ -41,7 +41,7 @@ def test_half_timestep_gives_the_same_finals(beta: float) -> None:
 
 
 def test_landing_share_tells_late_landings_from_mid_swing_ones() -> None:
-    from sim_core.studies.reduced_model import run_reduced
+    from lab.reduced_model import run_reduced
 
     stiff = run_reduced(0.62, 2.0, duration_s=2.0, params=ReducedParams(landing_height_kept=0.0))
     soft = ReducedParams(landing_height_kept=0.0, leg_stiffness=12.0, leg_damping=0.04,

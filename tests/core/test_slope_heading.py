@@ -6,9 +6,9 @@ from __future__ import annotations
 
 import pytest
 
+from lab.slope_heading import HeadingRun, headings, table
 from sim_core.model.gait import HEADING_KEPT_DEG
 from sim_core.model.params import ModelParams
-from sim_core.studies.slope_heading import HeadingRun, headings, table
 
 
 def test_the_table_calls_a_turned_run_not_kept() -> None:

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from sim_core.studies.support_model import (
+from lab.support_model import (
     SupportGeometry,
     landing_sag,
     quasi_static_drift,
@@ -39,7 +39,7 @@ def test_drift_pulls_toward_the_aep_phase_at_low_speed() -> None:
 
 @pytest.mark.parametrize("beta", [0.62, 0.70])
 def test_only_waves_below_the_aep_phase_stand_on_a_diagonal(beta: float) -> None:
-    from sim_core.studies.support_model import static_margin
+    from lab.support_model import static_margin
 
     phi_aep = 2 * math.pi * (1 - beta)
     # below phi_AEP some moment has two legs of one side and the diagonal opposite leg down:
@@ -52,7 +52,7 @@ def test_only_waves_below_the_aep_phase_stand_on_a_diagonal(beta: float) -> None
 
 
 def test_the_ideal_metachronal_wave_needs_three_legs_only_below_beta_two_thirds() -> None:
-    from sim_core.studies.support_model import static_margin
+    from lab.support_model import static_margin
 
     wave = 2 * math.pi / 3
     assert static_margin(0.62, wave)[1] == 3

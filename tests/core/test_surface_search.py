@@ -1,19 +1,19 @@
-"""The fifth campaign's objective (`sim_core.studies.surface_search`) on synthetic surfaces whose
+"""The fifth campaign's objective (`lab.surface_search`) on synthetic surfaces whose
 folds are known: the paper's map scores its folds, ours (metachronal at every speed) does not."""
 
 from __future__ import annotations
 
 import pytest
 
-from sim_core.paper.surface import assemble
-from sim_core.paper.surface_types import SurfacePoint
-from sim_core.studies.surface_search import (
+from lab.surface_search import (
     OBJECTIVE_BETAS,
     OBJECTIVE_CONFIG,
     PAPER_METACHRONAL_FOLD,
     fold_of,
     read_surface,
 )
+from sim_core.paper.surface import assemble
+from sim_core.paper.surface_types import SurfacePoint
 from tests.core.test_surface import _pt
 
 
@@ -86,8 +86,8 @@ def test_a_fold_outside_the_betas_is_extrapolated_and_clipped() -> None:
 
 
 def test_the_search_coordinates_give_back_the_defaults() -> None:
+    from lab.surface_search import SPACE5, coordinates, geometry
     from sim_core.model.params import ModelParams
-    from sim_core.studies.surface_search import SPACE5, coordinates, geometry
 
     base = ModelParams()
     c = coordinates(base)
@@ -99,14 +99,14 @@ def test_the_search_coordinates_give_back_the_defaults() -> None:
 
 
 def test_the_pareto_front_keeps_only_the_undominated() -> None:
-    from sim_core.studies.campaigns.campaign5_landscape import pareto
+    from lab.campaigns.campaign5_landscape import pareto
 
     pts = [(0.01, 0.05, 1), (0.02, 0.02, 2), (0.03, 0.03, 3), (0.05, 0.01, 4), (0.01, 0.06, 5)]
     assert pareto(pts) == [(0.01, 0.05, 1), (0.02, 0.02, 2), (0.05, 0.01, 4)]
 
 
 def test_an_exported_trial_is_rescored_from_its_margins() -> None:
-    from sim_core.studies.campaigns.campaign5_search import rescore
+    from lab.campaigns.campaign5_search import rescore
 
     margins_t = [0.0033, 0.0024, 0.0018, 0.0019, 0.0021, 0.0028]  # trial 116: tripod everywhere
     margins_m = [-0.0011, -0.0019, 0.0025, 0.0025, 0.0022, 0.0024]

@@ -1,4 +1,4 @@
-"""Issue 31's hypothesis tests (`sim_core.studies.timing_lines`): the lines, the feature reader
+"""Issue 31's hypothesis tests (`lab.timing_lines`): the lines, the feature reader
 on known curves, and each test's plumbing on short runs (the numbers: `insect-gait
 timing-lines`, docs/REPRODUCTION.md)."""
 
@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
+from lab import timing_lines as tl
 from sim_core.model.params import ModelParams
-from sim_core.studies import timing_lines as tl
 
 
 def test_the_two_lines_cross_at_two_thirds() -> None:

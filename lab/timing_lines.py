@@ -28,11 +28,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from lab.reduced_model import ReducedParams, run_reduced
 from sim_core.model.gait import TWO_PI, phase_jumps, settling
 from sim_core.model.params import ModelParams, phi_aep
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import RunSpec
-from sim_core.studies.reduced_model import ReducedParams, run_reduced
 
 # Leg 1's start phase over these: an open-loop probe's jumps depend a little on where the cycle
 # starts (the legs of a pair differ at some D on the paper's ground); their spread is reported.
@@ -259,7 +259,7 @@ def reduced_branches(
     return out
 
 
-# --- the report: tables and a figure (the `insect-gait-lab timing-lines` command) -------------
+# --- the report: tables and a figure (the `python -m lab timing-lines` command) -------------
 def _f(x: float | None, fmt: str = "{:.2f}") -> str:
     return "–" if x is None else fmt.format(x)
 

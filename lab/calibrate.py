@@ -18,17 +18,17 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.gait import TWO_PI
-from sim_core.model.params import ModelParams, phi_aep
-from sim_core.paper.values import BETA_BISTABLE, BETA_FAST, BETA_SLOW
-from sim_core.studies.objectives import (
+from lab.objectives import (
     Evaluation,
     drift_score,
     evaluate,
     evaluate_pull,
     outcome_gap,
 )
-from sim_core.studies.space import SEARCH_SPACE, WIDE_SPACE
+from lab.space import SEARCH_SPACE, WIDE_SPACE
+from sim_core.model.gait import TWO_PI
+from sim_core.model.params import ModelParams, phi_aep
+from sim_core.paper.values import BETA_BISTABLE, BETA_FAST, BETA_SLOW
 
 OBJECTIVES = ("closed-loop", "drift", "pull")
 

@@ -1,7 +1,7 @@
 """Fifth campaign, point 2 (issue 40): search every invented parameter at once on coarse drift
-surfaces (`sim_core.studies.surface_search`), with optuna's TPE over both grounds.
+surfaces (`lab.surface_search`), with optuna's TPE over both grounds.
 
-    python -m sim_core.studies.campaigns.campaign5_search --timeout-s 3600
+    python -m lab.campaigns.campaign5_search --timeout-s 3600
 
 Resumable: the study lives in SQLite (`--storage`), every probe in the result cache
 (`--cache`), and after every trial the whole record is exported to `--export` (committed, so
@@ -20,12 +20,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from sim_core.model.params import ModelParams
-from sim_core.runs.backends import get_backend
-from sim_core.runs.cache import ResultCache
-from sim_core.studies.calibrate import reachable
-from sim_core.studies.space import Range
-from sim_core.studies.surface_search import (
+from lab.calibrate import reachable
+from lab.space import Range
+from lab.surface_search import (
     CONSTRAINT_SPACE,
     FAILED_SCORE,
     FRAMES,
@@ -40,6 +37,9 @@ from sim_core.studies.surface_search import (
     fold_of,
     geometry,
 )
+from sim_core.model.params import ModelParams
+from sim_core.runs.backends import get_backend
+from sim_core.runs.cache import ResultCache
 
 STUDY = "campaign5"
 

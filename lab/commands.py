@@ -47,11 +47,11 @@ def _add_calibrate(sub: Any) -> None:
 def _cmd_calibrate(args: argparse.Namespace) -> int:
     import time
 
-    from sim_core.studies.calibrate import SEARCH_SPACE, calibrate
-    from sim_core.studies.space import WIDE_SPACE
+    from lab.calibrate import SEARCH_SPACE, calibrate
+    from lab.space import WIDE_SPACE
 
     if args.trials < 1 or args.duration_s <= 0 or args.n_init < 2:
-        print("insect-gait-lab calibrate: error: --trials >= 1, --duration-s > 0, --n-init >= 2",
+        print("python -m lab calibrate: error: --trials >= 1, --duration-s > 0, --n-init >= 2",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     if args.storage.startswith("sqlite:///"):
@@ -89,12 +89,10 @@ def _add_sensitivity(sub: Any) -> None:
 
 
 def _cmd_sensitivity(args: argparse.Namespace) -> int:
-    from sim_core.studies.sensitivity import run_sensitivity
+    from lab.sensitivity import run_sensitivity
 
     if args.n_init < 1 or args.duration_s <= 0:
-        print(
-            "insect-gait-lab sensitivity: error: --n-init >= 1, --duration-s > 0", file=sys.stderr
-        )
+        print("python -m lab sensitivity: error: --n-init >= 1, --duration-s > 0", file=sys.stderr)
         return EXIT_USAGE
     run_sensitivity(Path(args.out), n_init=args.n_init, duration_s=args.duration_s)
     return 0
@@ -112,13 +110,13 @@ def _add_diagnose(sub: Any) -> None:
 def _cmd_diagnose(args: argparse.Namespace) -> int:
     from pydantic import ValidationError
 
+    from lab.diagnostics import diagnose
     from sim_core.model.params import ModelParams
-    from sim_core.studies.diagnostics import diagnose
 
     try:
         params = ModelParams(**json.loads(args.params))
     except (ValueError, ValidationError) as exc:
-        print(f"insect-gait-lab diagnose: error: --params: {exc}", file=sys.stderr)
+        print(f"python -m lab diagnose: error: --params: {exc}", file=sys.stderr)
         return EXIT_USAGE
     report = diagnose(params)
     if args.json:
@@ -159,7 +157,7 @@ def _param_overrides(command: str, text: str) -> dict[str, Any] | None:
         over = json.loads(text)
         ModelParams(**over)
     except (ValueError, TypeError, ValidationError) as exc:
-        print(f"insect-gait-lab {command}: error: --params: {exc}", file=sys.stderr)
+        print(f"python -m lab {command}: error: --params: {exc}", file=sys.stderr)
         return None
     return dict(over)
 
@@ -193,21 +191,19 @@ def _add_slope_heading(sub: Any) -> None:
 def _cmd_slope_heading(args: argparse.Namespace) -> int:
     import time
 
+    from lab.slope_heading import headings, table
     from sim_core.model.params import ModelParams
-    from sim_core.studies.slope_heading import headings, table
 
     if not 0 < args.duration_s <= 600:
-        print("insect-gait-lab slope-heading: error: --duration-s in (0, 600]", file=sys.stderr)
+        print("python -m lab slope-heading: error: --duration-s in (0, 600]", file=sys.stderr)
         return EXIT_USAGE
     if any(f <= 0 for f in args.friction) or any(n < 0 for n in args.noslip):
-        print(
-            "insect-gait-lab slope-heading: error: --friction > 0, --noslip >= 0", file=sys.stderr
-        )
+        print("python -m lab slope-heading: error: --friction > 0, --noslip >= 0", file=sys.stderr)
         return EXIT_USAGE
     over = _param_overrides("slope-heading", args.params)
     if over is None:
         return EXIT_USAGE
-    from sim_core.studies.readings import settings_name
+    from lab.readings import settings_name
 
     tag = settings_name("", over)
     default_mu = ModelParams().friction
@@ -258,11 +254,11 @@ def _cmd_timing_lines(args: argparse.Namespace) -> int:
 
     import numpy as np
 
+    from lab import timing_lines as tl
     from sim_core.model.params import ModelParams
-    from sim_core.studies import timing_lines as tl
 
     if not 0.0 < args.d_step <= 0.5 or not all(0.5 < b < 1.0 for b in args.betas):
-        print("insect-gait-lab timing-lines: error: --d-step in (0, 0.5], betas in (0.5, 1)",
+        print("python -m lab timing-lines: error: --d-step in (0, 0.5], betas in (0.5, 1)",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     args.out.mkdir(parents=True, exist_ok=True)
@@ -316,7 +312,7 @@ def _add_readings(sub: Any) -> None:
         help="screen the other readings of the paper's text (8 starts per "
         "beta, settled finals and their gaits, per ground)",
     )
-    # the names live with the study (sim_core.studies.readings.READINGS), which loads MuJoCo:
+    # the names live with the study (lab.readings.READINGS), which loads MuJoCo:
     # checked when the command runs, so that `--help` stays light
     p.add_argument("--readings", nargs="+", default=None,
                    help="which readings (default: all; an unknown name lists them)")  # fmt: skip
@@ -349,9 +345,7 @@ def _cmd_readings(args: argparse.Namespace) -> int:
     import time
     from pathlib import Path
 
-    from sim_core.runs.backends import get_backend
-    from sim_core.runs.cache import ResultCache
-    from sim_core.studies.readings import (
+    from lab.readings import (
         READINGS,
         find_states,
         finder_table,
@@ -360,27 +354,29 @@ def _cmd_readings(args: argparse.Namespace) -> int:
         table,
         variants,
     )
+    from sim_core.runs.backends import get_backend
+    from sim_core.runs.cache import ResultCache
 
     if not 0 < args.duration_s <= 600 or not all(0.5 < b < 1.0 for b in args.betas):
-        print("insect-gait-lab readings: error: --duration-s in (0, 600], betas in (0.5, 1)",
+        print("python -m lab readings: error: --duration-s in (0, 600], betas in (0.5, 1)",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     stop = args.stop_if_settled_s
     if stop is not None and not 0 < stop <= args.duration_s:
-        print("insect-gait-lab readings: error: --stop-if-settled-s in (0, --duration-s]",
+        print("python -m lab readings: error: --stop-if-settled-s in (0, --duration-s]",
               file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     over = _param_overrides("readings", args.params)
     if over is None:
         return EXIT_USAGE
     if args.robust and args.finder:
-        print("insect-gait-lab readings: error: --robust is a census per variant; run --finder on "
+        print("python -m lab readings: error: --robust is a census per variant; run --finder on "
               "the setting alone", file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     names = args.readings or list(READINGS)
     unknown = [n for n in names if n not in READINGS]
     if unknown:
-        print(f"insect-gait-lab readings: error: unknown reading(s) {unknown}; choose from "
+        print(f"python -m lab readings: error: unknown reading(s) {unknown}; choose from "
               f"{list(READINGS)}", file=sys.stderr)  # fmt: skip
         return EXIT_USAGE
     rows: list[str] = []

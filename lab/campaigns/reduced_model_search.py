@@ -1,11 +1,11 @@
 """Fourth study (docs/REPRODUCTION.md): the reduced support model over soft legs.
 
-    python -m sim_core.studies.campaigns.reduced_model_search grid   # stiffness x damping x apex
-    python -m sim_core.studies.campaigns.reduced_model_search random 0 160   # seeds 0..159
-    python -m sim_core.studies.campaigns.reduced_model_search apex   # fifth study: apex to 4 mm
+    python -m lab.campaigns.reduced_model_search grid   # stiffness x damping x apex
+    python -m lab.campaigns.reduced_model_search random 0 160   # seeds 0..159
+    python -m lab.campaigns.reduced_model_search apex   # fifth study: apex to 4 mm
 
 Each candidate runs 12 starts over the circle at beta 0.62, 0.655 and 0.70
-(`sim_core.studies.reduced_model`) and prints where they end. The random search scores a candidate
+(`lab.reduced_model`) and prints where they end. The random search scores a candidate
 by the paper's pattern: starts within 0.3 rad of 2.9 at beta 0.62, of 1.9 at 0.70, plus 6 if
 0.655 has both. One JSON line per candidate, with the median share of the swing done when feet
 land per beta ("share": 1 = at the AEP; the fourth study's check against mid-swing landings).
@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.studies.reduced_model import ReducedParams, run_reduced
+from lab.reduced_model import ReducedParams, run_reduced
 
 BETAS = (0.62, 0.655, 0.70)
 

@@ -1,6 +1,6 @@
 """The penalty ground's settled finals at dt, dt/2 and RK4 2e-5 s (docs/NUMERICS.md).
 
-Usage: K=2000 LABELS=default,half,rk4 python -m sim_core.studies.campaigns.penalty_ground
+Usage: K=2000 LABELS=default,half,rk4 python -m lab.campaigns.penalty_ground
 Beta 0.62 and 0.70 from Delta31 1.9 and 3.0, 30 s each; writes out/penalty_ground_K_LABELS.json.
 VARY=ground_damping:1.1 scales one more field (the +-10% check).
 """

@@ -1,6 +1,6 @@
 """Fourth study (docs/REPRODUCTION.md): where 12 starts of the full model end, per beta.
 
-    python -m sim_core.studies.campaigns.full_model_finals '{"tarsus_stiffness": 15,
+    python -m lab.campaigns.full_model_finals '{"tarsus_stiffness": 15,
         "tarsus_damping": 0.04, "swing_height": 0.001}' --betas 0.62 0.70 --duration-s 5 \
         [--dt-s 2.5e-5]
 
@@ -11,7 +11,7 @@ landing in mid-swing is set by the swing and scuff rule, not by walking mechanic
 `--plot FILE` draws Delta31 per gait cycle, one panel per beta, with
 `sim_core.paper.plots.fig5` (the reproduction's Fig. 5 drawing).
 A scratch study tool kept so that the numbers in the docs can be re-made; the product's
-own commands (`insect-gait-lab study`, `reproduce`) are the supported path.
+own commands (`python -m lab study`, `reproduce`) are the supported path.
 """
 
 from __future__ import annotations

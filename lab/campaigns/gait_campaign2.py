@@ -10,7 +10,7 @@ Sub-commands (numbers and the commands that made them: docs/studies/gait_campaig
 Parameter sets are the lead-1 point (`LEAD1`) plus `--set name=value` overrides. Nothing here
 knows the target gait; beta enters only through the paper's eq. 2 (inside sim_core).
 
-    python -m sim_core.studies.campaigns.gait_campaign2 finals --betas 0.62 0.70 --duration 20
+    python -m lab.campaigns.gait_campaign2 finals --betas 0.62 0.70 --duration 20
 """
 
 from __future__ import annotations

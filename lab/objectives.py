@@ -30,6 +30,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from lab.space import SEARCH_SPACE
 from sim_core.model.gait import TWO_PI, angle_diff, final_d31, window_d31
 from sim_core.model.params import ModelParams, nominal_speed
 from sim_core.model.probes import open_loop_drift
@@ -43,7 +44,6 @@ from sim_core.paper.values import (
     METACHRONAL_BRANCH,
     TRIPOD_BRANCH,
 )
-from sim_core.studies.space import SEARCH_SPACE
 
 # rad of score per unit of speed error or slip beyond 10%: walking properly (the sim_core
 # acceptance) outranks a closer Delta31 (0.1 of excess slip costs as much as 3 rad of Delta31)

@@ -1,7 +1,7 @@
 """Fifth campaign, point 4's first checks (issue 40): is a search candidate's loop real?
 
-    python -m sim_core.studies.campaigns.campaign5_confirm --trial N
-    python -m sim_core.studies.campaigns.campaign5_confirm --params '{"kp_lift": 0.0027}'
+    python -m lab.campaigns.campaign5_confirm --trial N
+    python -m lab.campaigns.campaign5_confirm --params '{"kp_lift": 0.0027}'
 
 For one candidate (a trial of `docs/data/campaign5_trials.json`, or ModelParams overrides):
 1. its refined drift surface over beta 0.60-0.72 by 0.01 (Fig. 8's protocol): where the
@@ -21,6 +21,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+from lab.surface_search import METACHRONAL_WINDOW, TRIPOD_WINDOW, geometry
 from sim_core.model.params import ModelParams, nominal_speed
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import RunSpec
@@ -28,7 +29,6 @@ from sim_core.paper.surface import drift_surface
 from sim_core.paper.surface_types import DriftSurface, SurfaceConfig, grid
 from sim_core.runs.backends import get_backend
 from sim_core.runs.cache import ResultCache
-from sim_core.studies.surface_search import METACHRONAL_WINDOW, TRIPOD_WINDOW, geometry
 
 BETAS = grid(0.60, 0.72, 0.01)
 STARTS = {"tripod side": 3.0, "metachronal side": 1.9}

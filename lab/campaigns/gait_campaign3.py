@@ -14,7 +14,7 @@ Parameter sets are `ModelParams()` (today's default) plus `--set name=value` ove
 `STEP_ONE` names the adopted setting. Nothing here knows the target gait; beta enters only
 through eq. 2 inside sim_core.
 
-    python -m sim_core.studies.campaigns.gait_campaign3 map --out docs/studies/regimes.json
+    python -m lab.campaigns.gait_campaign3 map --out docs/studies/regimes.json
 """
 
 from __future__ import annotations
@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from lab.campaigns.gait_campaign2 import binned_legs, crossings, row, table_finals
 from sim_core.model.gait import classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.model.probes import open_loop_drift
@@ -38,7 +39,6 @@ from sim_core.paper.sweep import sweep
 from sim_core.runs.backends import Backend, get_backend, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import Task, ramp_task
-from sim_core.studies.campaigns.gait_campaign2 import binned_legs, crossings, row, table_finals
 
 # The step-one candidate of issue 22 (fact 7, first row): lift joints 0.6x as stiff with
 # damping on their own velocity (1 ms lag), a 0.5 mm lower stance, centre of mass 1 mm forward.

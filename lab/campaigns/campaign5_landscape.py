@@ -1,6 +1,6 @@
 """Fifth campaign, point 3 (issue 40): the search's landscape, read from its exported record.
 
-    python -m sim_core.studies.campaigns.campaign5_landscape [--trials FILE] [--figure PNG]
+    python -m lab.campaigns.campaign5_landscape [--trials FILE] [--figure PNG]
 
 Prints (markdown, for docs/REPRODUCTION.md) how many candidates were evaluated per ground, the
 best ones with their folds and parts of the score, the Pareto front of metachronal-fold error
@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.studies.surface_search import PAPER_METACHRONAL_FOLD, PAPER_TRIPOD_FOLD
+from lab.surface_search import PAPER_METACHRONAL_FOLD, PAPER_TRIPOD_FOLD
 
 SANE = 0.02  # a candidate "walks properly" when its sanity part of the score is below this
 
@@ -40,7 +40,7 @@ def importances(rows: list[dict[str, Any]]) -> dict[str, float]:
     """PED-ANOVA importances of the parameters every evaluated candidate has (empty if < 20)."""
     import optuna
 
-    from sim_core.studies.campaigns.campaign5_search import distributions
+    from lab.campaigns.campaign5_search import distributions
 
     rows = evaluated(rows)
     if len(rows) < 20:

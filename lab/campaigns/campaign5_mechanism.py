@@ -1,7 +1,7 @@
 """Fifth campaign, point 1 (issue 40): which legs' landings make the drift surface, and does the
 fore legs' response near L_FH have the sign and timing a response-time reading needs?
 
-    python -m sim_core.studies.campaigns.campaign5_mechanism [--out out/campaign5]
+    python -m lab.campaigns.campaign5_mechanism [--out out/campaign5]
 
 Three measurements, every probe through `sim_core.runs` (cached, resumable):
 1. Per-leg jumps on both grounds at beta 0.62, 0.645, 0.70 (D 1.5-3.3 by 0.05, 0.5 s + 2 s):

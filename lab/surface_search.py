@@ -28,13 +28,13 @@ from typing import Any
 
 import numpy as np
 
+from lab.space import Range
 from sim_core.model.params import ModelParams, nominal_speed
 from sim_core.paper.surface import Probe, drift_surface, probe_spec
 from sim_core.paper.surface_types import DriftSurface, SurfaceConfig, grid
 from sim_core.runs.backends import Backend
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import run_task
-from sim_core.studies.space import Range
 
 # six betas around the paper's folds (0.645, 0.67), none on them; 0.62 and 0.70 are Fig. 5's
 OBJECTIVE_BETAS = (0.62, 0.635, 0.655, 0.665, 0.685, 0.70)

@@ -1,6 +1,6 @@
 """Robustness of the defaults: each open parameter moved by +-10%, and where the runs end.
 
-`insect-gait-lab sensitivity` runs it and writes a tornado chart (how many runs at each beta end
+`python -m lab sensitivity` runs it and writes a tornado chart (how many runs at each beta end
 in the expected gait, per parameter and sign) and the JSON behind it.
 """
 
@@ -18,11 +18,11 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from lab.objectives import evaluate
+from lab.space import SEARCH_SPACE
 from sim_core.model.gait import circular_mean, classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.paper.values import BETA_FAST, BETA_SLOW
-from sim_core.studies.objectives import evaluate
-from sim_core.studies.space import SEARCH_SPACE
 
 
 @dataclass(frozen=True)

@@ -2,7 +2,7 @@
 stiffness and damping (negative solref), equivalent to today's (timeconst, dampratio), timed
 side by side with today's contact and the penalty ground (docs/MODEL.md, the ground section).
 
-    python -m sim_core.studies.campaigns.ground_respelled
+    python -m lab.campaigns.ground_respelled
 
 The variant model goes in through `BatchRunner`'s `build` seam (the model builder it compiles
 with), not by patching the runner module.
