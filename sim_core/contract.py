@@ -44,7 +44,7 @@ from sim_core.model.params import (
     parameter_table,
     step_problem,
 )
-from sim_core.model.ramp import RAMP_PARAMS, Ramp, RampParam
+from sim_core.model.ramp import RAMP_PARAMS, EventConditions, Ramp, RampParam
 from sim_core.model.spec import (
     FAILURE_KINDS,
     INSECT_WORDS,
@@ -136,6 +136,7 @@ __all__ = [
     "Cell",
     "CellResult",
     "DriftSurface",
+    "EventConditions",
     "FailureKind",
     "FinderConfig",
     "FinderOutput",

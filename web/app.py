@@ -26,10 +26,8 @@ import threading
 import time
 from collections.abc import Callable
 
-from web import controls
 from web.drawing import Drawing
 from web.pacing import RateMeter
-from web.record import Conditions
 from web.state import LoopConfig, LoopStats
 
 log = logging.getLogger(__name__)
@@ -167,14 +165,6 @@ class ViewerApp(Drawing):
                 if not self.playing or self.error is not None or self.speed != speed:
                     break
                 sim = self.sim  # a reset or another ground may have replaced it
-            if self.ramp is not None:
-                elapsed = sim.time_s - self._ramp_t0
-                self._ramp_phase = controls.ramp_phase(self.ramp, elapsed)
-                if self._ramp_phase == "done":
-                    self._set_param(self.ramp.param, self.ramp.start)
-                    self._stop_ramp()
-                else:
-                    self._set_param(self.ramp.param, self.ramp.value(elapsed))
             t0 = sim.time_s
             try:
                 sim.advance(chunk)
@@ -185,7 +175,7 @@ class ViewerApp(Drawing):
                 break
             advanced += sim.time_s - t0
             # the new Delta31 events happened under the parameters (and ramp phase) just used
-            param = self.ramp.param if self.ramp is not None and self._ramp_phase else ""
-            now = Conditions(sim.beta, sim.body_mass_g, sim.slope_deg, self._ramp_phase, param)
-            self.d31_conditions.note(sim.d31_events, now)
+            self.d31_conditions.note(sim)  # marks where what was in force changed
+            if self.ramp is not None and sim.ramp is None:
+                self._stop_ramp()  # the ramp is done (the core ends it): its slider is free
         return advanced

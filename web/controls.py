@@ -151,16 +151,3 @@ def make_ramp(param: str, start: float, turn: float, hold_s: float, ramp_s: floa
         hold_s=RAMP_HOLD_S.clamp(hold_s),
         ramp_s=RAMP_RAMP_S.clamp(ramp_s),
     )
-
-
-def ramp_phase(ramp: Ramp, elapsed_s: float) -> str:
-    """'hold', 'down', 'up' (the way the value moves) or 'done' after `elapsed_s` of ramp."""
-    t = elapsed_s
-    if t >= ramp.duration_s:
-        return "done"
-    if t < ramp.hold_s or t >= ramp.turn_time_s + ramp.ramp_s:
-        return "hold"
-    towards = "up" if ramp.turn > ramp.start else "down"
-    if t < ramp.turn_time_s:
-        return towards
-    return "down" if towards == "up" else "up"

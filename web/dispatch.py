@@ -83,10 +83,9 @@ class Dispatch(ViewerState):
                 self.ramp = ramp
                 self._ramp_t0 = sim.time_s
                 self._last_ramp = ramp
-                self._ramp_phase = controls.ramp_phase(ramp, 0.0)
-                self._set_param(ramp.param, ramp.start)
+                sim.start_ramp(ramp)  # the core's ramp driver moves the parameter
                 self._write[ramp.param] = ramp.start  # the slider shows the start, once
-                self.d31_conditions.start_ramp()  # a new ramp draws a new path
+                self.d31_conditions.start_ramp(sim)  # a new ramp draws a new path
             case StopRamp():
                 self._stop_ramp()
             case Export(what=what, send=send):
@@ -139,7 +138,7 @@ class Dispatch(ViewerState):
         if self.ramp is not None:
             self._write[self.ramp.param] = getattr(self.sim, self.ramp.param)
         self.ramp = None
-        self._ramp_phase = ""
+        self.sim.stop_ramp()
 
     def settings(self) -> export.Settings:
         running = self.ramp is not None
@@ -171,16 +170,15 @@ class Dispatch(ViewerState):
     def export(self, what: str) -> tuple[str, bytes]:
         """(file name, content) of one export (web/export.py); loop thread only."""
         stamp = f"t{self.sim.time_s:.0f}s"
-        events = self.sim.d31_events
         if what == "d31":
             return f"insect-gait_d31_{stamp}.csv", export.d31_csv(
-                self.d31_conditions.events(events)
+                self.d31_conditions.events(self.sim)
             )
         if what == "footfall":
             intervals = self.sim.stance_intervals()  # the whole walk since its (re)start
             return f"insect-gait_footfall_{stamp}.csv", export.footfall_csv(intervals)
         if what == "ramp":
-            path, ramp = self.d31_conditions.ramp_path(events), self._last_ramp
+            path, ramp = self.d31_conditions.ramp_path(self.sim), self._last_ramp
             data = export.ramp_csv(path, ramp, self._ramp_t0 if ramp is not None else None)
             return f"insect-gait_ramp_{stamp}.csv", data
         if what == "settings":

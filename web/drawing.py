@@ -49,7 +49,7 @@ class Drawing(Dispatch):
             elapsed = sim.time_s - self._ramp_t0
             value = getattr(sim, r.param)
             ramp = (
-                f"{controls.RAMP_LABELS[r.param]} {self._ramp_phase}: {value:.3f} "
+                f"{controls.RAMP_LABELS[r.param]} {sim.ramp_phase}: {value:.3f} "
                 f"({min(elapsed, r.duration_s):.0f} of {r.duration_s:.0f} s)"
             )
         write, self._write = self._write, {}
@@ -149,7 +149,7 @@ class Drawing(Dispatch):
         self._draw_ramp_path()
         finder, note = self.bifurcation.get()
         events = self.sim.d31_events
-        trail = self.d31_conditions.events(events, -self.cfg.trail_len)
+        trail = self.d31_conditions.events(self.sim, -self.cfg.trail_len)
         live = (self.sim.beta, events[-1][1] if events else None)
         self.panels.show_html(
             self.panels.bifurcation,
@@ -159,7 +159,7 @@ class Drawing(Dispatch):
                 trail,
                 live,
                 (controls.BETA.lo, controls.BETA.hi),
-                self.d31_conditions.ramp_path(events) if self._ramp_draws_on_beta() else [],
+                self.d31_conditions.ramp_path(self.sim) if self._ramp_draws_on_beta() else [],
             ),
         )
         axis = self.panels.atlas_axis if self.panels.atlas_axis in ATLAS_AXES else "mass"
@@ -194,7 +194,7 @@ class Drawing(Dispatch):
         ramp = self._last_ramp
         if ramp is None:
             return
-        path = self.d31_conditions.ramp_path(self.sim.d31_events)
+        path = self.d31_conditions.ramp_path(self.sim)
         rng = controls.RAMP_SLIDERS[ramp.param]
         a, b = sorted((ramp.start, ramp.turn))
         pad = 0.1 * (b - a) or rng.step

@@ -4,24 +4,23 @@ The simulation keeps the history (`Simulation.footfall_since`: stance at every c
 over its last `history_s` seconds; `Simulation.d31_events`: Delta31 at every leg-1 touchdown
 since the last reset), so the viewer keeps no copy of it: the footfall diagram and its export
 are computed from the stance record when drawn, and the Delta31 trace, return map and trail
-read the core's event list. The one thing only the viewer knows is the conditions it set
-(beta, body mass, slope, the ramp's phase) when each event happened: `D31Conditions` notes
-them per core event, by index, for the trail, the ramp's path and the Delta31 export.
+read the core's event list, with what was in force at each event (`Simulation.d31_conditions`:
+beta, body mass, slope, ground, the ramp's phase). The viewer adds only the marks it draws
+(`D31Conditions`) and where its latest ramp began.
 """
 
 from __future__ import annotations
 
 import bisect
-import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from operator import itemgetter
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 import numpy as np
 
-from sim_core.contract import LEG_NAMES
+from sim_core.contract import LEG_NAMES, EventConditions
 
 if TYPE_CHECKING:
     from sim_core import Simulation
@@ -65,17 +64,6 @@ def d31_since(events: CoreEvents, since_s: float) -> CoreEvents:
 
 
 @dataclass(frozen=True)
-class Conditions:
-    """What the viewer had set when an event happened."""
-
-    beta: float
-    body_mass_g: float = math.nan
-    slope_deg: float = math.nan
-    ramp: str = ""  # "down"/"up"/"hold" while a ramp ran, else ""
-    ramp_param: str = ""  # the parameter that ramp moved (a `Ramp.param`), else ""
-
-
-@dataclass(frozen=True)
 class Mark:
     """A change of conditions on the Delta31 history, at the first event under the new ones."""
 
@@ -97,7 +85,7 @@ def _differs(a: float, b: float) -> bool:
     return not (a == b or (math.isnan(a) and math.isnan(b)))
 
 
-def change_label(before: Conditions, now: Conditions) -> str:
+def change_label(before: EventConditions, now: EventConditions) -> str:
     """What changed between two events' conditions, in a few words ("" if nothing a person
     would mark): a ramp's phase ("ramp β up"), or outside ramps the parameters set."""
     if now.ramp != before.ramp:
@@ -120,25 +108,35 @@ class D31Event:
 
     time_s: float
     d31: float
-    at: Conditions
+    at: EventConditions
+
+
+class EventRecord(Protocol):
+    """What the viewer reads of a live run's events (`sim_core.Simulation`)."""
+
+    @property
+    def d31_events(self) -> CoreEvents: ...
+
+    @property
+    def d31_conditions(self) -> Sequence[EventConditions]: ...
 
 
 class D31Conditions:
-    """The conditions in force at each of the core's Delta31 events, index for index with
-    `Simulation.d31_events` (which the simulation keeps; this keeps only what it lacks), and
-    where the latest ramp began in it."""
+    """The marks on the Delta31 history and where the latest ramp began, over the core's own
+    record: the events and what was in force at each (`Simulation.d31_events`,
+    `Simulation.d31_conditions`, index for index); this keeps no copy of either."""
 
     def __init__(self) -> None:
-        self._at: list[Conditions] = []
+        self._seen = 0  # events whose conditions were read for marks
         self._ramp_from = 0
         self._marks: list[Mark] = []
 
     def __len__(self) -> int:
-        return len(self._at)
+        return self._seen
 
     def clear(self) -> None:
-        """The simulation started over (its event list with it)."""
-        self._at.clear()
+        """The simulation started over (its record with it)."""
+        self._seen = 0
         self._ramp_from = 0
         self._marks.clear()
 
@@ -147,41 +145,40 @@ class D31Conditions:
         """Where the conditions changed: a parameter set by a person, a ramp's phase."""
         return list(self._marks)
 
-    def note(self, events: CoreEvents, now: Conditions) -> None:
-        """The events the core added since the last call happened under `now` (the loop calls
-        this after every chunk of stepping, with the conditions it stepped under)."""
-        if len(events) < len(self._at):  # the core started over without our being told
+    def note(self, run: EventRecord) -> None:
+        """Marks for the events the core added since the last call (the loop calls this after
+        every chunk of stepping): one where the conditions changed from the event before."""
+        events, at = run.d31_events, run.d31_conditions
+        n = min(len(events), len(at))
+        if n < self._seen:  # the core started over without our being told
             self.clear()
-        if len(events) > len(self._at) and self._at and now != self._at[-1]:
-            before = self._at[-1]
+        for k in range(max(self._seen, 1), n):
+            before, now = at[k - 1], at[k]
+            if now == before:
+                continue
             label = change_label(before, now)
-            if label:
-                t = events[len(self._at)][0]
-                by_person = not now.ramp and not before.ramp  # not a ramp's phase
-                last = self._marks[-1] if self._marks else None
-                if (
-                    by_person
-                    and last is not None
-                    and last.by_person
-                    and (t - last.time_s < MARK_MERGE_S)
-                ):
-                    self._marks[-1] = Mark(t, label)  # a slider dragged: one mark, its end
-                else:
-                    self._marks.append(Mark(t, label, by_person))
-        self._at.extend(itertools.repeat(now, len(events) - len(self._at)))
+            if not label:
+                continue
+            t = events[k][0]
+            by_person = not now.ramp and not before.ramp  # not a ramp's phase
+            last = self._marks[-1] if self._marks else None
+            if by_person and last is not None and last.by_person and t - last.time_s < MARK_MERGE_S:
+                self._marks[-1] = Mark(t, label)  # a slider dragged: one mark, its end
+            else:
+                self._marks.append(Mark(t, label, by_person))
+        self._seen = n
 
-    def start_ramp(self) -> None:
+    def start_ramp(self, run: EventRecord) -> None:
         """A new ramp begins: its path starts with the next event."""
-        self._ramp_from = len(self._at)
+        self._ramp_from = len(run.d31_events)
 
-    def events(self, core: CoreEvents, start: int = 0) -> list[D31Event]:
+    def events(self, run: EventRecord, start: int = 0) -> list[D31Event]:
         """The core's events from index `start` (negative: from the end) with their conditions."""
-        n = min(len(self._at), len(core))
+        core, at = run.d31_events, run.d31_conditions
+        n = min(len(at), len(core))
         first = max(0, n + start) if start < 0 else min(start, n)
-        return [
-            D31Event(t, d, c) for (t, d), c in zip(core[first:n], self._at[first:n], strict=True)
-        ]
+        return [D31Event(t, d, c) for (t, d), c in zip(core[first:n], at[first:n], strict=True)]
 
-    def ramp_path(self, core: CoreEvents) -> list[D31Event]:
+    def ramp_path(self, run: EventRecord) -> list[D31Event]:
         """The latest ramp's events (those taken while it ran), for its drawing and export."""
-        return [e for e in self.events(core, self._ramp_from) if e.at.ramp]
+        return [e for e in self.events(run, self._ramp_from) if e.at.ramp]

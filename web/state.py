@@ -123,8 +123,7 @@ class ViewerState:
         self.draw_3d = True  # stream poses (SetDraw3D)
         self.speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
         self.ramp: Ramp | None = None
-        self._ramp_t0 = 0.0
-        self._ramp_phase = ""
+        self._ramp_t0 = 0.0  # when the latest ramp began (its path's export)
         self._last_ramp: Ramp | None = None  # the latest ramp, for its path's export
         self._write: dict[str, float] = {}  # values the loop sets into sliders at next redraw
         self.error: str | None = None

@@ -17,6 +17,7 @@ import numpy as np
 from sim_core.model import gait
 from sim_core.model.mjspec import build_model
 from sim_core.model.params import ModelParams
+from sim_core.model.ramp import EventConditions, Ramp, RampDriver, set_ramped
 from sim_core.model.runner import BatchRunner
 from sim_core.model.spec import RunFailure, RunSpec, SimulationDiverged
 
@@ -53,7 +54,12 @@ class Simulation:
         self._render_model = build_model(self._runner.params, visual=True)
         self._data = mujoco.MjData(self._render_model)
         self._events: list[tuple[float, float]] = []  # grows with the run; never rebuilt
+        self._conditions: list[EventConditions] = []  # in force at each event, index for index
         self._window: _Window | None = None
+        self._ramp: Ramp | None = None
+        self._ramp_t0 = 0.0
+        self._driver: RampDriver | None = None
+        self._phase = ""  # the ramp's phase in force for the coming control period
 
     # --- controls -----------------------------------------------------------------------------
     def advance(self, sim_seconds: float) -> None:
@@ -61,7 +67,7 @@ class Simulation:
         r = self._runner
         if r.failures[0] is None:
             nblocks = max(1, round(sim_seconds / r.control_dt))
-            r.run(hook=self._push_events, max_blocks=nblocks)
+            r.run(hook=self._after_period, max_blocks=nblocks)
         if r.failures[0] is not None:
             raise SimulationDiverged(r.failures[0])
 
@@ -74,8 +80,36 @@ class Simulation:
     def set_slope_deg(self, slope_deg: float) -> None:
         self._runner.set_slope_deg(0, slope_deg)
 
+    def start_ramp(self, ramp: Ramp) -> None:
+        """Ramp `ramp.param` from now on (hold, to the turn, back, hold) by the core's one
+        ramp driver, as the reproduction's ramps are driven; a running ramp is replaced. When
+        it is done the parameter stays at its start value and the ramp ends."""
+        self._ramp, self._ramp_t0 = ramp, self.time_s
+        self._driver = RampDriver([(0, ramp)], self.control_dt_s, t0=self._ramp_t0)
+        self._driver(self._runner)  # the value of the coming period
+        self._phase = ramp.phase(0.0)
+
+    def stop_ramp(self) -> None:
+        """End the ramp where it is: the parameter keeps the value the ramp left."""
+        self._ramp, self._driver, self._phase = None, None, ""
+
+    @property
+    def ramp(self) -> Ramp | None:
+        """The ramp running now (None: none)."""
+        return self._ramp
+
+    @property
+    def ramp_started_at_s(self) -> float | None:
+        return self._ramp_t0 if self._ramp is not None else None
+
+    @property
+    def ramp_phase(self) -> str:
+        """The running ramp's phase ("hold", "down", "up"), "" without one."""
+        return self._phase
+
     def reset(self, d31_init: float | None = None) -> None:
-        """Start over with a new initial Delta31; beta, mass and slope are kept."""
+        """Start over with a new initial Delta31; beta, mass and slope are kept (a running
+        ramp ends)."""
         keep = {"beta": self.beta, "body_mass_g": self.body_mass_g, "slope_deg": self.slope_deg}
         if d31_init is not None:
             keep["d31_init"] = d31_init
@@ -204,8 +238,31 @@ class Simulation:
                               [t[-n:] for t in ev.touchdowns[0]], [t[-n:] for t in ev.liftoffs[0]],
                               self.time_s, self.beta)  # fmt: skip
 
-    def _push_events(self, r: BatchRunner) -> None:
-        """The run loop's hook: after every control period, the new Delta31 events."""
+    @property
+    def d31_conditions(self) -> list[EventConditions]:
+        """What was in force at each Delta31 event (index for index with `d31_events`): the
+        parameters, the ground and the ramp's phase; extended in place, as the events."""
+        return self._conditions
+
+    def _after_period(self, r: BatchRunner) -> None:
+        """The run loop's hook after every control period: the new Delta31 events with what
+        was in force during the period, then the ramp's value for the next one."""
         t, v = r.d31_t[0], r.d31_v[0]
-        for k in range(len(self._events), len(v)):
-            self._events.append((t[k], v[k]))
+        if len(v) > len(self._events):
+            ramp = self._ramp
+            now = EventConditions(
+                float(r.beta[0]), float(r.body_mass_g[0]), float(r.slope_deg[0]),
+                r.params.ground, self._phase, ramp.param if ramp is not None else "",
+            )  # fmt: skip
+            for k in range(len(self._events), len(v)):
+                self._events.append((t[k], v[k]))
+                self._conditions.append(now)
+        if self._ramp is not None and self._driver is not None:
+            elapsed = r.time - self._ramp_t0
+            phase = self._ramp.phase(elapsed)
+            if phase == "done":
+                set_ramped(r, 0, self._ramp.param, self._ramp.start)
+                self.stop_ramp()
+            else:
+                self._driver(r)
+                self._phase = phase

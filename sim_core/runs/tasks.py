@@ -30,16 +30,13 @@ import numpy as np
 
 from sim_core.model.gait import yaw_of
 from sim_core.model.params import ModelParams
-from sim_core.model.ramp import RAMP_PARAMS, Ramp, set_ramped
+from sim_core.model.ramp import RAMP_PARAMS, Ramp, RampDriver
 from sim_core.model.runner import BatchRunner
 from sim_core.model.spec import RunSpec
 from sim_core.model.version import PHYSICS_VERSION
 
 # Bump when what a task computes or returns changes; old cache entries then stop matching.
 TASK_VERSION = 1
-# How often a live ramp updates its parameter, s: a tenth of a stride at beta 0.66 (T ~ 0.1 s);
-# a 30 s ramp of beta over 0.08 then moves in steps of 2.7e-5, far below any effect we measure.
-RAMP_UPDATE_S = 0.01
 
 
 def _canonical(obj: Any) -> str:
@@ -141,20 +138,7 @@ def execute_chunk(
     # always recorded, so that a result never depends on which tasks share its batch
     runner = BatchRunner(specs, params, nthread=1, record=True)
     ramps = [(i, t.ramp) for i, t in enumerate(tasks) if t.ramp is not None]
-    every = max(1, round(RAMP_UPDATE_S / runner.control_dt))
-    last = [math.nan] * len(tasks)
-
-    def set_ramps(r: BatchRunner) -> None:
-        """Each ramped run's value for the coming control period (every RAMP_UPDATE_S)."""
-        if r.nblock % every:
-            return
-        for i, ramp in ramps:
-            if r.active[i]:
-                v = float(ramp.value(r.time))
-                if v != last[i]:
-                    set_ramped(r, i, ramp.param, v)
-                    last[i] = v
-
+    set_ramps = RampDriver(ramps, runner.control_dt)
     set_ramps(runner)  # the values of the first period
     runner.run(progress, hook=set_ramps if ramps else None)
     share = (time.perf_counter() - t0) / len(tasks)

@@ -88,7 +88,7 @@ def test_presets_and_the_ramp_drive_the_running_simulation() -> None:
         app.apply(StartRamp(controls.make_ramp("beta", 0.66, 0.60, 0.0, 1.0)))
         app._step(0.6, time.perf_counter() + 600)
         assert app.ramp is not None and app.sim.beta < controls.BETA.initial
-        path = app.d31_conditions.ramp_path(app.sim.d31_events)
+        path = app.d31_conditions.ramp_path(app.sim)
         assert path and {e.at.ramp for e in path} == {"down"}
         assert all(math.isfinite(e.d31) for e in path)
         assert path[-1].at.beta < path[0].at.beta  # the path follows beta down as it goes

@@ -16,10 +16,10 @@ from typing import Any
 import numpy as np
 import pytest
 
-from sim_core.contract import DriftSurface, FinderOutput, SurfaceAtlas
+from sim_core.contract import DriftSurface, EventConditions, FinderOutput, SurfaceAtlas
 from web import controls, export
 from web.bifurcation import WatchedFile, finder_points, load_validated
-from web.record import Conditions, D31Event, d31_since, stance_intervals
+from web.record import D31Event, d31_since, stance_intervals
 from web.surface_svg import drift_colour, drift_level, surface_svg
 from web.svg import MAX_DRAWN, atlas_svg, bifurcation_svg, d31_svg, n_dots, return_map_svg
 
@@ -171,8 +171,11 @@ def _settings(**kw: Any) -> export.Settings:
 
 
 def test_the_exports_carry_the_records() -> None:
-    ev = [D31Event(0.1 * k, 2.0, Conditions(0.70 - 0.001 * k, 3.0 + 0.015 * k, 0.41 * k, "down",
-                                            "beta")) for k in range(5)]  # fmt: skip
+    def down(k: int) -> EventConditions:
+        return EventConditions(0.70 - 0.001 * k, 3.0 + 0.015 * k, 0.41 * k, ramp="down",
+                               ramp_param="beta")  # fmt: skip
+
+    ev = [D31Event(0.1 * k, 2.0, down(k)) for k in range(5)]
     rows = list(csv.DictReader(io.StringIO(export.d31_csv(ev).decode())))
     assert [float(r["beta"]) for r in rows] == pytest.approx([0.70, 0.699, 0.698, 0.697, 0.696])
     assert rows[0].keys() == set(export.D31_COLUMNS) and rows[0]["ramp"] == "beta down"

@@ -8,10 +8,11 @@ import numpy as np
 import pytest
 
 from sim_core import RunSpec
+from sim_core.contract import EventConditions as Conditions
 from web import controls
 from web.pacing import RateMeter, SimClock
 from web.panels import Readouts, format_readouts
-from web.record import Conditions, D31Conditions, D31Event, d31_since, stance_intervals
+from web.record import D31Conditions, D31Event, d31_since, stance_intervals
 from web.requests import Request, RequestQueue, Reset, SetParam, StartRamp, StopRamp, coalesce
 from web.svg import CHAR_W, d31_svg, footfall_svg, n_dots
 
@@ -38,12 +39,12 @@ def test_the_ramp_is_the_cores_schedule_with_hold_phases() -> None:
 
     ramp = controls.make_ramp("body_mass_g", 3.0, 60.0, 1.0, 2.0)  # turn clamped to 10 g
     assert isinstance(ramp, Ramp) and ramp.turn == controls.BODY_MASS_G.hi
-    phases = [controls.ramp_phase(ramp, t) for t in (0.5, 1.5, 3.5, 5.5, 6.0)]
+    phases = [ramp.phase(t) for t in (0.5, 1.5, 3.5, 5.5, 6.0)]
     assert phases == ["hold", "up", "down", "hold", "done"]
     assert ramp.value(0.5) == 3.0 and ramp.value(2.0) == pytest.approx(6.5)
     assert ramp.value(3.0) == pytest.approx(10.0) and ramp.value(5.5) == 3.0
     down = controls.make_ramp("beta", 0.70, 0.62, 0.0, 1.0)
-    assert [controls.ramp_phase(down, t) for t in (0.5, 1.5)] == ["down", "up"]
+    assert [down.phase(t) for t in (0.5, 1.5)] == ["down", "up"]
     with pytest.raises(ValueError):
         controls.make_ramp("gravity", 1.0, 2.0, 1.0, 1.0)
 
@@ -101,23 +102,45 @@ def test_stance_samples_make_one_bar_per_interval() -> None:
     assert stance_intervals(np.zeros(0), np.zeros((0, 6), bool)) == [[] for _ in range(6)]
 
 
-def test_d31_conditions_follow_the_cores_events_index_for_index() -> None:
-    core: list[tuple[float, float]] = [(0.1, 2.0), (0.2, 2.1)]
+class Run:
+    """A live run's record as the core keeps it: events, and what was in force at each."""
+
+    def __init__(self) -> None:
+        self.d31_events: list[tuple[float, float]] = []
+        self.d31_conditions: list[Conditions] = []
+
+    def add(self, events: list[tuple[float, float]], at: Conditions) -> None:
+        self.d31_events.extend(events)
+        self.d31_conditions.extend(at for _ in events)
+
+
+def at(
+    beta: float, mass: float = 3.0, slope: float = 0.0, ramp: str = "", param: str = ""
+) -> Conditions:
+    return Conditions(beta, mass, slope, ramp=ramp, ramp_param=param)
+
+
+def test_the_viewer_reads_the_cores_events_with_their_conditions() -> None:
+    run = Run()
+    run.add([(0.1, 2.0), (0.2, 2.1)], at(0.66))
     log = D31Conditions()
-    log.note(core, Conditions(0.66, 3.0, 0.0))
-    core.append((0.3, 2.2))  # the core extends its list in place
-    log.note(core, Conditions(0.65, 3.0, 0.0))
-    log.note(core, Conditions(0.64, 3.0, 0.0))  # nothing new: nothing noted
-    ev = log.events(core)
+    log.note(run)
+    run.add([(0.3, 2.2)], at(0.65))  # the core extends its lists in place
+    ev = log.events(run)
     assert [(e.time_s, e.d31, e.at.beta) for e in ev] == [
         (0.1, 2.0, 0.66), (0.2, 2.1, 0.66), (0.3, 2.2, 0.65)
     ]  # fmt: skip
-    assert [e.time_s for e in log.events(core, -2)] == [0.2, 0.3]
+    assert [e.time_s for e in log.events(run, -2)] == [0.2, 0.3]
+    core = run.d31_events
     assert d31_since(core, 0.2) == [(0.2, 2.1), (0.3, 2.2)] and d31_since(core, 0.35) == []
-    core.append((0.4, 2.3))  # not noted yet: not shown with somebody else's conditions
-    assert len(log.events(core)) == 3
-    log.note([(0.05, 1.0)], Conditions(0.7))  # the core started over
-    assert [(e.time_s, e.at.beta) for e in log.events([(0.05, 1.0)])] == [(0.05, 0.7)]
+    run.d31_events.append((0.4, 2.3))  # an event whose conditions are not there: not shown
+    assert len(log.events(run)) == 3
+    log.note(run)
+    assert len(log) == 3
+    again = Run()
+    again.add([(0.05, 1.0)], at(0.7))  # the core started over
+    log.note(again)
+    assert len(log) == 1 and [(e.time_s, e.at.beta) for e in log.events(again)] == [(0.05, 0.7)]
 
 
 def test_sim_clock_caps_the_debt_when_the_machine_is_slow() -> None:
@@ -219,23 +242,24 @@ def test_footfall_shows_the_chosen_window_with_legs_coloured_by_pair() -> None:
 def test_the_ramp_draws_its_path_per_direction() -> None:
     from web.svg import bifurcation_svg
 
-    core = [(0.05, 1.9), (0.1, 2.0), (0.2, 2.05), (0.3, 2.1), (0.4, 2.2), (0.5, 2.2)]
+    run = Run()
+    run.add([(0.05, 1.9)], at(0.62))  # before the ramp
     log = D31Conditions()
-    log.note(core[:1], Conditions(0.62))  # before the ramp
-    log.start_ramp()
-    log.note(core[:3], Conditions(0.62, ramp="down"))
-    log.note(core[:5], Conditions(0.63, ramp="up"))
-    log.note(core, Conditions(0.64))  # the ramp ended
-    assert [e.at.ramp for e in log.ramp_path(core)] == ["down", "down", "up", "up"]
-    svg = bifurcation_svg(None, "", [], (0.64, 2.2), (0.55, 0.8), log.ramp_path(core))
+    log.start_ramp(run)
+    run.add([(0.1, 2.0), (0.2, 2.05)], at(0.62, ramp="down", param="beta"))
+    run.add([(0.3, 2.1), (0.4, 2.2)], at(0.63, ramp="up", param="beta"))
+    run.add([(0.5, 2.2)], at(0.64))  # the ramp ended
+    log.note(run)
+    assert [e.at.ramp for e in log.ramp_path(run)] == ["down", "down", "up", "up"]
+    svg = bifurcation_svg(None, "", [], (0.64, 2.2), (0.55, 0.8), log.ramp_path(run))
     assert svg.count('class="ramp"') == 2
     assert 'data-direction="down"' in svg and 'data-direction="up"' in svg
-    log.start_ramp()  # a new ramp: a new path
-    assert log.ramp_path(core) == []
+    log.start_ramp(run)  # a new ramp: a new path
+    assert log.ramp_path(run) == []
     log.clear()
-    assert log.ramp_path(core) == [] and len(log) == 0
-    up = Conditions(0.6, ramp="up")
-    wrap = [D31Event(0.1, 6.2, up), D31Event(0.2, 0.1, Conditions(0.61, ramp="up"))]
+    assert len(log) == 0
+    up = at(0.6, ramp="up", param="beta")
+    wrap = [D31Event(0.1, 6.2, up), D31Event(0.2, 0.1, at(0.61, ramp="up", param="beta"))]
     svg = bifurcation_svg(None, "", [], (0.6, None), (0.55, 0.8), wrap)
     assert svg.count('class="ramp"') == 2  # broken at the wrap: two dots, no line through pi
 
@@ -310,23 +334,24 @@ def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
 
 
 def test_the_d31_history_marks_what_a_person_changed_and_each_ramp_phase() -> None:
-    from web.record import Conditions, D31Conditions, Mark
+    from web.record import Mark
 
     rec = D31Conditions()
-    events: list[tuple[float, float]] = []
+    run = Run()
+    events = run.d31_events
 
     def walk(t0: float, n: int, at: Conditions) -> None:
-        events.extend((t0 + 0.1 * k, 2.0) for k in range(n))
-        rec.note(events, at)
+        run.add([(t0 + 0.1 * k, 2.0) for k in range(n)], at)
+        rec.note(run)
 
     base = Conditions(0.66, 3.0, 0.0)
     walk(0.0, 20, base)  # 0 .. 1.9 s
     walk(2.0, 3, Conditions(0.64, 3.0, 0.0))  # beta set at 2.0
     walk(2.3, 3, Conditions(0.62, 3.0, 0.0))  # 0.3 s later, typed on: one mark, its end
     walk(5.0, 10, Conditions(0.62, 4.5, 0.0))
-    walk(8.0, 3, Conditions(0.62, 4.5, 0.0, "hold", "beta"))
-    walk(8.3, 5, Conditions(0.63, 4.5, 0.0, "up", "beta"))  # 0.3 s later: a mark of its own
-    walk(9.5, 5, Conditions(0.64, 4.5, 0.0, "up", "beta"))  # the ramp moving: no mark
+    walk(8.0, 3, at(0.62, 4.5, ramp="hold", param="beta"))
+    walk(8.3, 5, at(0.63, 4.5, ramp="up", param="beta"))  # 0.3 s later: a mark of its own
+    walk(9.5, 5, at(0.64, 4.5, ramp="up", param="beta"))  # the ramp moving: no mark
     walk(12.0, 3, Conditions(0.62, 4.5, 0.0))
     assert [(round(m.time_s, 1), m.label) for m in rec.marks] == [
         (2.3, "β 0.620"),

@@ -1,0 +1,48 @@
+"""One ramp driver: the live Simulation (the viewer's ramps) ramps exactly as the reproduction's
+tasks do, and records what was in force at each Delta31 event (one history, in the core)."""
+
+from __future__ import annotations
+
+from sim_core import RunSpec, Simulation
+from sim_core.contract import EventConditions, Ramp
+from sim_core.runs.tasks import execute_chunk, ramp_task
+
+
+def test_a_live_ramp_is_the_tasks_ramp_and_its_record_names_each_phase() -> None:
+    ramp = Ramp("beta", 0.66, 0.62, 0.2, 0.4)
+    spec = RunSpec(beta=0.66, d31_init=2.5)
+    (task,) = execute_chunk([ramp_task(ramp, spec)])
+
+    sim = Simulation(spec)
+    sim.start_ramp(ramp)
+    assert sim.ramp == ramp and sim.ramp_phase == "hold" and sim.ramp_started_at_s == 0.0
+    sim.advance(ramp.duration_s)
+    # the same driver, the same physics: every Delta31 event equal, bit for bit
+    assert [d for _, d in sim.d31_events] == task["d31"]
+    assert [t for t, _ in sim.d31_events] == task["d31_times_s"]
+    at = sim.d31_conditions
+    assert len(at) == len(sim.d31_events)
+    phases = [c.ramp for c in at]
+    assert [p for k, p in enumerate(phases) if k == 0 or p != phases[k - 1]] == [
+        "hold", "down", "up", "hold"
+    ]  # fmt: skip
+    assert all(c.ramp_param == "beta" and c.ground == "constraint" for c in at)
+    assert min(c.beta for c in at) < 0.63 and at[0].beta == 0.66
+
+    sim.advance(0.1)  # past its end: the ramp is over, beta back at its start
+    assert sim.ramp is None and sim.ramp_phase == "" and sim.beta == 0.66
+    assert sim.d31_conditions[-1] == EventConditions(0.66, 3.0, 0.0, "constraint")
+
+
+def test_a_stopped_ramp_leaves_its_value_and_a_reset_ends_it() -> None:
+    sim = Simulation(RunSpec(beta=0.66, d31_init=2.5))
+    sim.start_ramp(Ramp("body_mass_g", 3.0, 5.0, 0.0, 1.0))
+    sim.advance(0.5)
+    sim.stop_ramp()
+    left = sim.body_mass_g
+    assert 3.5 < left < 4.5 and sim.ramp is None
+    sim.advance(0.1)
+    assert sim.body_mass_g == left and sim.d31_conditions[-1].ramp == ""
+    sim.start_ramp(Ramp("slope_deg", 0.0, 10.0, 0.0, 1.0))
+    sim.reset(d31_init=3.0)
+    assert sim.ramp is None and sim.d31_events == [] and sim.d31_conditions == []
