@@ -21,7 +21,7 @@ from web import controls, export
 from web.bifurcation import finder_points
 from web.dispatch import Dispatch
 from web.jobs import job_status_html
-from web.panels import Readouts
+from web.readouts import Readouts
 from web.record import d31_since, footfall_bars
 from web.surface_svg import surface_svg
 from web.svg import (

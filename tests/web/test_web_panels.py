@@ -209,7 +209,7 @@ def test_the_job_bodies_are_what_the_api_accepts() -> None:
 
 
 def test_the_return_map_and_the_status_box() -> None:
-    from web.panels import status_html
+    from web.readouts import status_html
 
     svg = return_map_svg([(2.0, 2.01), (2.01, 2.02)])
     assert 'data-plot="return-map"' in svg and n_dots(svg) == 2

@@ -11,7 +11,7 @@ from sim_core import RunSpec
 from sim_core.contract import EventConditions as Conditions
 from web import controls
 from web.pacing import RateMeter, SimClock
-from web.panels import Readouts, format_readouts
+from web.readouts import Readouts, format_readouts
 from web.record import D31Conditions, D31Event, d31_since, stance_intervals
 from web.requests import Request, RequestQueue, Reset, SetParam, StartRamp, StopRamp, coalesce
 from web.svg import CHAR_W, d31_svg, footfall_svg, n_dots
@@ -294,7 +294,7 @@ def test_time_axes_never_show_negative_times_and_name_their_unit() -> None:
 
 def test_a_turned_insect_is_explained_not_left_to_guess() -> None:
     """After a +-30 deg slope the body walked at heading 94 deg on flat ground with no word."""
-    from web.panels import heading_note
+    from web.readouts import heading_note
 
     assert heading_note(None) == "" and heading_note(4.0) == "" and heading_note(-15.0) == ""
     note = heading_note(94.0)
