@@ -50,13 +50,19 @@ PAPER = "paper"
 INVENTED = "invented"
 
 
+# A parameter's provenance, as field metadata (`parameter_table` and the API read it): taken
+# from the paper, or invented here with its reason in the description.
+FROM_PAPER: dict[str, Any] = {"origin": PAPER}
+OURS: dict[str, Any] = {"origin": INVENTED}
+
+
 def _paper(default: float, reason: str, **bounds: Any) -> float:
-    field: float = Field(default, description=f"[paper] {reason}", **bounds)
+    field: float = Field(default, description=reason, json_schema_extra=FROM_PAPER, **bounds)
     return field
 
 
 def _ours(default: float, reason: str, **bounds: Any) -> float:
-    field: float = Field(default, description=f"[invented] {reason}", **bounds)
+    field: float = Field(default, description=reason, json_schema_extra=OURS, **bounds)
     return field
 
 
@@ -164,7 +170,8 @@ class ModelParams(BaseModel):
 
     trajectory_frame: Literal["body", "level"] = Field(
         "body",
-        description="[invented] frame of the tip trajectories (Fig. 3): 'body' = they pitch and "
+        json_schema_extra=OURS,
+        description="frame of the tip trajectories (Fig. 3): 'body' = they pitch and "
         "roll with the body (our reading of 'the line segment between the AEP and the PEP is "
         "parallel to the body'); 'level' = the ground's frame turned to the body's heading, "
         "about each leg's hip (about the body's origin the legs "
@@ -227,7 +234,8 @@ class ModelParams(BaseModel):
     )
     tarsus_axis: Literal["tibia", "vertical"] = Field(
         "vertical",
-        description="[invented] direction the sprung tarsus slides: 'vertical' (the body's "
+        json_schema_extra=OURS,
+        description="direction the sprung tarsus slides: 'vertical' (the body's "
         "vertical at mid-stance, as the paper's viscoelastic ground pushes) or 'tibia' (along "
         "the tibia, as in the second study; part of its travel is sideways)",
     )
@@ -257,7 +265,8 @@ class ModelParams(BaseModel):
     )
     ground: Literal["constraint", "penalty"] = Field(
         "constraint",
-        description="[invented] foot-ground contact: 'constraint' = MuJoCo's soft constraint "
+        json_schema_extra=OURS,
+        description="foot-ground contact: 'constraint' = MuJoCo's soft constraint "
         "(solref/solimp below, elliptic cone); 'penalty' = the paper's viscoelastic elements, "
         "normal and tangential spring-dampers per foot anchored at touchdown "
         "(sim_core/model/ground.py, ground_* below)",
@@ -299,7 +308,8 @@ class ModelParams(BaseModel):
     )
     noslip_iterations: int = Field(
         0,
-        description="[invented] MuJoCo's no-slip solver passes after the main solver "
+        json_schema_extra=OURS,
+        description="MuJoCo's no-slip solver passes after the main solver "
         "(constraint ground): > 0 removes the soft contact's tangential creep, a candidate "
         "cause of the body turning on slopes; 0 = off, the calibrated default",
         ge=0,
@@ -327,7 +337,8 @@ class ModelParams(BaseModel):
     # --- Numerics defaults (see docs/NUMERICS.md) ---------------------------------------------
     integrator: Integrator = Field(
         "implicitfast",
-        description="[invented] MuJoCo integrator; treats the PD damping implicitly, cheap",
+        json_schema_extra=OURS,
+        description="MuJoCo integrator; treats the PD damping implicitly, cheap",
     )
     dt: float = _ours(
         5e-5, "physics timestep, s; its convergence is measured in docs/NUMERICS.md", gt=0
@@ -344,29 +355,34 @@ class ModelParams(BaseModel):
     )
     solver: Literal["newton", "cg", "pgs"] = Field(
         "newton",
-        description="[invented] MuJoCo's constraint solver (MuJoCo's default); the options "
+        json_schema_extra=OURS,
+        description="MuJoCo's constraint solver (MuJoCo's default); the options "
         "are compared for speed and outcome in `insect-gait numerics --solver-options`",
     )
     solver_iterations: int = Field(
         100,
-        description="[invented] the constraint solver's iteration cap (MuJoCo's default; it "
+        json_schema_extra=OURS,
+        description="the constraint solver's iteration cap (MuJoCo's default; it "
         "needs ~1-2 per step at the default timestep)",
         ge=1,
         le=1000,
     )
     cone: Literal["elliptic", "pyramidal"] = Field(
         "elliptic",
-        description="[invented] friction cone; elliptic is the physical one (and impratio's "
+        json_schema_extra=OURS,
+        description="friction cone; elliptic is the physical one (and impratio's "
         "stance grip is calibrated on it)",
     )
     warmstart: bool = Field(
         True,
-        description="[invented] start each step's constraint solve from the last step's forces "
+        json_schema_extra=OURS,
+        description="start each step's constraint solve from the last step's forces "
         "(MuJoCo's default)",
     )
     touchdown_interpolation: bool = Field(
         True,
-        description="[invented] landing instant from the interpolated clearance crossing "
+        json_schema_extra=OURS,
+        description="landing instant from the interpolated clearance crossing "
         "(True) or at the physics step where the touch is sensed (False); see NUMERICS.md",
     )
 
@@ -391,8 +407,9 @@ def parameter_table(params: ModelParams | None = None) -> list[tuple[str, object
     p = params or ModelParams()
     rows = []
     for name, field in ModelParams.model_fields.items():
-        desc = field.description or ""
-        origin = PAPER if desc.startswith("[paper]") else INVENTED
-        reason = desc.split("] ", 1)[-1]
-        rows.append((name, getattr(p, name), origin, reason))
+        extra = field.json_schema_extra
+        origin = extra.get("origin") if isinstance(extra, dict) else None
+        if origin not in (PAPER, INVENTED):
+            raise TypeError(f"ModelParams.{name} says not whether it is the paper's or ours")
+        rows.append((name, getattr(p, name), str(origin), field.description or ""))
     return rows
