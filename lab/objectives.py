@@ -7,7 +7,7 @@
 - pull (`PullEvaluation`, `evaluate_pull`): how close short closed-loop runs end to the
   branches, with walking-sanity penalties.
 
-branches, with walking sanity as hard-to-ignore penalties (fifth study, docs/REPRODUCTION.md).
+branches, with walking sanity as hard-to-ignore penalties (fifth study, docs/studies/journal.md).
 
 `calibration.Evaluation.score` counts a run that has not settled as pi away, so nearly every
 candidate of a wide search scores the same and the sampler learns little; it also costs ~60 s a

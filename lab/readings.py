@@ -1,7 +1,7 @@
 """Issue 31, step 2: the structural audit's other readings of the paper's text, screened.
 
 Every setting tried over three campaigns leaves a metachronal-side state at beta 0.62; the audit
-(docs/REPRODUCTION.md, tenth study) lists where the text permits another reading than ours.
+(docs/studies/journal.md, tenth study) lists where the text permits another reading than ours.
 Each reading that can be built is a `ModelParams` option (default: our reading, bit-identical).
 `screen` runs a reading on a ground from `STARTS` starts spread over the circle at each beta for
 `duration_s`, and reports where the settled runs end (clustered as the fixed-point finder does),

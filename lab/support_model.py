@@ -129,7 +129,7 @@ def static_margin(
     (negative: outside, the body must tip), with every foot on its stance line moving from
     +stroke/2 to -stroke/2 about its centre over the stance. Three-leg supports other than the
     two tripods (two legs of one side and the diagonal opposite) leave the centre of mass on or
-    near a diagonal edge; `docs/REPRODUCTION.md` (fifth study) reads the full model against this.
+    near a diagonal edge; `docs/studies/journal.md` (fifth study) reads the full model against this.
     """
     g = geo or SupportGeometry()
     x, y = g.feet()

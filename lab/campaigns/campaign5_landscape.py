@@ -2,7 +2,7 @@
 
     python -m lab.campaigns.campaign5_landscape [--trials FILE] [--figure PNG]
 
-Prints (markdown, for docs/REPRODUCTION.md) how many candidates were evaluated per ground, the
+Prints (markdown, for docs/studies/journal.md) how many candidates were evaluated per ground, the
 best ones with their folds and parts of the score, the Pareto front of metachronal-fold error
 against tripod-fold error among candidates that walk properly, and which parameters matter
 (optuna's PED-ANOVA importances over the parameters every candidate has); draws the folds of

@@ -14,7 +14,7 @@ Three measurements, every probe through `sim_core.runs` (cached, resumable):
 3. T_sw 30 / 34 / 38 ms at fixed joint time constants (a test, not adopted): drift surfaces
    over beta 0.595-0.64 by 0.0025 (the protocol of Fig. 8): where the metachronal branch
    (1.7-1.9) and the tripod branch (2.8-3.0) end.
-Writes `mechanism5.json` under --out and prints the tables quoted in docs/REPRODUCTION.md.
+Writes `mechanism5.json` under --out and prints the tables quoted in docs/studies/journal.md.
 """
 
 from __future__ import annotations

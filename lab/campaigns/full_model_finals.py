@@ -1,4 +1,4 @@
-"""Fourth study (docs/REPRODUCTION.md): where 12 starts of the full model end, per beta.
+"""Fourth study (docs/studies/journal.md): where 12 starts of the full model end, per beta.
 
     python -m lab.campaigns.full_model_finals '{"tarsus_stiffness": 15,
         "tarsus_damping": 0.04, "swing_height": 0.001}' --betas 0.62 0.70 --duration-s 5 \

@@ -1,4 +1,4 @@
-"""Fourth study (docs/REPRODUCTION.md): the reduced support model over soft legs.
+"""Fourth study (docs/studies/journal.md): the reduced support model over soft legs.
 
     python -m lab.campaigns.reduced_model_search grid   # stiffness x damping x apex
     python -m lab.campaigns.reduced_model_search random 0 160   # seeds 0..159

@@ -395,7 +395,7 @@ def landing_share(
     `after_s`: 1 - (phi_AEP - phi_touchdown) / phi_AEP, so 1 is at the AEP and 0.5 is where
     the scuff window closes (at the default `scuff_fraction`). Phase resets feed on how early
     feet land; an attractor reached with feet landing in mid-swing is shaped by the swing
-    curve and the scuff rule, not by walking (docs/REPRODUCTION.md, fourth study)."""
+    curve and the scuff rule, not by walking (docs/studies/journal.md, fourth study)."""
     ph = np.concatenate([p[t > after_s] for t, p in zip(times, phases, strict=True)])
     if ph.size == 0:
         return None

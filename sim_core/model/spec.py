@@ -33,7 +33,7 @@ MASS_REASON = (
 
 # The drift surface's pin (docs/MODEL.md, "Instruments"): K = 30 per s settles the pinned walk
 # in about a gait cycle (K T ~ 3) and agrees with K = 10 within 0.3 mrad per cycle; K >= 100
-# biases the drift by 1-2 mrad (shared/notes/drift-surface.md, remeasured in docs/REPRODUCTION.md).
+# biases the drift by 1-2 mrad (shared/notes/drift-surface.md; remeasured: docs/studies/journal.md).
 PIN_GAIN_PER_S = 30.0
 PIN_GAIN_MAX_PER_S = 1000.0
 PIN_GAIN_REASON = (

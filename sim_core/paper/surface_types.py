@@ -20,7 +20,7 @@ def grid(lo: float, hi: float, step: float) -> tuple[float, ...]:
 
 @dataclass(frozen=True)
 class SurfaceConfig:
-    """The probes' protocol: chosen from measurement (docs/REPRODUCTION.md, "The drift
+    """The probes' protocol: chosen from measurement (docs/studies/journal.md, "The drift
     surface"; shared/notes/drift-surface.md for the first measurements)."""
 
     # K = 30 per s settles in about a gait cycle (K T ~ 3) and agrees with K = 10 within

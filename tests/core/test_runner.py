@@ -182,7 +182,7 @@ def test_landing_share_reads_where_in_the_swing_feet_land() -> None:
 
 
 def test_the_default_model_lands_its_feet_near_the_aep_and_a_soft_foot_spring_does_not() -> None:
-    """The check that unmasked the fourth study's artefact (docs/REPRODUCTION.md)."""
+    """The check that unmasked the fourth study's artefact (docs/studies/journal.md)."""
     soft = ModelParams(tarsus_stiffness=15.0, tarsus_damping=0.04, swing_height=1e-3)
     spec = RunSpec(beta=0.62, d31_init=2.5, duration_s=1.5)
     stiff_res, soft_res = simulate(spec), simulate(spec, soft)
