@@ -13,7 +13,7 @@ engine.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
@@ -275,6 +275,8 @@ class Kind(Generic[J]):
         whatever else the kind keeps); it raises `JobFailed` rather than return numbers from a
         failed simulation.
     result: the kind's `Result` model (its schema is the result's in OpenAPI).
+    tables: the kind's other tables, kept under the result's `series` when asked for (name ->
+        columns; the CSV export's `table`); none for most kinds.
     columns: the columns of `records`, so that an empty table still has its header.
     draw: `draw(fig, spec, result)` draws the kind's figure on a matplotlib Figure (6.4 x 4.8
         in unless it resizes it), from the stored spec and result.
@@ -285,6 +287,7 @@ class Kind(Generic[J]):
     result: type[Result]
     columns: tuple[str, ...]
     draw: Draw
+    tables: dict[str, tuple[str, ...]] = field(default_factory=dict)
 
     @property
     def name(self) -> str:

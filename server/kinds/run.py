@@ -174,4 +174,7 @@ def _body_path(ax: Axes, runs: list[dict[str, Any]]) -> None:
     ax.set_title("body position along the slope")
 
 
-KIND = Kind(model=RunJob, run=run, result=RunJobResult, columns=SUMMARY_COLUMNS, draw=draw)
+KIND = Kind(
+    model=RunJob, run=run, result=RunJobResult, columns=SUMMARY_COLUMNS, draw=draw,
+    tables=SERIES_COLUMNS,
+)  # fmt: skip

@@ -30,8 +30,7 @@ from server.deps import (
 from server.errors import limit_error, sanitize
 from server.estimates import eta_of, retry_after_s, wall_per_sim_second
 from server.jobs import JobRow, JobStore, QueueFull
-from server.kinds import RECORD_COLUMNS, JobSpec
-from server.kinds.run import SERIES_COLUMNS
+from server.kinds import KINDS, RECORD_COLUMNS, JobSpec
 from server.schemas import Job, JobLinks, JobPage, JobResult, Problem
 from server.settings import Settings
 from server.status import FINISHED, JobStatus, StatusValue
@@ -216,8 +215,8 @@ def get_result(
     if format == "csv":
         if table == "records":
             rows, columns = result.get("records", []), RECORD_COLUMNS.get(job.kind, ())
-        elif "series" in result:
-            rows, columns = result["series"][table], SERIES_COLUMNS[table]
+        elif table in (series := result.get("series") or {}) and job.kind in KINDS:
+            rows, columns = series[table], KINDS[job.kind].tables.get(table, ())
         else:
             raise HTTPException(
                 status_code=409,
