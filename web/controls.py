@@ -116,25 +116,32 @@ def speed_value(label: str) -> float | None:
     return SPEEDS.get(label, 1.0)
 
 
-# --- ramps: the core's `Ramp` (hold start, ramp to turn, ramp back, hold), one definition ------
-# The slider of each parameter a ramp may drive (sim_core.contract.RAMP_PARAMS).
-RAMP_SLIDERS: dict[str, SliderRange] = {
-    "beta": BETA,
-    "body_mass_g": BODY_MASS_G,
-    "slope_deg": SLOPE_DEG,
-}
-RAMP_LABELS: dict[str, str] = {
-    "beta": "β",
-    "body_mass_g": "body mass (g)",
-    "slope_deg": "slope (°)",
-}
-# What the ramp inputs show when a parameter is chosen: the paper's Fig. 6a sweep for beta
-# (0.70 -> 0.62 -> 0.70), and sweeps across the paper's Fig. 9 ranges for mass and slope.
-RAMP_DEFAULTS: dict[str, tuple[float, float]] = {
-    "beta": (0.70, 0.62),
-    "body_mass_g": (3.0, 6.0),
-    "slope_deg": (0.0, 20.0),
-}
+# --- the live parameters: one table, from which the sliders, the ramp's choices, the
+# requests and the job bodies are made ------------------------------------------------------
+@dataclass(frozen=True)
+class LiveParam:
+    """A RunSpec field a person sets while the insect walks (and a ramp may drive)."""
+
+    name: str  # the RunSpec field (and `Simulation.set_<name>`)
+    slider: SliderRange
+    ramp_button: str  # the ramp's choice button
+    ramp_label: str  # how the ramp's readouts and panels name it
+    ramp_default: tuple[float, float]  # the sweep the ramp inputs show: (start, turn)
+
+
+# The paper's Fig. 6a sweep for beta (0.70 -> 0.62 -> 0.70), and sweeps across the paper's
+# Fig. 9 ranges for mass and slope.
+LIVE: tuple[LiveParam, ...] = (
+    LiveParam("beta", BETA, "ramp β", "β", (0.70, 0.62)),
+    LiveParam("body_mass_g", BODY_MASS_G, "ramp mass", "body mass (g)", (3.0, 6.0)),
+    LiveParam("slope_deg", SLOPE_DEG, "ramp slope", "slope (°)", (0.0, 20.0)),
+)
+LIVE_NAMES = tuple(p.name for p in LIVE)
+# derived views of the table
+RAMP_SLIDERS: dict[str, SliderRange] = {p.name: p.slider for p in LIVE}
+RAMP_LABELS: dict[str, str] = {p.name: p.ramp_label for p in LIVE}
+RAMP_DEFAULTS: dict[str, tuple[float, float]] = {p.name: p.ramp_default for p in LIVE}
+RAMP_BUTTONS: dict[str, str] = {p.ramp_button: p.name for p in LIVE}
 RAMP_HOLD_S = SliderRange("hold", 0.0, 600.0, 0.05, 5.0, "s")
 RAMP_RAMP_S = SliderRange("ramp", 0.1, 1200.0, 0.05, 30.0, "s")
 

@@ -18,6 +18,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from sim_core.contract import LEG_NAMES, Ramp, RunSpec
+from web import controls
 from web.paths import DEFAULT_API_URL
 from web.record import D31Event, Interval
 
@@ -98,7 +99,7 @@ def ramp_csv(path: Iterable[D31Event], ramp: Ramp | None, started_at_s: float | 
 
 # The run fields the viewer sets, as RunSpec (the contract) names them; the job bodies carry
 # these from a validated RunSpec, so a body holds what the core itself would run.
-HELD_FIELDS = ("beta", "body_mass_g", "slope_deg")
+HELD_FIELDS = controls.LIVE_NAMES
 
 
 def _fields(spec: RunSpec, names: Sequence[str]) -> dict[str, Any]:
@@ -175,7 +176,6 @@ def load_settings(data: bytes) -> Settings:
     """The settings a person exported (`settings_json`), read back: every value checked against
     the range the viewer's controls take, so a hand-edited file is refused with the field and
     its range named instead of walking at a value the sliders cannot show."""
-    from web import controls
 
     try:
         raw = json.loads(data)

@@ -77,7 +77,6 @@ EXPORT_BUTTONS = {
     "settings (JSON)": "settings",
 }
 # the ramp's parameter buttons: label -> RunSpec field
-RAMP_BUTTONS = {"ramp β": "beta", "ramp mass": "body_mass_g", "ramp slope": "slope_deg"}
 D31_WINDOW_LABEL = "Δ31 window (s, 0 = whole run)"
 PRESET_TRIPOD, PRESET_METACHRONAL = "Start as tripod (Δ31 = π)", "Start as metachronal (2π/3)"
 # The loop leaves a control alone this long after a person last changed it (typing pauses
@@ -106,12 +105,7 @@ class Panels:
             # a drag streams, a typed number waits for Enter (web/entry.py)
             lag = DirtyLag()  # one browser page's lag, shared by its boxes
             self.live = {
-                key: LiveSlider(server, spec, self._live(key), lag)
-                for key, spec in (
-                    ("beta", controls.BETA),
-                    ("body_mass_g", controls.BODY_MASS_G),
-                    ("slope_deg", controls.SLOPE_DEG),
-                )
+                p.name: LiveSlider(server, p.slider, self._live(p.name), lag) for p in controls.LIVE
             }
             self.sliders = {key: live.slider for key, live in self.live.items()}
             self.beta = self.sliders["beta"]
@@ -151,7 +145,7 @@ class Panels:
             )
         with gui.add_folder("Ramp (hold, ramp, back, hold)"):
             # buttons, not a dropdown (as speed): which parameter the ramp drives
-            self.ramp_param = gui.add_button_group("ramp drives", tuple(RAMP_BUTTONS))
+            self.ramp_param = gui.add_button_group("ramp drives", tuple(controls.RAMP_BUTTONS))
             self.ramp_param_name = "beta"  # written by the callback, read by the loop
             self.ramp_param.on_click(self._on_ramp_param)
             self.ramp_which = gui.add_text("ramped", controls.RAMP_LABELS["beta"], disabled=True)
@@ -280,7 +274,7 @@ class Panels:
         """A new parameter: its range and the default sweep into the start and turn boxes."""
         if event.client is None:
             return
-        param = RAMP_BUTTONS.get(str(self.ramp_param.value))
+        param = controls.RAMP_BUTTONS.get(str(self.ramp_param.value))
         if param is None or self._ramping:
             return  # a running ramp keeps its parameter
         self.ramp_param_name = param

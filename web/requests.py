@@ -15,6 +15,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 from sim_core.contract import Ramp
+from web.controls import LIVE_NAMES
 from web.export import Settings
 
 
@@ -26,7 +27,7 @@ class SetParam:
     value: float
 
 
-PARAMS = ("beta", "body_mass_g", "slope_deg")
+PARAMS = LIVE_NAMES
 
 
 @dataclass(frozen=True)
