@@ -32,10 +32,7 @@ from numba import njit
 from sim_core.model.cpg import advance_phases, reset_phase
 from sim_core.model.gait import TWO_PI
 from sim_core.model.legs import (
-    G_AEP,
-    G_ATTACH,
-    G_LEVEL,
-    G_LPZ,
+    LegGeometry,
     inverse_kinematics,
     stance_point,
     swing_point,
@@ -91,7 +88,7 @@ class EventLog(NamedTuple):
 
 @njit(cache=True)
 def _leg_target(
-    geo: np.ndarray,
+    geo: LegGeometry,
     leg: int,
     phi: float,
     in_stance: bool,
@@ -108,12 +105,12 @@ def _leg_target(
     else:
         swing_point(geo, leg, phi, phi_aep, tip)
     if level:  # ModelParams.trajectory_frame "level": the curves do not pitch or roll
-        c = G_ATTACH + 3 * leg  # about the leg's own hip: the hip keeps its height over the foot
+        c = geo.attach  # about the leg's own hip: the hip keeps its height over the foot
         for m in range(3):
-            tip[m] -= geo[c + m]
+            tip[m] -= c[leg, m]
         to_body(tilt, tip)
         for m in range(3):
-            tip[m] += geo[c + m]
+            tip[m] += c[leg, m]
     inverse_kinematics(geo, leg, tip, q)
 
 
@@ -125,7 +122,7 @@ def plan_block(
     k_contra: float,
     k_ipsi: float,
     h: float,
-    geo: np.ndarray,
+    geo: LegGeometry,
     lead: np.ndarray,
     act: np.ndarray,
     ctrl: np.ndarray,
@@ -143,7 +140,7 @@ def plan_block(
     q0 = np.empty(3)
     q1 = np.empty(3)
     tilt = np.eye(3)
-    level = geo[G_LEVEL] != 0.0
+    level = geo.level
     phi, phi_next, stance, lp, phi_td = st.phi, st.phi_next, st.stance, st.lp, st.phi_td
     phi_aep = drive.phi_aep
     for r in range(ids.shape[0]):
@@ -175,7 +172,7 @@ def apply_events(
     st: LegState,
     drive: Drive,
     rules: TouchRules,
-    geo: np.ndarray,
+    geo: LegGeometry,
     log: EventLog,
 ) -> int:
     """Advance st.phi to st.phi_next, applying touchdowns (with eq. 4, `reset_phase`) and
@@ -241,8 +238,8 @@ def apply_events(
                     ph = p0 + (p1 - p0) * (frac / nsub)
                     ph_w = ph - TWO_PI if ph >= TWO_PI else ph
                     swing_point(geo, leg, ph_w, phi_aep[s], tip)
-                    line_z = geo[G_AEP + 3 * leg + 2]
-                    tip[2] = line_z + geo[G_LPZ] * (tip[2] - line_z)
+                    line_z = geo.aep[leg, 2]
+                    tip[2] = line_z + geo.landing_kept * (tip[2] - line_z)
                     for m in range(3):
                         lp[s, leg, m] = tip[m]
                     stance[s, leg] = 1
@@ -275,7 +272,7 @@ def initial_targets(
     lp: np.ndarray,
     phi_td: np.ndarray,
     phi_aep: float,
-    geo: np.ndarray,
+    geo: LegGeometry,
     q: np.ndarray,
     tips: np.ndarray,
 ) -> None:

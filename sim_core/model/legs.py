@@ -13,12 +13,14 @@ Phase convention (paper): phi = 0 at the PEP, phi = phi_AEP = 2 pi (1 - beta) at
   detected touchdown) to the PEP, covered as phi goes from its value at touchdown to 2 pi.
 
 Everything here is scalar code compiled with numba, called per leg from the controller kernel;
-the geometry arrives packed in one float array (`pack_geometry`) so that kernels take few args.
+the geometry arrives as one named structure (`LegGeometry`, a NamedTuple numba compiles like a
+struct) so that kernels take one argument and read each quantity by its name.
 """
 
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -27,38 +29,44 @@ from sim_core.model.anatomy import LEG_SIDE, attachment_points, stance_line
 from sim_core.model.gait import TWO_PI
 from sim_core.model.params import ModelParams
 
-# layout of the packed geometry array
-G_AEP = 0  # (6, 3) AEP in body frame, flattened: 18 values
-G_PEP = 18  # (6, 3) PEP
-G_ATTACH = 36  # (6, 3) attachment points
-G_SIDE = 54  # (6,) +1 left, -1 right
-G_LC = 60
-G_LF = 61
-G_LT = 62
-G_HSW = 63
-G_SHAPE = 64
-G_LPZ = 65  # share of the landing height kept by the stance line
-G_DESC = 66  # descent below the line past the AEP, m per unit of s = phi / phi_AEP
-G_LEVEL = 67  # 1: trajectories in the level frame of the body's heading, 0: in the body frame
-G_SIZE = 68
+
+class LegGeometry(NamedTuple):
+    """What the leg kernels read of the model (lengths in m, body frame, paper leg order)."""
+
+    aep: np.ndarray  # (6, 3) anterior extreme positions
+    pep: np.ndarray  # (6, 3) posterior extreme positions
+    attach: np.ndarray  # (6, 3) coxa attachment points
+    side: np.ndarray  # (6,) +1 left, -1 right
+    coxa: float
+    femur: float
+    tibia: float
+    swing_height: float
+    swing_shape: float
+    landing_kept: float  # share of the landing height kept by the stance line
+    descent: float  # below the line past the AEP, m per unit of s = phi / phi_AEP
+    level: bool  # trajectories in the level frame of the body's heading (else the body frame)
 
 
-def pack_geometry(p: ModelParams) -> np.ndarray:
+def leg_geometry(p: ModelParams) -> LegGeometry:
     aep, pep = stance_line(p)
-    g = np.zeros(G_SIZE)
-    g[G_AEP : G_AEP + 18] = aep.ravel()
-    g[G_PEP : G_PEP + 18] = pep.ravel()
-    g[G_ATTACH : G_ATTACH + 18] = attachment_points(p).ravel()
-    g[G_SIDE : G_SIDE + 6] = LEG_SIDE
-    g[G_LC] = p.coxa_length
-    g[G_LF] = p.femur_length
-    g[G_LT] = p.tibia_length
-    g[G_HSW] = p.swing_height
-    g[G_SHAPE] = p.swing_shape
-    g[G_LPZ] = p.landing_height_kept
-    g[G_DESC] = p.late_swing_descent * p.swing_height * math.pi * p.swing_shape
-    g[G_LEVEL] = 1.0 if p.trajectory_frame == "level" else 0.0
-    return g
+
+    def rows(a: np.ndarray) -> np.ndarray:
+        return np.ascontiguousarray(a, dtype=np.float64).reshape(6, 3)
+
+    return LegGeometry(
+        aep=rows(aep),
+        pep=rows(pep),
+        attach=rows(attachment_points(p)),
+        side=np.ascontiguousarray(LEG_SIDE, dtype=np.float64),
+        coxa=float(p.coxa_length),
+        femur=float(p.femur_length),
+        tibia=float(p.tibia_length),
+        swing_height=float(p.swing_height),
+        swing_shape=float(p.swing_shape),
+        landing_kept=float(p.landing_height_kept),
+        descent=float(p.late_swing_descent * p.swing_height * math.pi * p.swing_shape),
+        level=p.trajectory_frame == "level",
+    )
 
 
 @njit(cache=True)
@@ -100,53 +108,54 @@ def to_body(tilt: np.ndarray, v: np.ndarray) -> None:
 
 
 @njit(cache=True)
-def swing_point(geo: np.ndarray, leg: int, phi: float, phi_aep: float, out: np.ndarray) -> None:
+def swing_point(geo: LegGeometry, leg: int, phi: float, phi_aep: float, out: np.ndarray) -> None:
     """Tip target on the closed swing curve at phase phi (no touchdown yet)."""
-    a = G_AEP + 3 * leg
-    b = G_PEP + 3 * leg
-    d = geo[a] - geo[b]
+    a = geo.aep
+    b = geo.pep
+    d = a[leg, 0] - b[leg, 0]
     if phi < phi_aep:
         # coupling can briefly run a phase backwards past 0: hold the tip at the PEP then
         # (a negative s would also make s**p undefined)
         s = max(phi, 0.0) / phi_aep
-        out[0] = geo[b] + d * 0.5 * (1.0 - math.cos(math.pi * s))
-        out[1] = geo[b + 1]
-        out[2] = geo[b + 2] + geo[G_HSW] * math.sin(math.pi * s ** geo[G_SHAPE])
+        out[0] = b[leg, 0] + d * 0.5 * (1.0 - math.cos(math.pi * s))
+        out[1] = b[leg, 1]
+        out[2] = b[leg, 2] + geo.swing_height * math.sin(math.pi * s**geo.swing_shape)
     else:
         f = (phi - phi_aep) / (TWO_PI - phi_aep)
-        out[0] = geo[a] - d * min(f, 1.0)
-        out[1] = geo[a + 1]
-        out[2] = geo[a + 2] - geo[G_DESC] * ((phi - phi_aep) / phi_aep)
+        out[0] = a[leg, 0] - d * min(f, 1.0)
+        out[1] = a[leg, 1]
+        out[2] = a[leg, 2] - geo.descent * ((phi - phi_aep) / phi_aep)
 
 
 @njit(cache=True)
 def stance_point(
-    geo: np.ndarray, leg: int, phi: float, phi_td: float, lp: np.ndarray, out: np.ndarray
+    geo: LegGeometry, leg: int, phi: float, phi_td: float, lp: np.ndarray, out: np.ndarray
 ) -> None:
     """Tip target on the straight line LP -> PEP; phi runs from phi_td (at LP) to 2 pi (PEP)."""
-    b = G_PEP + 3 * leg
+    b = geo.pep
     span = TWO_PI - phi_td
     f = 1.0 if span <= 1e-9 else (phi - phi_td) / span
     f = min(max(f, 0.0), 1.0)
     for k in range(3):
-        out[k] = lp[k] + (geo[b + k] - lp[k]) * f
+        out[k] = lp[k] + (b[leg, k] - lp[k]) * f
 
 
 @njit(cache=True)
-def inverse_kinematics(geo: np.ndarray, leg: int, tip: np.ndarray, q: np.ndarray) -> bool:
+def inverse_kinematics(geo: LegGeometry, leg: int, tip: np.ndarray, q: np.ndarray) -> bool:
     """Joint angles (q1 yaw, q2, q3) that put the tip at `tip` (body frame).
 
     Knee-up solution (femur raised, tibia down), as an insect stands. Returns False when the
     target is out of reach; the angles then point at it as far as the leg goes.
     """
-    c = G_ATTACH + 3 * leg
-    fwd = tip[0] - geo[c]
-    out_ = geo[G_SIDE + leg] * tip[1] - geo[c + 1] * geo[G_SIDE + leg]
-    up = tip[2] - geo[c + 2]
+    c = geo.attach
+    side = geo.side[leg]
+    fwd = tip[0] - c[leg, 0]
+    out_ = side * tip[1] - c[leg, 1] * side
+    up = tip[2] - c[leg, 2]
     q[0] = math.atan2(fwd, out_)
-    r = math.sqrt(fwd * fwd + out_ * out_) - geo[G_LC]
-    l2 = geo[G_LF]
-    l3 = geo[G_LT]
+    r = math.sqrt(fwd * fwd + out_ * out_) - geo.coxa
+    l2 = geo.femur
+    l3 = geo.tibia
     c3 = (r * r + up * up - l2 * l2 - l3 * l3) / (2.0 * l2 * l3)
     ok = -1.0 <= c3 <= 1.0
     c3 = min(max(c3, -1.0), 1.0)
@@ -156,14 +165,14 @@ def inverse_kinematics(geo: np.ndarray, leg: int, tip: np.ndarray, q: np.ndarray
 
 
 @njit(cache=True)
-def forward_kinematics(geo: np.ndarray, leg: int, q: np.ndarray, tip: np.ndarray) -> None:
+def forward_kinematics(geo: LegGeometry, leg: int, q: np.ndarray, tip: np.ndarray) -> None:
     """Tip position (body frame) for joint angles q; the inverse of `inverse_kinematics`."""
-    c = G_ATTACH + 3 * leg
-    side = geo[G_SIDE + leg]
-    l2 = geo[G_LF]
-    l3 = geo[G_LT]
-    r = geo[G_LC] + l2 * math.cos(q[1]) + l3 * math.cos(q[1] + q[2])
+    c = geo.attach
+    side = geo.side[leg]
+    l2 = geo.femur
+    l3 = geo.tibia
+    r = geo.coxa + l2 * math.cos(q[1]) + l3 * math.cos(q[1] + q[2])
     up = l2 * math.sin(q[1]) + l3 * math.sin(q[1] + q[2])
-    tip[0] = geo[c] + r * math.sin(q[0])
-    tip[1] = geo[c + 1] + side * r * math.cos(q[0])
-    tip[2] = geo[c + 2] + up
+    tip[0] = c[leg, 0] + r * math.sin(q[0])
+    tip[1] = c[leg, 1] + side * r * math.cos(q[0])
+    tip[2] = c[leg, 2] + up

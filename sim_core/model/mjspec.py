@@ -23,7 +23,7 @@ import numpy as np
 
 from sim_core.model import ground
 from sim_core.model.anatomy import LEG_NAMES, LEG_PAIR, LEG_SIDE, attachment_points, stance_line
-from sim_core.model.legs import inverse_kinematics, pack_geometry
+from sim_core.model.legs import inverse_kinematics, leg_geometry
 from sim_core.model.params import ModelParams
 
 GRAVITY = 9.81
@@ -251,7 +251,7 @@ def tarsus_axes_in_tibia(p: ModelParams) -> np.ndarray:
 
 def mid_stance_angles(p: ModelParams) -> np.ndarray:
     """(6, 3) joint angles (q1, q2, q3) with every tip at the middle of its stance line."""
-    geo = pack_geometry(p)
+    geo = leg_geometry(p)
     aep, pep = stance_line(p)
     q = np.zeros((6, 3))
     for leg in range(6):

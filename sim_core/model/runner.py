@@ -47,7 +47,7 @@ from sim_core.model.guard import (
     new_footing,
     up_axis_z,
 )
-from sim_core.model.legs import pack_geometry
+from sim_core.model.legs import leg_geometry
 from sim_core.model.mjspec import build_model, gravity_vector, leg_qpos_addresses, servo_leads
 from sim_core.model.params import ModelParams, nominal_speed, omega, phi_aep
 from sim_core.model.records import NOT_RECORDED, EventJournal, Recorder, assemble_result
@@ -135,7 +135,7 @@ class BatchRunner:
         self.model = build(self.params, visual=False)  # drawing: Simulation.model
         self._leg_qpos = leg_qpos_addresses(self.model)  # fixed by the model; used per reset
         self.batch = mujoco.batch.Batch(self.model, nsim=n, nthread=nthread if n > 1 else 1)
-        self.geo = pack_geometry(self.params)
+        self.geo = leg_geometry(self.params)
         self._lead = servo_leads(self.params)
         p = self.params
         self._torso_inertia = self.model.body_inertia[TORSO].copy()
@@ -261,7 +261,7 @@ class BatchRunner:
         p = self.params
         self.legs.phi[i] = initial_phases(d31, phi1)
         self.legs.stance[i] = (self.legs.phi[i] >= self.drive.phi_aep[i]).astype(np.int8)
-        aep = self.geo[0:18].reshape(6, 3)
+        aep = self.geo.aep
         self.legs.lp[i] = aep
         self.legs.phi_td[i] = self.drive.phi_aep[i]
         q = np.zeros(18)

@@ -15,10 +15,10 @@ from sim_core.model.controller import (
     apply_events,
     plan_block,
 )
-from sim_core.model.legs import forward_kinematics, pack_geometry
+from sim_core.model.legs import forward_kinematics, leg_geometry
 
 P = ModelParams()
-GEO = pack_geometry(P)
+GEO = leg_geometry(P)
 BETA = 0.66
 PHI_AEP = 2 * math.pi * (1 - BETA)
 DT = 5e-5
@@ -131,10 +131,10 @@ def test_a_stance_foot_that_leaves_the_ground_and_comes_back_is_a_retouch() -> N
 
 def _plan(p: ModelParams, quat: np.ndarray) -> np.ndarray:
     """plan_block's set-points (18,) for one simulation with the body at attitude `quat`."""
-    geo = pack_geometry(p)
+    geo = leg_geometry(p)
     phi = np.linspace(0.3, 5.9, 6)[None]
     st = LegState(phi.copy(), np.zeros((1, 6)), (phi >= PHI_AEP).astype(np.int8),
-                  np.tile(geo[:18].reshape(1, 6, 3), (1, 1, 1)), np.full((1, 6), PHI_AEP),
+                  np.tile(geo.aep.reshape(1, 6, 3), (1, 1, 1)), np.full((1, 6), PHI_AEP),
                   np.zeros((1, 6)), np.zeros((1, 6), np.bool_), np.zeros(1, np.int64))  # fmt: skip
     act, ctrl = np.zeros((1, 18)), np.zeros((1, 18))
     qpos = np.zeros((1, 25))
@@ -166,8 +166,8 @@ def test_level_frame_trajectories_keep_each_foot_target_level_under_the_hip() ->
     heading = math.atan2(rot[1, 0], rot[0, 0])  # the body's x axis seen from above
     c, si = math.cos(heading), math.sin(heading)
     zrot = np.array([[c, -si, 0.0], [si, c, 0.0], [0.0, 0.0, 1.0]])
-    geo = pack_geometry(P)
-    attach = geo[36:54].reshape(6, 3)
+    geo = leg_geometry(P)
+    attach = geo.attach
     flat = _plan(P, upright)
     for leg in range(6):
         tip_t, tip_f = np.empty(3), np.empty(3)

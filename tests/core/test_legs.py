@@ -10,14 +10,14 @@ from sim_core import ModelParams, build_model
 from sim_core.model.legs import (
     forward_kinematics,
     inverse_kinematics,
-    pack_geometry,
+    leg_geometry,
     stance_line,
     stance_point,
     swing_point,
 )
 
 P = ModelParams()
-GEO = pack_geometry(P)
+GEO = leg_geometry(P)
 AEP, PEP = stance_line(P)
 BETA = 0.66
 PHI_AEP = 2 * math.pi * (1 - BETA)
@@ -46,7 +46,7 @@ def test_swing_curve_runs_pep_to_aep_and_closes_along_the_line(leg: int) -> None
 
 def test_the_late_descent_reading_keeps_reaching_down_past_the_aep() -> None:
     p = ModelParams(late_swing_descent=1.0)
-    geo = pack_geometry(p)
+    geo = leg_geometry(p)
     before, at, after = np.empty(3), np.empty(3), np.empty(3)
     eps = 1e-4
     swing_point(geo, 0, PHI_AEP - eps, PHI_AEP, before)
@@ -111,7 +111,7 @@ def test_ik_reports_unreachable_targets() -> None:
 
 
 def test_a_phase_run_backwards_past_zero_holds_the_pep() -> None:
-    geo = pack_geometry(ModelParams(swing_shape=1.7))
+    geo = leg_geometry(ModelParams(swing_shape=1.7))
     out = np.empty(3)
     swing_point(geo, 0, -0.05, PHI_AEP, out)
     assert np.isfinite(out).all()
