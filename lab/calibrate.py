@@ -35,9 +35,9 @@ OBJECTIVES = ("closed-loop", "drift", "pull")
 
 def reachable(params: ModelParams, beta: float = BETA_FAST, samples: int = 64) -> bool:
     """Whether every leg can reach its whole swing curve and stance line (with 2% margin)."""
-    from sim_core.model.legs import inverse_kinematics, pack_geometry, swing_point
+    from sim_core.model.legs import inverse_kinematics, leg_geometry, swing_point
 
-    geo = pack_geometry(params.model_copy(update={"femur_length": params.femur_length * 0.98}))
+    geo = leg_geometry(params.model_copy(update={"femur_length": params.femur_length * 0.98}))
     aep = phi_aep(beta)
     tip = np.empty(3)
     q = np.empty(3)
