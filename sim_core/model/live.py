@@ -85,7 +85,9 @@ class Simulation:
         ramp driver, as the reproduction's ramps are driven; a running ramp is replaced. When
         it is done the parameter stays at its start value and the ramp ends."""
         self._ramp, self._ramp_t0 = ramp, self.time_s
-        self._driver = RampDriver([(0, ramp)], self.control_dt_s, t0=self._ramp_t0)
+        self._driver = RampDriver(
+            [(0, ramp)], self.control_dt_s, t0=self._ramp_t0, start_block=self._runner.nblock
+        )
         self._driver(self._runner)  # the value of the coming period
         self._phase = ramp.phase(0.0)
 

@@ -100,16 +100,23 @@ class RampDriver:
     `sweep` (through them) and the live `Simulation` (the viewer) all ramp with it."""
 
     def __init__(
-        self, ramps: Sequence[tuple[int, Ramp]], control_dt: float, t0: float = 0.0
+        self,
+        ramps: Sequence[tuple[int, Ramp]],
+        control_dt: float,
+        t0: float = 0.0,
+        start_block: int = 0,
     ) -> None:
         self.ramps = list(ramps)
         self.t0 = t0
+        # updates every `every` control periods counted from the ramp's own start (the runner's
+        # block count then), so its first call sets the start value whenever it begins
+        self.start_block = start_block
         self.every = max(1, round(RAMP_UPDATE_S / control_dt))
         self._last = [math.nan] * len(self.ramps)
 
     def __call__(self, r: BatchRunner) -> None:
         """Each ramped run's value for the coming control period (every RAMP_UPDATE_S)."""
-        if r.nblock % self.every:
+        if (r.nblock - self.start_block) % self.every:
             return
         for k, (i, ramp) in enumerate(self.ramps):
             if r.active[i]:

@@ -34,6 +34,17 @@ def test_a_live_ramp_is_the_tasks_ramp_and_its_record_names_each_phase() -> None
     assert sim.d31_conditions[-1] == EventConditions(0.66, 3.0, 0.0, "constraint")
 
 
+def test_a_ramp_started_mid_walk_is_at_its_start_value_from_the_next_period() -> None:
+    sim = Simulation(RunSpec(beta=0.66, d31_init=2.5, body_mass_g=5.5))
+    sim.advance(0.5123)  # not a multiple of the ramp's update period
+    n = len(sim.d31_events)
+    sim.start_ramp(Ramp("body_mass_g", 3.0, 5.0, 0.25, 1.0))
+    assert sim.body_mass_g == 3.0  # set at once, not at the driver's next update
+    sim.advance(0.3)
+    after = sim.d31_conditions[n:]
+    assert after and all(c.ramp == "hold" and c.body_mass_g == 3.0 for c in after), after
+
+
 def test_a_stopped_ramp_leaves_its_value_and_a_reset_ends_it() -> None:
     sim = Simulation(RunSpec(beta=0.66, d31_init=2.5))
     sim.start_ramp(Ramp("body_mass_g", 3.0, 5.0, 0.0, 1.0))
