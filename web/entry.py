@@ -30,7 +30,7 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable
-from typing import Any
+from typing import Any, Literal
 
 import viser
 
@@ -74,6 +74,11 @@ class DirtyLag:
             return min(GRACE_MAX_S, max(GRACE_MIN_S, GRACE_FACTOR * max(self._lags)))
 
 
+# What `EntryGate.changed` says to do with a value: apply it now, start the grace's timer, hold
+# it for Enter, or leave it to the timer already running (which takes the latest value).
+Verdict = Literal["apply", "wait", "hold", "held-for-timer"]
+
+
 class EntryGate:
     """The rule above for one slider, with no GUI: what to apply, hold or wait out.
 
@@ -92,7 +97,7 @@ class EntryGate:
         self._pending: float | None = None  # a value waiting out the grace
         self._stream_until = -math.inf  # values before this belong to a drag being applied
 
-    def changed(self, value: float) -> str:
+    def changed(self, value: float) -> Verdict:
         """A value arrived: 'apply' it now, 'wait' (call `due` after `lag.grace_s()`), 'hold'
         it for Enter, or 'held-for-timer' (a timer already waits and takes this latest one)."""
         with self._lock:

@@ -57,8 +57,7 @@ class Simulation:
         self._conditions: list[EventConditions] = []  # in force at each event, index for index
         self._window: _Window | None = None
         self._ramp: Ramp | None = None
-        self._ramp_t0 = 0.0
-        self._driver: RampDriver | None = None
+        self._driver: RampDriver | None = None  # drives `_ramp` from its start (`t0`)
         self._phase = ""  # the ramp's phase in force for the coming control period
 
     # --- controls -----------------------------------------------------------------------------
@@ -84,9 +83,9 @@ class Simulation:
         """Ramp `ramp.param` from now on (hold, to the turn, back, hold) by the core's one
         ramp driver, as the reproduction's ramps are driven; a running ramp is replaced. When
         it is done the parameter stays at its start value and the ramp ends."""
-        self._ramp, self._ramp_t0 = ramp, self.time_s
+        self._ramp = ramp
         self._driver = RampDriver(
-            [(0, ramp)], self.control_dt_s, t0=self._ramp_t0, start_block=self._runner.nblock
+            [(0, ramp)], self.control_dt_s, t0=self.time_s, start_block=self._runner.nblock
         )
         self._driver(self._runner)  # the value of the coming period
         self._phase = ramp.phase(0.0)
@@ -102,7 +101,7 @@ class Simulation:
 
     @property
     def ramp_started_at_s(self) -> float | None:
-        return self._ramp_t0 if self._ramp is not None else None
+        return self._driver.t0 if self._driver is not None else None
 
     @property
     def ramp_phase(self) -> str:
@@ -259,12 +258,12 @@ class Simulation:
             for k in range(len(self._events), len(v)):
                 self._events.append((t[k], v[k]))
                 self._conditions.append(now)
-        if self._ramp is not None and self._driver is not None:
-            elapsed = r.time - self._ramp_t0
-            phase = self._ramp.phase(elapsed)
+        ramp, driver = self._ramp, self._driver
+        if ramp is not None and driver is not None:
+            phase = ramp.phase(r.time - driver.t0)
             if phase == "done":
-                set_ramped(r, 0, self._ramp.param, self._ramp.start)
+                set_ramped(r, 0, ramp.param, ramp.start)
                 self.stop_ramp()
             else:
-                self._driver(r)
+                driver(r)
                 self._phase = phase
