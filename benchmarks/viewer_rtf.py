@@ -35,14 +35,16 @@ from playwright.sync_api import Page, sync_playwright
 
 from sim_core import RunSpec
 from sim_core.numerics.bench import single_rate
+from web import controls
 from web.app import LoopConfig, ViewerApp
+from web.entry import box_label
 from web.page_probe import READ_BY_LABEL, TAG_BY_LABEL
 from web.panels import DRAW_3D, PAUSE, PLAY
 from web.requests import SetParam, SetPlaying
 
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",
         "--use-angle=swiftshader", "--enable-unsafe-swiftshader"]  # fmt: skip
-BETA_BOX, BETA_READOUT = "β (duty factor)", "β (simulation)"
+BETA_BOX, BETA_READOUT = box_label(controls.BETA), "β (simulation)"
 KEY_DELAY_MS = 120  # a fast typist; typed latency is measured from Enter
 # Page instruments: every keydown and mousedown with its wall time (Date.now(), the clock
 # Python's time.time() reads), and the main thread's long tasks (the browser's own timeline).
@@ -251,6 +253,7 @@ def main() -> None:
     ap.add_argument("--json", type=Path, default=None, help="also write the report here")
     ap.add_argument("--shadows", action="store_true", help="the viewer casting shadows")
     ap.add_argument("--fps", type=float, default=LoopConfig.fps, help="pose stream rate")
+    ap.add_argument("--query", default="", help="the page's URL query, e.g. fixedDpr=0.5")
     args = ap.parse_args()
     chromium = shutil.which("chromium")
     if chromium is None:
@@ -261,13 +264,13 @@ def main() -> None:
                               f"{len(__import__('os').sched_getaffinity(0))} cores",
                               "bench_single_rtf": rate}  # fmt: skip
     app = ViewerApp("127.0.0.1", 0, config=LoopConfig(shadows=args.shadows, fps=args.fps))
-    report["shadows"], report["fps"] = args.shadows, args.fps
+    report["shadows"], report["fps"], report["query"] = args.shadows, args.fps, args.query
     app.start()
     try:
         with sync_playwright() as p, tempfile.TemporaryDirectory() as tmp:
             browser = p.chromium.launch(executable_path=chromium, args=ARGS)
             page = browser.new_page(viewport={"width": 1280, "height": 800})
-            page.goto(f"http://127.0.0.1:{app.port}")
+            page.goto(f"http://127.0.0.1:{app.port}" + (f"/?{args.query}" if args.query else ""))
             page.get_by_text(BETA_READOUT).wait_for(timeout=60_000)
             page.evaluate(INSTRUMENT)
             page.wait_for_function(f"({READ_BY_LABEL})('sim time (s)') > 1.0", timeout=90_000)

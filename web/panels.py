@@ -7,8 +7,9 @@ synchronously with `event.client is None`; those echoes are ignored, so the loop
 requests to itself.
 
 Typed values. A number box sends every keystroke ("0.62" arrives as 0, 0, 0.6, 0.62), so:
-- the live sliders (beta, mass, slope) apply a typed number on Enter, or when the person uses
-  another control, never per keystroke; a drag streams (`web.entry.LiveSlider`);
+- the live parameters (beta, mass, slope) each have a slider that streams and a number box under
+  it that applies on Enter, or when the person uses another control, never per keystroke
+  (`web.entry.LiveSlider`);
 - in the other boxes a value that cannot be one yet (outside the range, or not a number) is not
   applied (`SliderRange.typed`); the box clamps it itself when the person leaves it;
 - the loop never writes a value back into a control because a person changed it: the simulation
@@ -32,7 +33,7 @@ import viser
 from sim_core.contract import METACHRONAL, TRIPOD, Ramp
 from web import controls
 from web.caption import CAPTION
-from web.entry import DirtyLag, LiveSlider, watch_forms
+from web.entry import LiveSlider, watch_controls
 from web.export import Settings, load_settings
 from web.jobs import JobView, job_status_html
 from web.paths import DEFAULT_API_URL
@@ -67,6 +68,15 @@ DRAW_3D = "draw the 3D walk"
 DRAW_3D_HINT = (
     "Off: the 3D view holds its last pose and the simulation gets the core a browser without a "
     "GPU spends drawing it; the plots and readouts stay live."
+)
+# viser reads a fixed device-pixel ratio from the page's URL (its `fixedDpr` dev setting): at
+# half resolution a browser drawing WebGL in software leaves its page's main thread free (1-7%
+# in long tasks against 93-97% at full, measured by benchmarks/viewer_rtf.py --query), so the
+# readouts refresh at 4.6 Hz instead of 3.0-3.5 Hz at 1x. A link, not a default: on a GPU the
+# full resolution costs nothing.
+LOW_RES_HTML = (
+    '<div style="font-size:0.75em;padding-left:0.5em">No GPU (software WebGL)? '
+    '<a href="?fixedDpr=0.5">the 3D view at half resolution</a> · <a href="?">full</a></div>'
 )
 RAMP_START, RAMP_STOP = "Start ramp", "Stop ramp"
 # export buttons: label -> what (web/export.py)
@@ -103,12 +113,9 @@ class Panels:
             self.return_map = gui.add_html("<em>return map: waiting for touchdowns</em>")
         with gui.add_folder("Controls"):
             # a drag streams, a typed number waits for Enter (web/entry.py)
-            lag = DirtyLag()  # one browser page's lag, shared by its boxes
             self.live = {
-                p.name: LiveSlider(server, p.slider, self._live(p.name), lag) for p in controls.LIVE
+                p.name: LiveSlider(server, p.slider, self._live(p.name)) for p in controls.LIVE
             }
-            self.sliders = {key: live.slider for key, live in self.live.items()}
-            self.beta = self.sliders["beta"]
             # Buttons, not a dropdown: a dropdown opens when Tab reaches it, and Tab out of the
             # slope box then spread the speed list over the plots. The status readout says
             # the speed in force.
@@ -131,6 +138,7 @@ class Panels:
             self.d31_window.on_update(self._on_d31_window)
             self.draw_3d = gui.add_checkbox(DRAW_3D, True, hint=DRAW_3D_HINT)
             self.draw_3d.on_update(self._queue(lambda: SetDraw3D(bool(self.draw_3d.value))))
+            self.low_res = gui.add_html(LOW_RES_HTML)
             self.camera = gui.add_button_group("camera", controls.CAMERA_MODES)  # as speed
             self.camera.on_click(self._queue(lambda: SetFollow(str(self.camera.value))))
             # the paper's ground keeps walking up and down a slope; today's contact turns
@@ -200,7 +208,7 @@ class Panels:
             self.status = gui.add_html(status_html(blank.pop("status")))
             self.readouts = {k: gui.add_text(k, v, disabled=True) for k, v in blank.items()}
         self._last: dict[str, str] = {}
-        self.typed_on_enter = watch_forms(server, list(self.live.values()))
+        self.typed_leaves = watch_controls(server, list(self.live.values()))
 
     # --- callbacks: queue only -----------------------------------------------------------------
     def _slider(
@@ -368,14 +376,14 @@ class Panels:
         overwritten.
         """
         for key, value in (write or {}).items():
-            slider = self.sliders.get(key)
-            if slider is not None and abs(slider.value - value) > 1e-9 and not self.editing(key):
-                slider.value = value  # type: ignore[misc]  # viser types the setter on a subclass
+            live = self.live.get(key)
+            if live is not None and abs(live.value - value) > 1e-9 and not self.editing(key):
+                live.show(value)
         if ramping != self._disabled:
             if self._disabled is not None:
-                self.sliders[self._disabled].disabled = False
+                self.live[self._disabled].disabled = False
             if ramping is not None:
-                self.sliders[ramping].disabled = True
+                self.live[ramping].disabled = True
             self._disabled = ramping
         if playing != self._playing:
             self._playing = playing

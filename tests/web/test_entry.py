@@ -1,85 +1,100 @@
-"""The live sliders' rule, without a browser: a drag streams, a typed number waits for Enter.
+"""A live parameter's two controls, without a browser: the slider streams, the box waits for Enter.
 
-The browser half (a real Chromium typing at human pace, the Delta31 export showing no prefix)
-is tests/web/test_viewer_browser.py; this pins the rule itself with a hand-driven clock.
+The browser half (a real Chromium typing at human pace, the Delta31 export showing no prefix,
+the slider's own box hidden) is tests/web/test_viewer_browser.py; this drives the callbacks of
+real viser handles on a real (unconnected) viser server, as viser calls them for a browser.
 """
 
+from collections.abc import Iterator
+from types import SimpleNamespace
+
 import pytest
+import viser
 
-from web.entry import (
-    GRACE_INITIAL_S,
-    GRACE_MAX_S,
-    GRACE_MIN_S,
-    STREAM_S,
-    DirtyLag,
-    EntryGate,
-)
+from web import controls
+from web.entry import EntryGate, LiveSlider, box_label, hide_slider_box_css, watch_controls
+
+PERSON = SimpleNamespace(client=object())  # a GuiEvent's only field these callbacks read
 
 
-class Clock:
-    def __init__(self) -> None:
-        self.t = 100.0
-
-    def __call__(self) -> float:
-        return self.t
-
-
-def test_a_drag_waits_out_the_grace_once_then_streams() -> None:
-    clock = Clock()
-    gate = EntryGate(clock=clock)
-    assert gate.changed(0.64) == "wait"
-    clock.t += 0.05
-    assert gate.changed(0.645) == "held-for-timer"  # the waiting timer takes the latest
-    clock.t += GRACE_INITIAL_S
-    assert gate.due() == 0.645
-    clock.t += 0.05
-    assert gate.changed(0.65) == "apply"  # the same drag: at once
-    clock.t += STREAM_S + 0.01
-    assert gate.changed(0.66) == "wait"  # a pause: the next move waits again
+@pytest.fixture(scope="module")
+def server() -> Iterator[viser.ViserServer]:
+    s = viser.ViserServer(host="127.0.0.1", port=0, verbose=False)
+    try:
+        yield s
+    finally:
+        s.stop()
 
 
-def test_typing_holds_every_keystroke_until_enter() -> None:
-    clock = Clock()
-    gate = EntryGate(clock=clock)
-    assert gate.changed(5.0) == "wait"  # "5" of "5.5": its dirty is still on the way
-    clock.t += 0.13
-    gate.typed()
-    assert gate.due() is None  # the timer finds a keystroke: nothing to apply
-    assert gate.held == 5.0
-    assert gate.changed(5.5) == "hold"
-    assert gate.commit() == 5.5 and not gate.typing
-    assert gate.commit() is None  # nothing typed since
-    assert gate.changed(5.6) == "wait"  # after Enter a drag is a drag again
+def _live(server: viser.ViserServer, spec: controls.SliderRange) -> tuple[LiveSlider, list]:
+    applied: list[float] = []
+    return LiveSlider(server, spec, applied.append), applied
 
 
-def test_the_grace_follows_how_late_this_browser_says_it_types() -> None:
-    clock = Clock()
-    lag = DirtyLag()
-    gate = EntryGate(lag, clock)
-    assert lag.grace_s() == GRACE_INITIAL_S
-    gate.changed(0.6)
-    clock.t += 0.15
-    gate.typed()
-    assert lag.grace_s() == pytest.approx(2 * 0.15)
-    gate.typed()  # said again (the mark was cleared meanwhile): not a second lag
-    assert lag.grace_s() == pytest.approx(2 * 0.15)
-    gate.commit()
-    # a dirty so late that the keystroke was applied as a drag: still learnt
-    clock.t += 5.0
-    gate.changed(0.7)
-    clock.t += GRACE_INITIAL_S
-    assert gate.due() == 0.7
-    clock.t += 0.1
-    gate.typed()
-    assert lag.grace_s() == GRACE_MAX_S  # 2 x 0.4 s, capped
-    assert GRACE_MIN_S <= DirtyLag().grace_s() <= GRACE_MAX_S
+def _type(live: LiveSlider, value: float) -> None:
+    live.box.value = value  # type: ignore[misc]
+    live._on_typed(PERSON)  # type: ignore[arg-type]
 
 
-def test_a_quick_browser_still_gets_the_minimum_grace() -> None:
-    clock = Clock()
-    lag = DirtyLag()
-    gate = EntryGate(lag, clock)
-    gate.changed(1.0)
-    clock.t += 0.01
-    gate.typed()
-    assert lag.grace_s() == GRACE_MIN_S
+def _drag(live: LiveSlider, value: float) -> None:
+    live.slider.value = value  # type: ignore[misc]
+    live._on_drag(PERSON)  # type: ignore[arg-type]
+
+
+def test_a_keystroke_is_held_and_enter_applies_it_clamped(server: viser.ViserServer) -> None:
+    live, applied = _live(server, controls.BETA)
+    for prefix in (0.0, 0.6, 0.62):  # "0.62" as a number box sends it
+        _type(live, prefix)
+    assert applied == [] and live.gate.typing and live.note.visible
+    live.commit()  # Enter
+    assert applied == [0.62] and not live.gate.typing and not live.note.visible
+    assert live.value == live.box.value == 0.62  # the slider follows the box
+    _type(live, 9.0)
+    live.commit()
+    assert applied[-1] == controls.BETA.hi and live.box.value == controls.BETA.hi
+    live.commit()  # Enter again with nothing typed: nothing new applied
+    assert len(applied) == 2
+
+
+def test_a_drag_streams_from_its_first_value_and_drops_a_held_one(
+    server: viser.ViserServer,
+) -> None:
+    live, applied = _live(server, controls.BODY_MASS_G)
+    _drag(live, 3.5)
+    _drag(live, 3.6)
+    assert applied == [3.5, 3.6] and live.box.value == 3.6  # at once; the box follows
+    _type(live, 5.0)
+    _drag(live, 3.7)  # the person chose the slider instead of Enter
+    assert applied == [3.5, 3.6, 3.7] and not live.gate.typing and not live.note.visible
+    live.commit()
+    assert applied == [3.5, 3.6, 3.7]
+
+
+def test_the_loops_own_writes_are_not_a_persons_values(server: viser.ViserServer) -> None:
+    live, applied = _live(server, controls.SLOPE_DEG)
+    live.show(5.0)  # a ramp's start, a loaded file: viser calls back with no client
+    assert applied == [] and live.value == live.box.value == 5.0
+    live.disabled = True
+    assert live.slider.disabled and live.box.disabled
+    live.disabled = False
+
+
+def test_another_control_applies_what_waits_in_a_box(server: viser.ViserServer) -> None:
+    beta, beta_applied = _live(server, controls.BETA)
+    mass, mass_applied = _live(server, controls.BODY_MASS_G)
+    assert watch_controls(server, [beta, mass])
+    _type(beta, 0.64)
+    mass.leave()  # mass's own controls used: nothing of mass waits
+    assert mass_applied == [] and beta.gate.typing
+    beta.leave()  # the hook calls this for every control not beta's own
+    assert beta_applied == [0.64] and beta.box.value == 0.64
+
+
+def test_the_gate_and_the_markup() -> None:
+    gate = EntryGate()
+    assert gate.commit() is None and not gate.drop()
+    gate.typed(1.0)
+    gate.typed(1.5)
+    assert gate.typing and gate.commit() == 1.5 and not gate.typing
+    assert box_label(controls.BETA) == "β ↵"  # short: it sits under the slider that names it
+    assert '[id="ab-1"] ~ *' in hide_slider_box_css("ab-1")

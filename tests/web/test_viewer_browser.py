@@ -21,6 +21,8 @@ from typing import Any
 import numpy as np
 import pytest
 
+from web import controls
+from web.entry import box_label
 from web.page_probe import READ_BY_LABEL, TAG_BY_LABEL
 from web.panels import LOAD_SETTINGS, PRESET_METACHRONAL, SUBMIT_RUN
 
@@ -185,6 +187,20 @@ def test_page_renders_a_readable_gait_and_the_slider_drives_the_simulation(
         # move the beta slider with the keyboard: the running simulation's beta follows
         assert _read(page, "β (simulation)") == "0.6600"
         slider = page.locator("[role=slider]").first
+        # the slider's own number box (which would send every keystroke) is hidden: typing
+        # goes to the box under it, applied on Enter
+        shown_inputs = page.evaluate(
+            """label => {
+              const l = [...document.querySelectorAll('label')]
+                .find(e => e.textContent.trim() === label);
+              let n = l.parentElement;
+              while (n && !n.querySelector('[role=slider]')) n = n.parentElement;
+              return [...n.querySelectorAll('input:not([type=hidden])')]
+                .filter(e => e.offsetParent !== null).length;
+            }""",
+            "β (duty factor)",
+        )
+        assert shown_inputs == 0, "the beta slider shows a number box of its own"
         slider.focus()
         for _ in range(4):
             slider.press("ArrowLeft")
@@ -213,13 +229,19 @@ def test_page_renders_a_readable_gait_and_the_slider_drives_the_simulation(
 @pytest.mark.parametrize(
     ("box", "column", "typed", "readout", "shown"),
     [
-        ("β (duty factor)", "beta", "0.62", "β (simulation)", "0.6200"),
-        ("body mass (g)", "body_mass_g", "5.5", "body mass (simulation, g)", "5.50"),
-        ("slope (uphill +) (°)", "slope_deg", "-7.5", "slope (simulation, °)", "-7.5"),
+        (controls.BETA, "beta", "0.62", "β (simulation)", "0.6200"),
+        (controls.BODY_MASS_G, "body_mass_g", "5.5", "body mass (simulation, g)", "5.50"),
+        (controls.SLOPE_DEG, "slope_deg", "-7.5", "slope (simulation, °)", "-7.5"),
     ],
 )
 def test_a_value_typed_at_human_pace_applies_on_enter_and_never_a_prefix(
-    viewer: str, browser: Any, box: str, column: str, typed: str, readout: str, shown: str
+    viewer: str,
+    browser: Any,
+    box: controls.SliderRange,
+    column: str,
+    typed: str,
+    readout: str,
+    shown: str,
 ) -> None:
     page, errors = _open(browser, viewer, draw_3d=False)
     try:
@@ -240,10 +262,10 @@ def test_a_value_typed_at_human_pace_applies_on_enter_and_never_a_prefix(
             }""",
             [READ_BY_LABEL, readout, shown],
         )
-        field = _type_into(page, box, typed)  # "5.5" passes 5, "-7.5" passes -7, in range
+        field = _type_into(page, box_label(box), typed)  # "5.5" passes 5, "-7.5" passes -7
         # typed, not entered: nothing applied, the box keeps what was typed, a note says so
         page.wait_for_timeout(1500)
-        assert _read(page, readout) == before, f"{box}: applied before Enter"
+        assert _read(page, readout) == before, f"{box.label}: applied before Enter"
         assert field.input_value() == typed
         page.get_by_text(f"typed {float(typed):g}: Enter applies it").wait_for(timeout=5_000)
         field.press("Enter")
@@ -253,9 +275,9 @@ def test_a_value_typed_at_human_pace_applies_on_enter_and_never_a_prefix(
         page.wait_for_function("window.__seen !== null", timeout=10_000)
         late = page.evaluate("() => window.__seen - window.__enter")
         seen = page.evaluate("() => [...window.__shown]")
-        print(f"{box}: the readout showed {typed} {late} ms after Enter; meanwhile {seen}")
-        assert late <= LIVE_MS, f"{box}: the readout showed {typed} {late} ms after Enter"
-        assert set(seen) <= {before, shown}, f"{box}: the readout showed a prefix: {seen}"
+        print(f"{box.label}: the readout showed {typed} {late} ms after Enter; meanwhile {seen}")
+        assert late <= LIVE_MS, f"{box.label}: the readout showed {typed} {late} ms after Enter"
+        assert set(seen) <= {before, shown}, f"{box.label}: the readout showed a prefix: {seen}"
         # the simulation never ran at a prefix: every touchdown since has the old or the value
         page.wait_for_timeout(1000)
         rows = [r for r in _download(page, "Δ31 trace (CSV)") if float(r["time_s"]) > t_before]
@@ -272,20 +294,41 @@ def test_a_typed_value_applies_when_another_control_is_used_and_enter_clamps(
     page, errors = _open(browser, viewer, draw_3d=False)
     try:
         before = _read(page, "β (simulation)")
-        field = _type_into(page, "β (duty factor)", "9")
+        field = _type_into(page, box_label(controls.BETA), "9")
         page.wait_for_timeout(1000)
         # 9 is no duty factor: held while the person is in the box, and not overwritten
         assert _read(page, "β (simulation)") == before
         assert field.input_value() == "9"
         field.press("Enter")  # clamped to the slider's end, as the box clamps on leaving
         _wait_read(page, "β (simulation)", "0.8000")
-        _wait_read(page, "β (duty factor)", "0.8")  # and the box shows what the walk runs
+        _wait_read(page, box_label(controls.BETA), "0.8")  # the box shows what the walk runs
+        _wait_read(page, "β (duty factor)", "0.8")  # and so does the slider
         # typed without Enter, then another control used: the person left the box
-        _type_into(page, "β (duty factor)", "0.64")
+        _type_into(page, box_label(controls.BETA), "0.64")
         page.wait_for_timeout(800)
         assert _read(page, "β (simulation)") == "0.8000"
         page.get_by_role("button", name="1x", exact=True).click()
         _wait_read(page, "β (simulation)", "0.6400")
+        assert errors == [], errors
+    finally:
+        page.close()
+
+
+def test_the_half_resolution_link_draws_the_3d_view_at_half_its_pixels(
+    viewer: str, browser: Any
+) -> None:
+    page, errors = _open(browser, viewer)
+    try:
+        page.get_by_role("link", name="the 3D view at half resolution").click()
+        page.wait_for_url("**fixedDpr=0.5**")
+        page.wait_for_function(f"({READ_BY_LABEL})('sim time (s)') > 0.5", timeout=90_000)
+        # the 3D view: the widest canvas (viser also keeps small 2D overlay canvases)
+        ratio = page.evaluate(
+            """() => Math.max(...[...document.querySelectorAll('canvas')]
+                 .filter(c => c.getBoundingClientRect().width > 300)
+                 .map(c => c.width / c.getBoundingClientRect().width))"""
+        )
+        assert 0.45 <= ratio <= 0.55, f"the 3D canvas draws {ratio:.2f} pixels per CSS pixel"
         assert errors == [], errors
     finally:
         page.close()

@@ -268,7 +268,8 @@ def test_loaded_settings_restart_the_walk_where_the_file_says() -> None:
         assert app.panels.ramp_param_name == "body_mass_g" and app.panels.ramp_turn.value == 6.0
         assert app.panels.job_duration.value == 45.0 and app.ramp is None  # set up, not started
         app._draw_readouts(None, None, None)
-        assert app.panels.sliders["beta"].value == 0.62  # the sliders show what was loaded
+        beta = app.panels.live["beta"]
+        assert beta.value == beta.box.value == 0.62  # slider and box show what was loaded
         assert app.panels.speed.label == "speed — max"
         assert app.panels.ground.label == "ground — paper's ground"
         assert app.panels.ramp_param.label == "ramp drives — body mass (g)"
