@@ -7,7 +7,10 @@ cache file (`sim_core.runs.cache`): a changed parameter, spec or `PHYSICS_VERSIO
 key, so a stale result is never reused, and an unchanged one is never recomputed. The spec and
 parameters are stored without their default values, so a new field whose default keeps the
 physics (and a comment or rename in the sources) keeps every key; changing a default moves the
-numbers, which bumps the version (`sim_core.model.version`).
+numbers, which bumps the version (`sim_core.model.version`). The parameters enter the key as a
+flat mapping of leaf names (`canonical_params`): however `ModelParams` groups its fields (a
+`body`, a `ground` ...), a parameter's key part is its own name and value, so regrouping the
+model keeps every key.
 
 `execute_chunk` runs a list of compatible tasks (same parameters and numerics) as one
 `BatchRunner` batch on one thread. Batching several simulations in one runner amortises the
@@ -27,6 +30,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
+from pydantic import BaseModel
 
 from sim_core.model.gait import yaw_of
 from sim_core.model.params import ModelParams
@@ -66,7 +70,7 @@ class Task:
         return RunSpec.model_validate_json(self.spec)
 
     def model_params(self) -> ModelParams:
-        return ModelParams.model_validate_json(self.params)
+        return params_from_canonical(json.loads(self.params))
 
     @property
     def duration_s(self) -> float:
@@ -78,9 +82,34 @@ class Task:
         return (self.params, self.physics, s.integrator, s.dt_s, s.control_dt_s)
 
 
+def leaf_values(model: BaseModel) -> dict[str, Any]:
+    """A model's fields that differ from their defaults as {leaf name: JSON value}, a field that
+    is itself a model (a group) giving its own leaves by their names; names must be unique."""
+    into: dict[str, Any] = {}
+    for name, value in model.model_dump(mode="json", exclude_defaults=True).items():
+        group = getattr(model, name)
+        pairs = leaf_values(group).items() if isinstance(group, BaseModel) else [(name, value)]
+        for leaf, v in pairs:
+            if leaf in into:
+                raise ValueError(f"two parameters are called {leaf!r}: the key needs unique names")
+            into[leaf] = v
+    return into
+
+
+def canonical_params(params: ModelParams | None) -> dict[str, Any]:
+    """The parameters that differ from the defaults, flat (`leaf_values`): whatever groups the
+    model keeps its fields in, each enters the key by its own name."""
+    return leaf_values(params or ModelParams())
+
+
+def params_from_canonical(flat: dict[str, Any]) -> ModelParams:
+    """`canonical_params` read back: the model takes its fields by their leaf names."""
+    return ModelParams.model_validate(flat)
+
+
 def params_json(params: ModelParams | None) -> str:
     """The parameters that differ from the defaults, as canonical JSON (the key's part)."""
-    return _canonical((params or ModelParams()).model_dump(mode="json", exclude_defaults=True))
+    return _canonical(canonical_params(params))
 
 
 def spec_json(spec: RunSpec) -> str:

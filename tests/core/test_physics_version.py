@@ -12,6 +12,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec
 from sim_core.model.version import PHYSICS_VERSION
@@ -73,3 +75,39 @@ def test_a_comment_in_the_physics_sources_keeps_the_cache_keys(tmp_path: Path) -
                          capture_output=True, text=True).stdout.split()  # fmt: skip
     assert out[0].startswith(str(copy))  # the edited copy was the one imported
     assert out[1] == run_task(RunSpec(beta=0.62), ModelParams(ground="penalty")).key
+
+
+def test_the_key_names_each_parameter_by_its_leaf_so_regrouping_keeps_it() -> None:
+    from pydantic import BaseModel
+
+    from sim_core.runs.tasks import leaf_values
+
+    class Flat(BaseModel):
+        friction: float = 1.0
+        dt: float = 5e-5
+        ground: str = "constraint"
+
+    class Contact(BaseModel):
+        friction: float = 1.0
+        ground: str = "constraint"
+
+    class Grouped(BaseModel):
+        contact: Contact = Contact()
+        dt: float = 5e-5
+
+    flat = Flat(friction=0.8, ground="penalty")
+    grouped = Grouped(contact=Contact(friction=0.8, ground="penalty"))
+    assert leaf_values(flat) == leaf_values(grouped) == {"friction": 0.8, "ground": "penalty"}
+    assert leaf_values(Grouped()) == {}
+
+    class Clash(BaseModel):
+        contact: Contact = Contact()
+        friction: float = 1.0
+
+    with pytest.raises(ValueError, match="friction"):
+        leaf_values(Clash(contact=Contact(friction=0.5), friction=0.5))
+    # today's model: the key part and its reading back
+    p = ModelParams(ground="penalty", friction=0.8)
+    t = run_task(RunSpec(beta=0.62), p)
+    assert json.loads(t.params) == {"friction": 0.8, "ground": "penalty"}
+    assert t.model_params() == p
