@@ -18,20 +18,17 @@ from sim_core.contract import (
     return_map_from_series,
 )
 from web import controls, export
+from web.atlas_svg import atlas_svg
 from web.bifurcation import finder_points
+from web.bifurcation_svg import bifurcation_svg, ramp_path_svg
+from web.d31_svg import d31_svg
 from web.dispatch import Dispatch
+from web.footfall_svg import footfall_svg
 from web.jobs import job_status_html
 from web.readouts import Readouts
 from web.record import d31_since, footfall_bars
+from web.return_map_svg import return_map_svg
 from web.surface_svg import surface_svg
-from web.svg import (
-    atlas_svg,
-    bifurcation_svg,
-    d31_svg,
-    footfall_svg,
-    ramp_path_svg,
-    return_map_svg,
-)
 
 
 class Drawing(Dispatch):

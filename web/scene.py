@@ -29,7 +29,7 @@ import viser
 import viser.transforms as vtf
 
 from web import controls
-from web.svg import LEG_ORDER, PAIR_COLOURS
+from web.footfall_svg import LEG_ORDER, PAIR_COLOURS
 
 # Every dynamic node lives under this node; we own its pose (see the module docstring).
 BODIES_NODE = "/bodies"

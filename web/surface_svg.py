@@ -8,41 +8,35 @@ gaits: stable (drift falls through zero as Delta31 rises) filled black, unstable
 unresolved ones fainter; a zero linked to the nearest zero of its kind at the next grid beta
 (within the core's `link_tol_rad`) by a solid (stable) or dashed (unstable) line; near-zero
 bands as short grey bars, folds as small x, and the live (beta, Delta31) point as the
-bifurcation panel's red ring. Pure, like web/svg.py.
+bifurcation panel's red ring. Pure, like web/svg.py; the cells and their colour scale are
+web/surface_cells.py's.
 """
 
 from __future__ import annotations
 
 import html
 import itertools
-import math
 from collections.abc import Sequence
 from typing import Protocol
 
 from sim_core.contract import DriftSurface
+from web.surface_cells import D31_RANGE, drift_cells, grid_key, scale_row
 from web.svg import (
     BIF_H,
     FONT,
     LEFT,
     LEGEND_H,
     Frame,
-    _edges,
-    _legend,
-    _note,
-    _open,
-    _reference_lines,
-    _x_ticks,
+    legend,
+    open_svg,
+    plot_note,
+    reference_lines,
+    x_ticks,
 )
 
-D31_RANGE = (1.3, 3.5)  # rad: the surface's grid, not 0-2 pi
 D31_TICKS = (1.5, 2.0, 2.5, 3.0, 3.5)
 BETA_TICKS = (0.55, 0.60, 0.65, 0.70, 0.75, 0.80)
 LINK_TOL_RAD = 0.12  # the core's SurfaceConfig.link_tol_rad, if the file's config lacks it
-GROWS_RGB = (178, 24, 43)  # red: Delta31 grows
-FALLS_RGB = (33, 102, 172)  # blue: Delta31 falls
-NO_DATA = "#ececec"  # behind the cells: an unusable probe leaves this showing
-COLOUR_STEPS = 24
-SCALE_MRAD = (-100.0, -10.0, 0.0, 10.0, 100.0)  # the colour scale's swatches
 
 
 class Zero(Protocol):
@@ -57,85 +51,6 @@ class Zero(Protocol):
     def stable(self) -> bool: ...
     @property
     def resolved(self) -> bool: ...
-
-
-def drift_level(drift_rad: float) -> float:
-    """The colour scale's coordinate: sign * log10(1 + |drift in mrad per cycle|)."""
-    return math.copysign(math.log10(1.0 + abs(drift_rad) * 1e3), drift_rad)
-
-
-def drift_colour(level: float, top: float) -> str:
-    """White at 0, the full red (level > 0) or blue (< 0) at |level| >= top."""
-    # in COLOUR_STEPS steps per side: no eye tells them apart, and equal neighbours merge
-    t = round(min(1.0, abs(level) / top) * COLOUR_STEPS) / COLOUR_STEPS if top > 0 else 0.0
-    end = GROWS_RGB if level > 0 else FALLS_RGB
-    r, g, b = (round(255 + (c - 255) * t) for c in end)
-    return f"#{r:02x}{g:02x}{b:02x}"
-
-
-def _key(v: float) -> float:
-    """Grid values as the core rounds them (`surface_types.grid`: 1e-6)."""
-    return round(v, 6)
-
-
-def _cells(
-    surface: DriftSurface, f: Frame, lo: float, hi: float
-) -> tuple[list[str], list[str], float, int]:
-    """The backdrop over the grid's extent, the usable first-pass probes as rects (a run of
-    equal colour up a column one rect), the scale's top level and the number of probes drawn."""
-    betas = sorted(surface.betas)
-    grid = sorted(surface.config.get("d31_grid") or {_key(p.pin_d31) for p in surface.points})
-    col = {_key(b): j for j, b in enumerate(betas)}
-    row = {_key(d): i for i, d in enumerate(grid)}
-    be, de = _edges(betas), _edges(grid)
-    y_lo, y_hi = D31_RANGE
-
-    def box(j: int, i0: int, i1: int, j1: int | None = None) -> tuple[float, ...] | None:
-        """Columns j..j1 (default j), rows i0..i1 - 1, clipped to the frame."""
-        x0, x1 = f.x(max(lo, be[j])), f.x(min(hi, be[j + 1 if j1 is None else j1 + 1]))
-        y0, y1 = f.y(min(y_hi, de[i1])), f.y(max(y_lo, de[i0]))
-        return (x0, y0, x1 - x0, y1 - y0) if x1 > x0 and y1 > y0 else None
-
-    drawn = [
-        (col[_key(p.beta)], row[_key(p.pin_d31)], drift_level(p.drift))
-        for p in surface.points
-        if p.usable
-        and p.drift is not None
-        and math.isfinite(p.drift)
-        and _key(p.beta) in col
-        and _key(p.pin_d31) in row
-    ]
-    top = max((abs(v) for _, _, v in drawn), default=1.0)
-    backdrop = []
-    whole = box(0, 0, len(grid), len(betas) - 1)
-    if whole is not None:
-        x, y, w, h = whole
-        backdrop.append(
-            f'<rect class="no-data" x="{x:.1f}" y="{y:.1f}" width="{w:.1f}" height="{h:.1f}" '
-            f'fill="{NO_DATA}"/>'
-        )
-    # one rect per run of equal colour up a column (the panel is resent when the live point
-    # moves: ~1 100 single cells were 95 kB, the runs about half that)
-    runs: list[tuple[int, int, int, str]] = []  # column, first row, last row, colour
-    for j, i, v in sorted(drawn):
-        colour = drift_colour(v, top)
-        if runs and runs[-1][0] == j and runs[-1][2] == i - 1 and runs[-1][3] == colour:
-            runs[-1] = (j, runs[-1][1], i, colour)
-        else:
-            runs.append((j, i, i, colour))
-    out = []
-    for j, i0, i1, colour in runs:
-        b = box(j, i0, i1 + 1)
-        if b is None:
-            continue
-        x, y, w, h = b
-        # a hair wider and taller, so no anti-aliasing seam shows between neighbours
-        out.append(
-            f'<rect x="{x:.1f}" y="{y:.1f}" width="{w + 0.3:.1f}" height="{h + 0.3:.1f}" '
-            f'fill="{colour}"/>'
-        )
-    n_cells = len(drawn)
-    return backdrop, out, top, n_cells
 
 
 def _zero_marker(z: Zero, x: float, y: float) -> str:
@@ -156,33 +71,16 @@ def _links(zeros: Sequence[Zero], betas: Sequence[float], tol: float) -> list[tu
     """Each zero and the nearest zero of its kind at the next grid beta, within `tol` rad."""
     by: dict[tuple[float, bool], list[Zero]] = {}
     for z in zeros:
-        by.setdefault((_key(z.beta), z.stable), []).append(z)
+        by.setdefault((grid_key(z.beta), z.stable), []).append(z)
     out = []
     order = sorted(betas)
     for b0, b1 in itertools.pairwise(order):
         for stable in (True, False):
-            nxt = by.get((_key(b1), stable), [])
-            for z in by.get((_key(b0), stable), []):
+            nxt = by.get((grid_key(b1), stable), [])
+            for z in by.get((grid_key(b0), stable), []):
                 near = min(nxt, key=lambda n: abs(n.d31 - z.d31), default=None)
                 if near is not None and abs(near.d31 - z.d31) <= tol:
                     out.append((z, near))
-    return out
-
-
-def _scale_row(f: Frame, top: float, row: int) -> list[str]:
-    """The colour scale under the legend: 'drift per cycle, mrad' and a swatch per value."""
-    y = f.bottom + 22 + 11 * row
-    out = [f'<text x="{LEFT}" y="{y:.0f}" {FONT} fill="#666">drift per cycle, mrad:</text>']
-    x = LEFT + 104.0
-    for v in SCALE_MRAD:
-        colour = drift_colour(drift_level(v * 1e-3), top)
-        label = f"{v:+g}".replace("-", "−") if v else "0"
-        out.append(
-            f'<rect class="swatch" x="{x:.1f}" y="{y - 6:.0f}" width="7" height="7" '
-            f'fill="{colour}" stroke="#999" stroke-width="0.3"/>'
-        )
-        out.append(f'<text x="{x + 9:.1f}" y="{y:.0f}" {FONT} fill="#333">{label}</text>')
-        x += 9 + 5.0 * len(label) + 8
     return out
 
 
@@ -198,18 +96,18 @@ def surface_svg(
     f = Frame(lo, hi, *D31_RANGE, h=BIF_H, legend_h=LEGEND_H)
     title = "Drift surface: Δ31 drift per cycle over (β, Δ31)"
     if surface is None or not surface.betas or not surface.points:
-        out = _open("surface", title, h=BIF_H, legend_h=LEGEND_H, n_cells="0", n_zeros="0")
-        out.append(_note(f, note or "the drift surface is empty"))
+        out = open_svg("surface", title, h=BIF_H, legend_h=LEGEND_H, n_cells="0", n_zeros="0")
+        out.append(plot_note(f, note or "the drift surface is empty"))
         out.append("</svg>")
         return "\n".join(out)
-    backdrop, cells, top, n_cells = _cells(surface, f, lo, hi)
+    backdrop, cells, top, n_cells = drift_cells(surface, f, lo, hi)
     y_lo, y_hi = D31_RANGE
 
     def shown(beta: float, d31: float) -> bool:
         return lo <= beta <= hi and y_lo <= d31 <= y_hi
 
     zeros = [z for z in surface.zeros if shown(z.beta, z.d31)]
-    out = _open(
+    out = open_svg(
         "surface",
         title,
         h=BIF_H,
@@ -223,7 +121,7 @@ def surface_svg(
         out.append(
             f'<text x="{LEFT - 3}" y="{f.y(v) + 3:.1f}" {FONT} text-anchor="end">{v:g}</text>'
         )
-    out += _reference_lines(f)
+    out += reference_lines(f)
     tol = float(surface.config.get("link_tol_rad", LINK_TOL_RAD))
     for a, b in _links(zeros, surface.betas, tol):
         dash = "" if a.stable else ' stroke-dasharray="2 1.5"'
@@ -268,13 +166,13 @@ def surface_svg(
             f'cy="{cy:.1f}" r="3.5" fill="none" stroke="#e00" stroke-width="1.5"/>'
         )
     if note:
-        out.append(_note(f, note))
-    out += _x_ticks(f, [t for t in BETA_TICKS if lo <= t <= hi], "{:.2f}")
+        out.append(plot_note(f, note))
+    out += x_ticks(f, [t for t in BETA_TICKS if lo <= t <= hi], "{:.2f}")
     rows = [
         [("● stable zero", "#000"), ("◯ unstable zero", "#000"), ("faint: not resolved", "#888")],
         [("| near zero", "#777"), ("× fold", "#333"), ("■ not usable", "#bbb"), ("◯ now", "#e00")],
     ]
-    out += _legend(f, rows)
-    out += _scale_row(f, top, len(rows))
+    out += legend(f, rows)
+    out += scale_row(f, top, len(rows))
     out.append("</svg>")
     return "\n".join(out)

@@ -24,7 +24,7 @@ import pytest
 from web import controls
 from web.entry import box_label
 from web.page_probe import READ_BY_LABEL, TAG_BY_LABEL
-from web.panels import LOAD_SETTINGS, PRESET_METACHRONAL, SUBMIT_RUN
+from web.panel_labels import LOAD_SETTINGS, PRESET_METACHRONAL, SUBMIT_RUN
 
 pytestmark = pytest.mark.browser
 

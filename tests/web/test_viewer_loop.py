@@ -103,8 +103,8 @@ def test_the_footfall_bars_are_the_stance_read_at_every_control_period() -> None
     period; a swing of ~34 ms spans ~68 of them): stepping one control period at a time and
     reading `sim.stance` directly, every sample in the diagram's window lies inside a drawn bar
     of its leg exactly when that leg was in stance, and the panel shows those bars."""
+    from web.footfall_svg import footfall_svg
     from web.record import footfall_bars
-    from web.svg import footfall_svg
 
     app = ViewerApp("127.0.0.1", 0)
     try:

@@ -18,10 +18,15 @@ import pytest
 
 from sim_core.contract import DriftSurface, EventConditions, FinderOutput, SurfaceAtlas
 from web import controls, export
+from web.atlas_svg import atlas_svg
 from web.bifurcation import WatchedFile, finder_points, load_validated
+from web.bifurcation_svg import bifurcation_svg
+from web.d31_svg import d31_svg
 from web.record import D31Event, d31_since, stance_intervals
-from web.surface_svg import drift_colour, drift_level, surface_svg
-from web.svg import MAX_DRAWN, atlas_svg, bifurcation_svg, d31_svg, n_dots, return_map_svg
+from web.return_map_svg import return_map_svg
+from web.surface_cells import drift_colour, drift_level
+from web.surface_svg import surface_svg
+from web.svg import MAX_DRAWN, n_dots
 
 
 def _run(d31_init: float, final: float | None, settled: bool, attractor: int | None) -> dict:

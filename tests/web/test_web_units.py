@@ -10,11 +10,13 @@ import pytest
 from sim_core import RunSpec
 from sim_core.contract import EventConditions as Conditions
 from web import controls
+from web.d31_svg import CHAR_W, d31_svg
+from web.footfall_svg import footfall_svg
 from web.pacing import RateMeter, SimClock
 from web.readouts import Readouts, format_readouts
 from web.record import D31Conditions, D31Event, d31_since, stance_intervals
 from web.requests import Request, RequestQueue, Reset, SetParam, StartRamp, StopRamp, coalesce
-from web.svg import CHAR_W, d31_svg, footfall_svg, n_dots
+from web.svg import n_dots
 
 
 def test_sliders_map_to_values_the_core_accepts() -> None:
@@ -225,7 +227,7 @@ def test_readouts_do_not_claim_keeping_up_while_paused() -> None:
 
 
 def test_footfall_shows_the_chosen_window_with_legs_coloured_by_pair() -> None:
-    from web.svg import LEG_COLOURS, PAIR_COLOURS
+    from web.footfall_svg import LEG_COLOURS, PAIR_COLOURS
 
     bars = [[(0.0, 2.9)] for _ in range(6)]
     svg = footfall_svg(bars, 3.0, 0.5)
@@ -240,7 +242,7 @@ def test_footfall_shows_the_chosen_window_with_legs_coloured_by_pair() -> None:
 
 
 def test_the_ramp_draws_its_path_per_direction() -> None:
-    from web.svg import bifurcation_svg
+    from web.bifurcation_svg import bifurcation_svg
 
     run = Run()
     run.add([(0.05, 1.9)], at(0.62))  # before the ramp
@@ -389,7 +391,9 @@ def test_legends_wrap_inside_the_panel_and_the_return_map_reads_like_its_neighbo
     import html
     import re
 
-    from web.svg import W, bifurcation_svg, return_map_svg
+    from web.bifurcation_svg import bifurcation_svg
+    from web.return_map_svg import return_map_svg
+    from web.svg import W
 
     svg = bifurcation_svg(None, "", [], (0.66, 2.0), (0.55, 0.80))
     words = re.findall(r'<text x="([\d.]+)" y="[\d.]+" [^>]*fill="#[0-9a-f]+">([^<]+)<', svg)

@@ -1,0 +1,79 @@
+"""The footfall diagram: six rows (legs 1-6), one bar per stance interval, scrolling in time.
+
+Its own module because its leg colours are also the 3D legs' (web/scene.py reads them here):
+one palette for the hexapod and its footfall, built on web/svg.py's frame and axes.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from sim_core.contract import LEG_NAMES
+from web.svg import (
+    BOTTOM,
+    FONT,
+    LEFT,
+    RIGHT,
+    TOP,
+    Frame,
+    H,
+    W,
+    open_svg,
+    time_axis_label,
+    time_ticks,
+    time_window,
+    x_ticks,
+)
+
+LEG_ORDER = LEG_NAMES  # the paper's legs 1-6, rows top to bottom
+# Fig. 4's colouring by leg pair: fore (legs 1-2) red, middle (3-4) blue, hind (5-6) green;
+# right legs in the full colour, left legs in a light tint of it, so that both the pair and the
+# side read at a glance: a tripod is a checkerboard (R1 L2 R3 against L1 R2 L3), a metachronal
+# wave a staircase running from hind to fore on each side.
+PAIR_COLOURS = ("#d62728", "#1f77b4", "#2ca02c")
+PAIR_NAMES = ("fore", "middle", "hind")
+LEFT_TINTS = ("#f1a3a4", "#9cc7e8", "#9fdc9f")
+LEG_COLOURS = tuple(PAIR_COLOURS[i // 2] if i % 2 == 0 else LEFT_TINTS[i // 2] for i in range(6))
+
+
+def footfall_svg(
+    bars: Sequence[Sequence[tuple[float, float]]], t_now: float, window_s: float
+) -> str:
+    """Six rows (legs 1-6: R1 L1 R2 L2 R3 L3), one rect per stance interval, scrolling."""
+    t0, t1 = time_window(t_now, window_s)
+    f = Frame(t0, t1, 0.0, 6.0)
+    out = open_svg(
+        "footfall",
+        f"Footfall, last {window_s:g} s (bar = stance; right dark, left light)",
+        t_now=f"{t_now:.4f}",
+        window_s=f"{window_s:g}",
+    )
+    row_h = (H - TOP - BOTTOM) / 6.0
+    n_bars = 0
+    for pair in (1, 2):  # thin lines between fore, middle and hind
+        y = TOP + 2 * pair * row_h
+        out.append(
+            f'<line x1="{LEFT}" y1="{y:.1f}" x2="{W - RIGHT}" y2="{y:.1f}" stroke="#ccc" '
+            'stroke-width="0.5"/>'
+        )
+    for leg, legbars in enumerate(bars):
+        y = TOP + leg * row_h
+        out.append(
+            f'<text x="{LEFT - 3}" y="{y + row_h * 0.7:.1f}" {FONT} text-anchor="end" '
+            f'fill="{PAIR_COLOURS[leg // 2]}">{leg + 1} {LEG_ORDER[leg]}</text>'
+        )
+        for a, b in legbars:
+            a, b = max(a, t0), min(b, t1)
+            if b <= a:
+                continue
+            n_bars += 1
+            out.append(
+                f'<rect class="stance" data-leg="{LEG_ORDER[leg]}" x="{f.x(a):.2f}" '
+                f'y="{y + row_h * 0.15:.1f}" width="{f.x(b) - f.x(a):.2f}" '
+                f'height="{row_h * 0.7:.1f}" fill="{LEG_COLOURS[leg]}"/>'
+            )
+    fmt = "{:.2f}" if window_s < 1.5 else "{:.1f}"
+    out += x_ticks(f, time_ticks(t0, t1), fmt)
+    out.append(time_axis_label(f))
+    out.append(f"<!-- {n_bars} bars --></svg>")
+    return "\n".join(out)

@@ -1,0 +1,36 @@
+"""The control panel's words: its buttons' and boxes' labels and the HTML lines it shows.
+
+Their own module because the panel (web/panels.py), the loop's side of it
+(web/panel_display.py), the browser tests and the benchmark all find a control by its label:
+one definition each, imported wherever a control is looked for.
+"""
+
+PLAY, PAUSE = "Play", "Pause"
+STEP = "Step one cycle"
+SUBMIT_RUN, SUBMIT_RAMP = "Submit as a run job", "Submit the ramp as a hysteresis job"
+OPEN_JOB = "Open job by id"
+LOAD_SETTINGS = "Load settings (JSON)"
+DRAW_3D = "draw the 3D walk"
+DRAW_3D_HINT = (
+    "Off: the 3D view holds its last pose and the simulation gets the core a browser without a "
+    "GPU spends drawing it; the plots and readouts stay live."
+)
+# viser reads a fixed device-pixel ratio from the page's URL (its `fixedDpr` dev setting): at
+# half resolution a browser drawing WebGL in software leaves its page's main thread free (1-7%
+# in long tasks against 93-97% at full, measured by benchmarks/viewer_rtf.py --query), so the
+# readouts refresh at 4.6 Hz instead of 3.0-3.5 Hz at 1x. A link, not a default: on a GPU the
+# full resolution costs nothing.
+LOW_RES_HTML = (
+    '<div style="font-size:0.75em;padding-left:0.5em">No GPU (software WebGL)? '
+    '<a href="?fixedDpr=0.5">the 3D view at half resolution</a> · <a href="?">full</a></div>'
+)
+RAMP_START, RAMP_STOP = "Start ramp", "Stop ramp"
+# export buttons: label -> what (web/export.py)
+EXPORT_BUTTONS = {
+    "Δ31 trace (CSV)": "d31",
+    "footfall (CSV)": "footfall",
+    "ramp path (CSV)": "ramp",
+    "settings (JSON)": "settings",
+}
+D31_WINDOW_LABEL = "Δ31 window (s, 0 = whole run)"
+PRESET_TRIPOD, PRESET_METACHRONAL = "Start as tripod (Δ31 = π)", "Start as metachronal (2π/3)"
