@@ -12,7 +12,7 @@ import sys
 from collections.abc import Sequence
 
 from lab import commands, paper_commands
-from sim_core.cli.common import Parser
+from sim_core.cli import Parser
 
 PROG = "python -m lab"
 

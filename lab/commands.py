@@ -8,8 +8,8 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from sim_core.cli.common import EXIT_USAGE
-from sim_core.paper.results import RESULTS_DIR
+from sim_core.cli import EXIT_USAGE
+from sim_core.contract import RESULTS_DIR
 
 
 def _add_calibrate(sub: Any) -> None:
@@ -111,7 +111,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
     from pydantic import ValidationError
 
     from lab.diagnostics import diagnose
-    from sim_core.model.params import ModelParams
+    from sim_core import ModelParams
 
     try:
         params = ModelParams(**json.loads(args.params))
@@ -151,7 +151,7 @@ def _param_overrides(command: str, text: str) -> dict[str, Any] | None:
     """The --params JSON as ModelParams overrides, or None after printing why they are not."""
     from pydantic import ValidationError
 
-    from sim_core.model.params import ModelParams
+    from sim_core import ModelParams
 
     try:
         over = json.loads(text)
@@ -192,7 +192,7 @@ def _cmd_slope_heading(args: argparse.Namespace) -> int:
     import time
 
     from lab.slope_heading import headings, table
-    from sim_core.model.params import ModelParams
+    from sim_core import ModelParams
 
     if not 0 < args.duration_s <= 600:
         print("python -m lab slope-heading: error: --duration-s in (0, 600]", file=sys.stderr)
@@ -255,7 +255,7 @@ def _cmd_timing_lines(args: argparse.Namespace) -> int:
     import numpy as np
 
     from lab import timing_lines as tl
-    from sim_core.model.params import ModelParams
+    from sim_core import ModelParams
 
     if not 0.0 < args.d_step <= 0.5 or not all(0.5 < b < 1.0 for b in args.betas):
         print("python -m lab timing-lines: error: --d-step in (0, 0.5], betas in (0.5, 1)",
@@ -354,8 +354,7 @@ def _cmd_readings(args: argparse.Namespace) -> int:
         table,
         variants,
     )
-    from sim_core.runs.backends import get_backend
-    from sim_core.runs.cache import ResultCache
+    from sim_core import ResultCache, get_backend
 
     if not 0 < args.duration_s <= 600 or not all(0.5 < b < 1.0 for b in args.betas):
         print("python -m lab readings: error: --duration-s in (0, 600], betas in (0.5, 1)",

@@ -27,13 +27,20 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from sim_core.model.anatomy import LEG_NAMES, LEG_PAIR, attachment_points
-from sim_core.model.mjspec import build_model, leg_qpos_addresses, mid_stance_angles
-from sim_core.model.params import ModelParams
-from sim_core.model.runner import BatchRunner
-from sim_core.model.spec import RunSpec
+from sim_core import (
+    BatchRunner,
+    ModelParams,
+    RunSpec,
+    attachment_points,
+    build_model,
+    leg_qpos_addresses,
+    mid_stance_angles,
+)
+from sim_core.contract import LEG_NAMES
 
 PAIRS = ("fore", "middle", "hind")
+# each leg's pair (0 fore, 1 middle, 2 hind), read from its name (R1 L1 R2 L2 R3 L3)
+LEG_PAIR = np.array([int(name[1:]) - 1 for name in LEG_NAMES])
 
 
 @dataclass(frozen=True)

@@ -1,16 +1,20 @@
 """The lab's paper commands: the finder's atlas, check and claims, and the old `study` (the
-product's `insect-gait` keeps reproduce and finder, sim_core/cli/paper.py)."""
+product's `insect-gait` keeps reproduce and finder, sim_core/cli/paper.py; `study` runs its
+`reproduce` through `sim_core.cli.main`). The checks themselves are lab/finder_check.py and
+lab/finder_claims.py."""
 
 from __future__ import annotations
 
 import argparse
 import sys
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-from sim_core.cli.common import EXIT_USAGE
-from sim_core.cli.paper import _add_backend_args, _cmd_reproduce, backend_from_args
-from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
+from sim_core.cli import EXIT_USAGE, add_backend_args, backend_from_args
+from sim_core.contract import BIFURCATION_FILE, RESULTS_DIR
+
+if TYPE_CHECKING:
+    from sim_core.contract import AtlasOutput
 
 
 def _add_study(sub: Any) -> None:
@@ -25,11 +29,15 @@ def _add_study(sub: Any) -> None:
 
 def _cmd_study(args: argparse.Namespace) -> int:
     from lab.sensitivity import run_sensitivity
+    from sim_core.cli import main as insect_gait
 
-    rc = _cmd_reproduce(argparse.Namespace(
-        figure=["5", "7"], out=args.out, cache="out/cache", backend="local", address=None,
-        workers=None, quick=args.quick, doc=None, no_doc=True, no_progress=False,
-    ))  # fmt: skip
+    # `insect-gait reproduce --figure 5 7 --no-doc` (default cache and local backend)
+    argv = ["reproduce", "--figure", "5", "7", "--no-doc"]
+    if args.out is not None:
+        argv.append(f"--out={args.out}")
+    if args.quick:
+        argv.append("--quick")
+    rc = insect_gait(argv)
     if rc != 0 or args.quick or args.no_sensitivity:
         return rc
     run_sensitivity(Path(args.out or RESULTS_DIR))
@@ -37,7 +45,7 @@ def _cmd_study(args: argparse.Namespace) -> int:
 
 
 def _add_atlas(sub: Any) -> None:
-    from sim_core.runs import BACKENDS
+    from sim_core import BACKENDS
 
     p = sub.add_parser(
         "finder-atlas",
@@ -51,7 +59,7 @@ def _add_atlas(sub: Any) -> None:
     p.add_argument("--out", default=None,
                    help=f"folder for atlas_<axis>.json/png (default {RESULTS_DIR}; --quick: "
                    "out/atlas-quick)")  # fmt: skip
-    _add_backend_args(p, [b for b in BACKENDS if b != "ray"])
+    add_backend_args(p, [b for b in BACKENDS if b != "ray"])
     p.add_argument("--no-progress", action="store_true", help="no progress output")
     p.set_defaults(func=_cmd_atlas)
 
@@ -59,9 +67,7 @@ def _add_atlas(sub: Any) -> None:
 def _cmd_atlas(args: argparse.Namespace) -> int:
     import time
 
-    from sim_core.paper.atlas import AtlasConfig, run_atlas, summary_lines, write_atlas
-    from sim_core.runs.backends import RunStats
-    from sim_core.runs.cache import ResultCache
+    from sim_core import AtlasConfig, ResultCache, RunStats, run_atlas, write_atlas
 
     prog = "python -m lab finder-atlas"
     cfg = AtlasConfig.quick(args.axis) if args.quick else AtlasConfig(args.axis)
@@ -82,7 +88,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
         backend.close()
     files = write_atlas(atlas, out)
     wall = time.perf_counter() - t0
-    print("\n".join(summary_lines(atlas)))
+    print("\n".join(_atlas_summary(atlas)))
     sim_s = sum(c.sim_s for c in atlas.cells)
     print(
         f"\nwall time {wall:.1f} s on {backend.name} with {backend.workers} worker(s); "
@@ -90,6 +96,16 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
         f"simulated s ({sim_s / wall:.2f} per wall s); wrote {', '.join(map(str, files))}"
     )
     return 0
+
+
+def _atlas_summary(out: AtlasOutput) -> list[str]:
+    """One line per value row: the region at each beta."""
+    from sim_core.contract import AXIS_PARAM
+
+    lines = [f"{AXIS_PARAM[out.axis]:>12} | " + " | ".join(f"β {b:g}" for b in out.betas)]
+    for v, regs in zip(out.values, out.regions, strict=True):
+        lines.append(f"{v:>12g} | " + " | ".join(regs))
+    return lines
 
 
 def _add_finder_check(sub: Any) -> None:
@@ -112,10 +128,8 @@ def _add_finder_check(sub: Any) -> None:
 def _cmd_finder_check(args: argparse.Namespace) -> int:
     import time
 
-    from sim_core.paper.figures import Config
-    from sim_core.paper.validation import report, validate
-    from sim_core.runs.backends import RunStats, get_backend
-    from sim_core.runs.cache import ResultCache
+    from lab.finder_check import report, validate
+    from sim_core import ReproduceConfig, ResultCache, RunStats, get_backend
 
     for b in args.beta:
         if not 0.5 < b < 1.0:
@@ -126,7 +140,7 @@ def _cmd_finder_check(args: argparse.Namespace) -> int:
     stats = RunStats()
     t0 = time.perf_counter()
     try:
-        cfg = Config()
+        cfg = ReproduceConfig()
         grid = cfg.bif_betas if args.grid == "fig8" else None
         checks = validate(args.beta, cfg.finder, ResultCache(args.cache), backend, grid=grid,
                           progress=not args.no_progress, stats=stats)  # fmt: skip
@@ -171,8 +185,8 @@ def _cmd_finder_claims(args: argparse.Namespace) -> int:
 
     from tqdm import tqdm
 
-    from sim_core.paper.claims import numerics, numerics_report, robustness, robustness_report
-    from sim_core.paper.fixedpoints import FinderOutput, branch_ranges
+    from lab.finder_claims import numerics, numerics_report, robustness, robustness_report
+    from sim_core.contract import FinderOutput, branch_ranges
 
     try:
         found = FinderOutput.model_validate_json(args.bifurcation.read_text())

@@ -21,16 +21,28 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.gait import classify_gait, settling
-from sim_core.model.params import ModelParams
-from sim_core.model.spec import RunSpec
-from sim_core.paper.claims import CALIBRATED, SCALES, scaled_values
-from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, cluster_finals, find
-from sim_core.paper.returnmap import initial_values
-from sim_core.paper.search import task_runner
-from sim_core.runs.backends import Backend, run_tasks
-from sim_core.runs.cache import ResultCache
-from sim_core.runs.tasks import run_task
+from sim_core import (
+    CALIBRATED,
+    SCALES,
+    Backend,
+    ModelParams,
+    ResultCache,
+    RunSpec,
+    classify_gait,
+    run_task,
+    run_tasks,
+    scaled_values,
+    task_runner,
+)
+from sim_core.contract import (
+    Cell,
+    CellResult,
+    FinderConfig,
+    cluster_finals,
+    find,
+    initial_values,
+    settling,
+)
 
 # Each built reading: its name and the ModelParams fields that switch it on.
 READINGS: dict[str, dict[str, Any]] = {

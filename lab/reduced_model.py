@@ -25,10 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from sim_core.model.cpg import advance_phases
-from sim_core.model.gait import TWO_PI
-from sim_core.model.params import phi_aep
-from sim_core.paper.protocols import initial_values
+from sim_core import advance_phases, phi_aep
+from sim_core.contract import TWO_PI, initial_values
 
 MAX_EVENTS = 4000
 

@@ -20,9 +20,7 @@ import matplotlib.pyplot as plt
 
 from lab.objectives import evaluate
 from lab.space import SEARCH_SPACE
-from sim_core.model.gait import circular_mean, classify_gait
-from sim_core.model.params import ModelParams
-from sim_core.paper.values import BETA_FAST, BETA_SLOW
+from sim_core import BETA_FAST, BETA_SLOW, ModelParams, circular_mean, classify_gait
 
 
 @dataclass(frozen=True)

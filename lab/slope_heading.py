@@ -15,10 +15,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sim_core.model.gait import HEADING_KEPT_DEG, settling, yaw_of
-from sim_core.model.params import ModelParams
-from sim_core.model.runner import simulate_batch
-from sim_core.model.spec import RunSpec
+from sim_core import ModelParams, RunSpec, simulate_batch
+from sim_core.contract import HEADING_KEPT_DEG, settling, yaw_of
 
 
 @dataclass

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sim_core.model.gait import TWO_PI, drift_per_cycle
+from sim_core.contract import TWO_PI, drift_per_cycle
 
 
 @dataclass(frozen=True)

@@ -29,17 +29,24 @@ from typing import Any
 import numpy as np
 
 from lab.space import Range
-from sim_core.model.params import ModelParams, nominal_speed
-from sim_core.paper.surface import Probe, drift_surface, probe_spec
-from sim_core.paper.surface_types import DriftSurface, SurfaceConfig, grid
-from sim_core.runs.backends import Backend
-from sim_core.runs.cache import ResultCache
-from sim_core.runs.tasks import run_task
+from sim_core import (
+    Backend,
+    DriftSurface,
+    ModelParams,
+    ResultCache,
+    SurfaceConfig,
+    drift_surface,
+    grid_probes,
+    nominal_speed,
+    probe_spec,
+    run_task,
+)
+from sim_core.contract import surface_grid
 
 # six betas around the paper's folds (0.645, 0.67), none on them; 0.62 and 0.70 are Fig. 5's
 OBJECTIVE_BETAS = (0.62, 0.635, 0.655, 0.665, 0.685, 0.70)
 # 21 D values 0.1 apart, one pass (no bisection): 126 probes x 1.5 s = 189 simulated s
-OBJECTIVE_CONFIG = SurfaceConfig(d31_grid=grid(1.4, 3.4, 0.1))
+OBJECTIVE_CONFIG = SurfaceConfig(d31_grid=surface_grid(1.4, 3.4, 0.1))
 PAPER_METACHRONAL_FOLD = 0.645  # the metachronal gait exists from here up (paper, Fig. 8)
 PAPER_TRIPOD_FOLD = 0.67  # the tripod exists from here down
 METACHRONAL_SIDE = (1.75, 2.6)  # where d turns negative above the fore wall when it holds
@@ -284,11 +291,9 @@ def evaluate_candidate(
     surface = drift_surface(betas, cache=cache, backend=backend, config=config, params=params,
                             refine=False, progress=False)  # fmt: skip
     walking = []
-    for b in betas:
-        v0 = 100 * nominal_speed(b, params.stroke, params.swing_duration)  # cm/s
-        for d in config.d31_grid:
-            task = run_task(probe_spec(Probe(b, d, config.average_s), config), params)
-            res = cache.get(task) or {}
-            s = res.get("speed_cm_s")
-            walking.append(res | {"speed_ratio": None if s is None else s / v0})
+    for probe in grid_probes(betas, config):  # the surface's own first pass, beta outer
+        v0 = 100 * nominal_speed(probe.beta, params.stroke, params.swing_duration)  # cm/s
+        res = cache.get(run_task(probe_spec(probe, config), params)) or {}
+        s = res.get("speed_cm_s")
+        walking.append(res | {"speed_ratio": None if s is None else s / v0})
     return read_surface(surface, walking), surface

@@ -29,10 +29,8 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from lab.reduced_model import ReducedParams, run_reduced
-from sim_core.model.gait import TWO_PI, phase_jumps, settling
-from sim_core.model.params import ModelParams, phi_aep
-from sim_core.model.runner import simulate_batch
-from sim_core.model.spec import RunSpec
+from sim_core import ModelParams, RunSpec, phi_aep, simulate_batch
+from sim_core.contract import TWO_PI, phase_jumps, settling
 
 # Leg 1's start phase over these: an open-loop probe's jumps depend a little on where the cycle
 # starts (the legs of a pair differ at some D on the paper's ground); their spread is reported.

@@ -9,6 +9,10 @@ Why a module and a lazy `sim_core/__init__` both: the lazy package (PEP 562) mak
 `import sim_core` cheap for everybody, including a worker process that re-imports the
 `insect-gait` script; this module says which names are the contract, so that the API imports
 exactly those and a test can hold them to "no MuJoCo".
+
+The lab (lab/, `python -m lab`) reads its runs with the same analyses; a name commented
+`# research:` is here for it (and anyone studying the model from outside the package), not for
+the edges.
 """
 
 from __future__ import annotations
@@ -23,18 +27,24 @@ from sim_core.model.cost import (
     run_cost,
 )
 from sim_core.model.gait import (
+    HEADING_KEPT_DEG,  # research: a heading kept within this, deg (slope studies)
     METACHRONAL,
     NOT_SETTLED,
     TAIL_DRIFT_SETTLED,
     TRIPOD,
     TWO_PI,
     Settling,
+    angle_diff,  # research: the signed difference of angles, wrapped (every comparison)
     circular_mean,
     classify_gait,
+    drift_per_cycle,  # research: Delta31's drift per cycle from the legs' phase jumps
     final_d31,
     mean_after,
+    phase_jumps,  # research: eq. 4's jumps at touchdown, per leg
     settling,
+    window_d31,  # research: where Delta31 sits now (`window_gait`'s reading; short screens)
     window_gait,
+    yaw_of,  # research: the body's heading from its quaternions
 )
 from sim_core.model.params import (
     INTEGRATORS,
@@ -75,6 +85,8 @@ from sim_core.paper.fixedpoints import (
     FinderConfig,
     FinderOutput,
     Probe,
+    branch_ranges,  # research: each gait's stable range and folds in the finder's cells
+    cluster_finals,  # research: settled ends clustered as the finder clusters them
     find,
     region_of,
 )
@@ -87,7 +99,12 @@ from sim_core.paper.results import (
     atlas_file,
     surface_atlas_file,
 )
-from sim_core.paper.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
+from sim_core.paper.returnmap import (
+    RETURN_MAP_SKIP,
+    ReturnMap,
+    initial_values,  # research: the protocols' starts, spread over the circle
+    return_map_from_series,
+)
 from sim_core.paper.surface_types import REGION_COLOURS, DriftSurface, SurfaceAtlas, SurfaceConfig
 from sim_core.paper.surface_types import grid as surface_grid
 
@@ -105,6 +122,7 @@ __all__ = [
     "DEFAULT_DT_S",
     "DEFAULT_INTEGRATOR",
     "FAILURE_KINDS",
+    "HEADING_KEPT_DEG",
     "INSECT_WORDS",
     "INTEGRATORS",
     "LEG_NAMES",
@@ -153,16 +171,22 @@ __all__ = [
     "Settling",
     "SurfaceAtlas",
     "SurfaceConfig",
+    "angle_diff",
     "atlas_file",
+    "branch_ranges",
     "circular_mean",
     "classify_gait",
+    "cluster_finals",
     "control_problem",
     "cost_problem",
+    "drift_per_cycle",
     "final_d31",
     "find",
+    "initial_values",
     "mean_after",
     "numerics_problem",
     "parameter_table",
+    "phase_jumps",
     "pin_problem",
     "region_of",
     "resolve_numerics",
@@ -172,5 +196,7 @@ __all__ = [
     "step_problem",
     "surface_atlas_file",
     "surface_grid",
+    "window_d31",
     "window_gait",
+    "yaw_of",
 ]

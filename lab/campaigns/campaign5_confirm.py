@@ -22,15 +22,20 @@ from pathlib import Path
 from typing import Any
 
 from lab.surface_search import METACHRONAL_WINDOW, TRIPOD_WINDOW, geometry
-from sim_core.model.params import ModelParams, nominal_speed
-from sim_core.model.runner import simulate_batch
-from sim_core.model.spec import RunSpec
-from sim_core.paper.surface import drift_surface
-from sim_core.paper.surface_types import DriftSurface, SurfaceConfig, grid
-from sim_core.runs.backends import get_backend
-from sim_core.runs.cache import ResultCache
+from sim_core import (
+    DriftSurface,
+    ModelParams,
+    ResultCache,
+    RunSpec,
+    SurfaceConfig,
+    drift_surface,
+    get_backend,
+    nominal_speed,
+    simulate_batch,
+)
+from sim_core.contract import surface_grid
 
-BETAS = grid(0.60, 0.72, 0.01)
+BETAS = surface_grid(0.60, 0.72, 0.01)
 STARTS = {"tripod side": 3.0, "metachronal side": 1.9}
 FREE_RUN_S = 40.0
 
@@ -70,10 +75,9 @@ def fold_end(betas: list[float], grid_betas: list[float], high: bool) -> float |
 def ramps(params: ModelParams) -> list[dict[str, Any]]:
     """Fig. 6a's two protocols at the reproduction's rate: from the metachronal side at 0.70
     down to 0.62 and back, and from the tripod at 0.62 up to 0.70 and back."""
-    from sim_core.paper.figures import Config
-    from sim_core.paper.sweep import sweep
+    from sim_core import ReproduceConfig, sweep
 
-    cfg = Config()
+    cfg = ReproduceConfig()
     out = []
     for start, turn, d31 in ((cfg.beta_high, cfg.beta_low, cfg.start_d31),
                              (cfg.beta_low, cfg.beta_high, cfg.tripod_start_d31)):  # fmt: skip

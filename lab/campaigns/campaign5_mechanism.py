@@ -28,17 +28,21 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.params import ModelParams
-from sim_core.paper.surface import drift_surface
-from sim_core.paper.surface_types import DriftSurface, SurfaceConfig, grid
-from sim_core.runs.backends import get_backend
-from sim_core.runs.cache import ResultCache
+from sim_core import (
+    DriftSurface,
+    ModelParams,
+    ResultCache,
+    SurfaceConfig,
+    drift_surface,
+    get_backend,
+)
+from sim_core.contract import surface_grid
 
 JUMP_BETAS = (0.62, 0.645, 0.70)
-JUMP_CONFIG = SurfaceConfig(d31_grid=grid(1.5, 3.3, 0.05), average_s=2.0)
+JUMP_CONFIG = SurfaceConfig(d31_grid=surface_grid(1.5, 3.3, 0.05), average_s=2.0)
 BAND = (2.1, 2.9)  # the band the issue reads at -3 to -5 mrad per cycle
 TSW_MS = (30.0, 34.0, 38.0)
-FOLD_BETAS = grid(0.595, 0.64, 0.0025)
+FOLD_BETAS = surface_grid(0.595, 0.64, 0.0025)
 METACHRONAL = (1.6, 2.0)  # where the metachronal branch's stable zero lives
 TRIPOD = (2.8, 3.05)
 

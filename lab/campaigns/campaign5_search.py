@@ -37,9 +37,7 @@ from lab.surface_search import (
     fold_of,
     geometry,
 )
-from sim_core.model.params import ModelParams
-from sim_core.runs.backends import get_backend
-from sim_core.runs.cache import ResultCache
+from sim_core import ModelParams, ResultCache, get_backend
 
 STUDY = "campaign5"
 

@@ -25,11 +25,17 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.gait import TAIL_DRIFT_SETTLED, angle_diff, circular_mean, settling
-from sim_core.model.params import ModelParams, nominal_speed, phi_aep
-from sim_core.model.runner import simulate_batch
-from sim_core.model.spec import RunResult, RunSpec
-from sim_core.paper.sweep import sweep
+from sim_core import (
+    ModelParams,
+    RunResult,
+    RunSpec,
+    circular_mean,
+    nominal_speed,
+    phi_aep,
+    simulate_batch,
+    sweep,
+)
+from sim_core.contract import TAIL_DRIFT_SETTLED, angle_diff, settling
 
 LEAD1: dict[str, Any] = {
     "velocity_feedforward_yaw": 0.0,  # was pd_damping="joint_velocity"

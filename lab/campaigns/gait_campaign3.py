@@ -29,16 +29,21 @@ from typing import Any
 import numpy as np
 
 from lab.campaigns.gait_campaign2 import binned_legs, crossings, row, table_finals
-from sim_core.model.gait import classify_gait
-from sim_core.model.params import ModelParams
-from sim_core.model.probes import open_loop_drift
-from sim_core.model.ramp import Ramp
-from sim_core.model.runner import simulate_batch
-from sim_core.model.spec import RunSpec
-from sim_core.paper.sweep import sweep
-from sim_core.runs.backends import Backend, get_backend, run_tasks
-from sim_core.runs.cache import ResultCache
-from sim_core.runs.tasks import Task, ramp_task
+from sim_core import (
+    Backend,
+    ModelParams,
+    ResultCache,
+    RunSpec,
+    Task,
+    classify_gait,
+    get_backend,
+    open_loop_drift,
+    ramp_task,
+    run_tasks,
+    simulate_batch,
+    sweep,
+)
+from sim_core.contract import Ramp
 
 # The step-one candidate of issue 22 (fact 7, first row): lift joints 0.6x as stiff with
 # damping on their own velocity (1 ms lag), a 0.5 mm lower stance, centre of mass 1 mm forward.

@@ -15,10 +15,7 @@ import time
 import mujoco
 import numpy as np
 
-from sim_core.model.mjspec import build_model
-from sim_core.model.params import ModelParams
-from sim_core.model.runner import BatchRunner
-from sim_core.model.spec import RunResult, RunSpec
+from sim_core import BatchRunner, ModelParams, RunResult, RunSpec, build_model
 
 
 def direct(

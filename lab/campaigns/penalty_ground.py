@@ -10,10 +10,8 @@ import os
 import time
 from pathlib import Path
 
-from sim_core.model.gait import settling
-from sim_core.model.params import ModelParams
-from sim_core.model.runner import simulate_batch
-from sim_core.model.spec import RunSpec
+from sim_core import ModelParams, RunSpec, simulate_batch
+from sim_core.contract import settling
 
 K = float(os.environ.get("K", "2000"))
 C = 0.1 * (K / 2000) ** 0.5  # the same damping ratio as 0.1 N s/m at 2000 N/m

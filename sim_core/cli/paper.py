@@ -1,5 +1,6 @@
-"""`reproduce` (the paper's Figs. 5-9), the fixed-point finder (`finder`, `finder-check`,
-`finder-claims`), the finder's atlas (`finder-atlas`), and `study` (the old name of reproduce)."""
+"""`reproduce` (the paper's Figs. 5-9) and the fixed-point finder (`finder`); the finder's
+checks and atlas are the lab's (`python -m lab`, lab/paper_commands.py), which words its
+backend options with `add_backend_args` and `backend_from_args` (public: `sim_core.cli`)."""
 
 from __future__ import annotations
 
@@ -13,8 +14,9 @@ from sim_core.cli.common import EXIT_USAGE, doc_to_update
 from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR, RESULTS_ENV
 
 
-def _add_backend_args(p: Any, backends: Sequence[str]) -> None:
-    """Where the runs go and where they are kept: shared by `reproduce` and `atlas`."""
+def add_backend_args(p: Any, backends: Sequence[str]) -> None:
+    """Where the runs go and where they are kept: shared by `reproduce`, `finder`, `atlas` and
+    the lab's commands."""
     p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
     p.add_argument("--backend", choices=list(backends), default="local",
                    help="local: process pool on this machine; dask: dask.distributed")  # fmt: skip
@@ -23,7 +25,7 @@ def _add_backend_args(p: Any, backends: Sequence[str]) -> None:
 
 
 def backend_from_args(args: argparse.Namespace, prog: str) -> Any:
-    """The backend `_add_backend_args`' options name, or None after printing why not (a bad
+    """The backend `add_backend_args`' options name, or None after printing why not (a bad
     --workers, or a backend that cannot run here) in one line."""
     from sim_core.runs.backends import BackendUnavailable, get_backend
 
@@ -52,7 +54,7 @@ def _add_reproduce(sub: Any) -> None:
         help=f"folder (default {RESULTS_DIR}, ${RESULTS_ENV} overrides; "
         f"--quick: out/reproduce-quick)",
     )
-    _add_backend_args(p, BACKENDS)
+    add_backend_args(p, BACKENDS)
     p.add_argument("--quick", action="store_true", help="tiny sizes: a smoke test, not science")
     p.add_argument("--doc", default=None,
                    help="markdown file whose reproduce section to regenerate (default "
@@ -63,11 +65,11 @@ def _add_reproduce(sub: Any) -> None:
 
 
 def _cmd_reproduce(args: argparse.Namespace) -> int:
-    from sim_core.paper.figures import Config
+    from sim_core.paper.figures import ReproduceConfig
     from sim_core.paper.reproduce import reproduce
 
     prog = "insect-gait reproduce"
-    cfg = Config.quick() if args.quick else Config()
+    cfg = ReproduceConfig.quick() if args.quick else ReproduceConfig()
     out = Path(args.out or ("out/reproduce-quick" if args.quick else RESULTS_DIR))
     try:
         doc = doc_to_update(args, "docs/REPRODUCTION.md")
@@ -106,7 +108,7 @@ def _add_finder(sub: Any) -> None:
                    help="betas (default: Fig. 8's grid, 0.62-0.70 by 0.005)")  # fmt: skip
     p.add_argument("--out", type=Path, default=RESULTS_DIR,
                    help=f"folder for {BIFURCATION_FILE} (default %(default)s)")  # fmt: skip
-    _add_backend_args(p, BACKENDS)
+    add_backend_args(p, BACKENDS)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_finder)
 
@@ -115,14 +117,14 @@ def _cmd_finder(args: argparse.Namespace) -> int:
     import time
     from dataclasses import asdict
 
-    from sim_core.paper.figures import Config
+    from sim_core.paper.figures import ReproduceConfig
     from sim_core.paper.fixedpoints import Cell, FinderOutput, find
     from sim_core.paper.search import task_runner
     from sim_core.runs.backends import RunStats
     from sim_core.runs.cache import ResultCache
 
     prog = "insect-gait finder"
-    cfg = Config()
+    cfg = ReproduceConfig()
     betas = sorted(set(args.beta or cfg.bif_betas))
     bad = [b for b in betas if not 0.5 < b < 1.0]
     if bad:

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE
-from sim_core.cli.paper import _add_backend_args, backend_from_args
+from sim_core.cli.paper import add_backend_args, backend_from_args
 from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
 
 # the betas the surface is validated at: the Fig. 7 betas and the two ends of the paper's window
@@ -80,7 +80,7 @@ def _add_surface_args(p: Any) -> None:
         help="the first pass only: no bisection near zeros and dips, no finer, longer "
         "probes inside unresolved zeros and near-zero bands",
     )
-    _add_backend_args(p, [b for b in BACKENDS if b != "ray"])
+    add_backend_args(p, [b for b in BACKENDS if b != "ray"])
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 

@@ -21,7 +21,7 @@ from typing import Any
 
 from sim_core.model.gait import angle_diff
 from sim_core.model.params import ModelParams
-from sim_core.paper.figures import Config
+from sim_core.paper.figures import ReproduceConfig
 from sim_core.paper.fixedpoints import (
     AXIS_LABEL,
     AXIS_PARAM,
@@ -57,9 +57,9 @@ PAPER_DIRECTION = {
 # (~60 min on 2 cores today), so its states are reported as "not checked"
 ATLAS_FINDER = FinderConfig(starts=4, duration_s=30.0, max_borders=0, kick_rad=0.0,
                             neighbour_seeds=False)  # fmt: skip
-# the paper's Fig. 9 sweeps (ours: `Config`), drawn on the atlas
-SWEEP_BETA = Config().sweep_beta
-SWEEP_RANGE = {"mass": Config().mass_range_g, "slope": Config().slope_range_deg}
+# the paper's Fig. 9 sweeps (ours: `ReproduceConfig`), drawn on the atlas
+SWEEP_BETA = ReproduceConfig().sweep_beta
+SWEEP_RANGE = {"mass": ReproduceConfig().mass_range_g, "slope": ReproduceConfig().slope_range_deg}
 # Seeds closer than this to one already taken are dropped (rad): the same attractor.
 SEED_MERGE = 0.1
 
@@ -252,12 +252,4 @@ def write_atlas(out: AtlasOutput, folder: Path) -> list[Path]:
     return [js, png]
 
 
-def summary_lines(out: AtlasOutput) -> list[str]:
-    """One line per value row: the region at each beta."""
-    lines = [f"{AXIS_PARAM[out.axis]:>12} | " + " | ".join(f"β {b:g}" for b in out.betas)]
-    for v, regs in zip(out.values, out.regions, strict=True):
-        lines.append(f"{v:>12g} | " + " | ".join(regs))
-    return lines
-
-
-__all__ = ["AtlasConfig", "run_atlas", "summary_lines", "write_atlas"]
+__all__ = ["AtlasConfig", "atlas_search", "run_atlas", "write_atlas"]

@@ -6,7 +6,7 @@ into the data behind the figure (JSON-able), its CSV tables, and a small summary
 reproduction table reads. Nothing here simulates or draws; `sim_core.paper.reproduce` runs the tasks
 and `sim_core.paper.plots` draws.
 
-Protocol choices the paper leaves open are fields of `Config`, each with the reason.
+Protocol choices the paper leaves open are fields of `ReproduceConfig`, each with the reason.
 """
 
 from __future__ import annotations
@@ -43,7 +43,7 @@ BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch coun
 
 
 @dataclass(frozen=True)
-class Config:
+class ReproduceConfig:
     """Sizes and protocol of every experiment (the paper states few of them)."""
 
     # Fig. 5's runs are the finder's starts at these betas (`fig5_tasks`: the same tasks, run
@@ -87,7 +87,7 @@ class Config:
     name: str = field(default="full", compare=False)
 
     @classmethod
-    def quick(cls) -> Config:
+    def quick(cls) -> ReproduceConfig:
         """Tiny sizes for tests and smoke runs: the machinery, not the science."""
         return cls(
             finder=FinderConfig.quick(),
@@ -102,7 +102,7 @@ class Config:
     def to_dict(self) -> dict[str, Any]:
         return asdict(self)
 
-    def with_(self, **kw: Any) -> Config:
+    def with_(self, **kw: Any) -> ReproduceConfig:
         return replace(self, **kw)
 
 
@@ -115,26 +115,26 @@ def _runs(
     ]
 
 
-def spread_tasks(betas: tuple[float, ...], cfg: Config, p: ModelParams) -> list[Task]:
+def spread_tasks(betas: tuple[float, ...], cfg: ReproduceConfig, p: ModelParams) -> list[Task]:
     """Free runs from the finder's spread starts at each of `betas` (beta outer), as the
     finder asks for them (`probe_task`), so that the finder's checks reuse them."""
     return [probe_task(Cell(beta), Probe(float(x), cfg.finder.duration_s), p)
             for beta in betas for x in initial_values(cfg.finder.starts)]  # fmt: skip
 
 
-def fig5_tasks(cfg: Config, p: ModelParams) -> list[Task]:
+def fig5_tasks(cfg: ReproduceConfig, p: ModelParams) -> list[Task]:
     """Fig. 5's runs: the spread starts at each of `fig5_betas`."""
     return spread_tasks(cfg.fig5_betas, cfg, p)
 
 
-def beta_ramp(cfg: Config, slower: bool = False, up: bool = False) -> Ramp:
+def beta_ramp(cfg: ReproduceConfig, slower: bool = False, up: bool = False) -> Ramp:
     """Fig. 6a's triangle: from 0.70 down and back (`up`: from 0.62 up and back)."""
     ramp_s = cfg.ramp_s * (cfg.rate_factor if slower else 1.0)
     ends = (cfg.beta_low, cfg.beta_high) if up else (cfg.beta_high, cfg.beta_low)
     return Ramp("beta", *ends, cfg.hold_s, ramp_s)
 
 
-def sweep_ramps(cfg: Config) -> dict[str, Ramp]:
+def sweep_ramps(cfg: ReproduceConfig) -> dict[str, Ramp]:
     m, s = cfg.mass_range_g, cfg.slope_range_deg
     return {
         "fig9a": Ramp("body_mass_g", m[0], m[1], cfg.hold_s, cfg.ramp_s),
@@ -142,14 +142,14 @@ def sweep_ramps(cfg: Config) -> dict[str, Ramp]:
     }
 
 
-def _ramp_task(r: Ramp, cfg: Config, p: ModelParams) -> Task:
+def _ramp_task(r: Ramp, cfg: ReproduceConfig, p: ModelParams) -> Task:
     beta = r.start if r.param == "beta" else cfg.sweep_beta
     up = r.param == "beta" and r.turn > r.start  # Fig. 6a's second protocol
     d31 = cfg.tripod_start_d31 if up else cfg.start_d31
     return ramp_task(r, RunSpec(beta=beta, d31_init=d31), p)
 
 
-def figure_tasks(fig: str, cfg: Config, p: ModelParams) -> list[Task]:
+def figure_tasks(fig: str, cfg: ReproduceConfig, p: ModelParams) -> list[Task]:
     """Every simulation figure `fig` needs (Fig. 8 also needs the Fig. 6a sweep it overlays)."""
     if fig == "5":
         return fig5_tasks(cfg, p)
@@ -190,7 +190,7 @@ def _by_beta(tasks: list[Task], get: Lookup) -> dict[float, list[tuple[Task, dic
     return out
 
 
-def _fig5(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+def _fig5(cfg: ReproduceConfig, p: ModelParams, get: Lookup) -> list[FigureData]:
     runs = []
     rows: list[list[Any]] = []
     summary: dict[str, Any] = {}
@@ -226,7 +226,7 @@ def _series_rows(tag: str, r: dict[str, Any]) -> list[list[Any]]:
     return [[tag, t, v, d] for t, v, d in zip(r["d31_times_s"], r["value"], r["d31"], strict=True)]
 
 
-def _sweep(r: Ramp, res: dict[str, Any], cfg: Config) -> dict[str, Any]:
+def _sweep(r: Ramp, res: dict[str, Any], cfg: ReproduceConfig) -> dict[str, Any]:
     beta = res["value"] if r.param == "beta" else cfg.sweep_beta  # as `_ramp_task` runs it
     s = sweep_summary(res["d31_times_s"], res["value"], res["d31"], r.start, r.turn, r.hold_s,
                       r.ramp_s, beta)  # fmt: skip
@@ -239,7 +239,7 @@ def _switch(leg: list[dict[str, Any]], after: str) -> float | None:
     return float(hits[0]) if hits else None
 
 
-def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+def _fig6(cfg: ReproduceConfig, p: ModelParams, get: Lookup) -> list[FigureData]:
     """The paper's two protocols: beta falls from 0.70 after a metachronal start, and rises
     from 0.62 after a tripod start (each ramp then returns to its start)."""
     ramps = {"full": beta_ramp(cfg), "half_rate": beta_ramp(cfg, slower=True)}
@@ -306,7 +306,7 @@ def _fig6(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     return [fig6a, fig6b]
 
 
-def _fig9_runs(cfg: Config, p: ModelParams) -> list[tuple[str, Ramp, ModelParams]]:
+def _fig9_runs(cfg: ReproduceConfig, p: ModelParams) -> list[tuple[str, Ramp, ModelParams]]:
     """Fig. 9's sweeps (figure name, ramp, parameters), and Fig. 9b's again on the paper's
     ground: today's contact turns the body 90-100 deg downhill within 40-60 s, the paper's
     ground keeps it within 1 deg (docs/MODEL.md, "Slopes"), so only there does the sweep walk
@@ -318,7 +318,7 @@ def _fig9_runs(cfg: Config, p: ModelParams) -> list[tuple[str, Ramp, ModelParams
     return runs
 
 
-def _sweep_data(r: Ramp, res: dict[str, Any], cfg: Config) -> dict[str, Any]:
+def _sweep_data(r: Ramp, res: dict[str, Any], cfg: ReproduceConfig) -> dict[str, Any]:
     """A Fig. 9 sweep's summary (with the largest heading the body reached) and series."""
     sweep = _sweep(r, res, cfg)
     heading = [abs(h) for h in res.get("heading_deg") or []]
@@ -327,7 +327,7 @@ def _sweep_data(r: Ramp, res: dict[str, Any], cfg: Config) -> dict[str, Any]:
     return {"sweep": sweep, "series": {k: res[k] for k in keys if k in res}}
 
 
-def _fig9(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+def _fig9(cfg: ReproduceConfig, p: ModelParams, get: Lookup) -> list[FigureData]:
     figs: dict[str, FigureData] = {}
     for name, r, q in _fig9_runs(cfg, p):
         res = get(_ramp_task(r, cfg, q))
@@ -344,7 +344,7 @@ def _fig9(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     return list(figs.values())
 
 
-def _ablation(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+def _ablation(cfg: ReproduceConfig, p: ModelParams, get: Lookup) -> list[FigureData]:
     runs = []
     rows: list[list[Any]] = []
     series = []
@@ -361,7 +361,7 @@ def _ablation(cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
     return [FigureData("ablation", {"runs": runs, "summary": summary}, csv, summary)]
 
 
-def analyse(fig: str, cfg: Config, p: ModelParams, get: Lookup) -> list[FigureData]:
+def analyse(fig: str, cfg: ReproduceConfig, p: ModelParams, get: Lookup) -> list[FigureData]:
     """The figure data of `fig` (Figs. 5, 6, 9, the ablation) from its tasks' results
     (`get(task)` -> result dict)."""
     if fig in ("7", "8"):

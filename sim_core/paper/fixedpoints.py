@@ -805,7 +805,7 @@ class AtlasOutput(_Model):
     regions: list[list[Region]]  # [value][beta]
     folds: list[AtlasFold]
     sweep_beta: float  # the paper's Fig. 9 sweeps run at this beta ...
-    sweep_range: tuple[float, float]  # ... over this range of the axis (ours, `Config`)
+    sweep_range: tuple[float, float]  # ... over this range of the axis (ours, `ReproduceConfig`)
     paper_direction: str
     config: dict[str, Any]
 

@@ -25,7 +25,7 @@ from sim_core.model.gait import HEADING_KEPT_DEG
 from sim_core.model.params import ModelParams
 from sim_core.model.version import PHYSICS_VERSION
 from sim_core.paper.analysis import PAPER_WINDOW
-from sim_core.paper.figures import BRANCH_TOL, FIGURES, Config, analyse, figure_tasks
+from sim_core.paper.figures import BRANCH_TOL, FIGURES, ReproduceConfig, analyse, figure_tasks
 from sim_core.paper.results import SURFACE_FILE, SURFACE_PENALTY_FILE
 from sim_core.paper.surface_check import variant_table
 from sim_core.paper.surface_repro import (
@@ -110,7 +110,7 @@ def _load_state(path: Path, identity: dict[str, Any]) -> dict[str, Any]:
 
 def reproduce(
     figures: Sequence[str],
-    cfg: Config,
+    cfg: ReproduceConfig,
     out: Path,
     cache_dir: Path,
     backend: Backend,

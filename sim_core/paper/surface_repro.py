@@ -1,7 +1,7 @@
 """Figs. 7 and 8 of `reproduce`, read from the drift surface (`paper.surface`), with the checks
 that come with it on every run.
 
-- The surface over `Config.surface_betas` on today's ground gives Fig. 8 (the heat map, its
+- The surface over `ReproduceConfig.surface_betas` on today's ground gives Fig. 8 (the heat map, its
   zeros, branches and folds, Fig. 6a's sweeps on top) and Fig. 7 (the return maps at the map
   betas). Fig. 7 is checked on its own axes against independent free runs: the finder's spread
   starts at each map beta (`figures.fig7_tasks`), whose settled ends must lie on the surface's
@@ -29,7 +29,7 @@ import numpy as np
 from sim_core.model.gait import angle_diff, settling
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
-from sim_core.paper.figures import Config, FigureData, Lookup, figure_tasks
+from sim_core.paper.figures import FigureData, Lookup, ReproduceConfig, figure_tasks
 from sim_core.paper.results import SURFACE_FILE
 from sim_core.paper.returnmap import return_map_from_series
 from sim_core.paper.surface import drift_surface
@@ -236,7 +236,7 @@ def _fig8(
 def surface_figure_data(
     study: SurfaceStudy,
     figs: Sequence[str],
-    cfg: Config,
+    cfg: ReproduceConfig,
     p: ModelParams,
     get: Lookup,
     out: Path,

@@ -5,7 +5,7 @@ parameters free of the engine) is declared as import-linter contracts in pyproje
 checked by `lint-imports` in `make test`; import-linter reads every import statement, including
 those inside functions, so a lazy import cannot hide a cycle or a wrong-way arrow. What it
 cannot say is checked here: what a fresh interpreter actually loads, which public names the
-edges use, and that numba's cache sees every model source.
+edges and the lab use, and that numba's cache sees every model source.
 """
 
 import ast
@@ -84,8 +84,8 @@ def _core_imports(path: Path) -> list[tuple[str, str]]:
     return out
 
 
-@pytest.mark.parametrize("package", ["server", "web"])
-def test_the_edges_use_only_the_public_core(package: str) -> None:
+@pytest.mark.parametrize("package", ["server", "web", "lab"])
+def test_the_edges_and_the_lab_use_only_the_public_core(package: str) -> None:
     import sim_core
     import sim_core.cli
     import sim_core.contract
@@ -97,7 +97,7 @@ def test_the_edges_use_only_the_public_core(package: str) -> None:
         for module, name in _core_imports(path):
             if module not in public or (name and name not in public[module]):
                 wrong.append(f"{path.relative_to(REPO)}: {module} {name}".strip())
-    assert not wrong, "server/ and web/ may use only sim_core's public names:\n" + "\n".join(wrong)
+    assert not wrong, f"{package}/ may use only sim_core's public names:\n" + "\n".join(wrong)
 
 
 def test_no_integrator_is_spelled_in_the_server() -> None:

@@ -1,10 +1,10 @@
-"""The finder's four-check plumbing (`sim_core.paper.claims`) on short runs: what it runs, what
+"""The finder's four-check plumbing (`lab/finder_claims.py`) on short runs: what it runs, what
 it reports. The numbers themselves come from `python -m lab finder-claims`
 (docs/REPRODUCTION.md)."""
 
 from __future__ import annotations
 
-from sim_core.paper.claims import (
+from lab.finder_claims import (
     FOLD_BETAS,
     METACHRONAL_BETAS,
     Variant,

@@ -12,7 +12,7 @@ from sim_core.docsections import markers
 from sim_core.model.gait import stance_intervals
 from sim_core.model.ramp import Ramp
 from sim_core.paper.analysis import range_ends, sweep_summary
-from sim_core.paper.figures import Config
+from sim_core.paper.figures import ReproduceConfig
 from sim_core.paper.fixedpoints import Cell, FinderConfig, branch_ranges, find
 from sim_core.paper.reproduce import DOC_BEGIN, DOC_END, reproduce, table_rows, update_doc
 from sim_core.paper.surface_types import DriftSurface
@@ -177,8 +177,8 @@ def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path)
     doc.write_text(f"# title\n\n{DOC_BEGIN}\nstale table\n{DOC_END}\n\nkept text\n"
                    f"{surface_begin}\nstale surface\n{surface_end}\n")  # fmt: skip
     count = Counting()
-    report = reproduce(["all"], Config(), tmp_path / "fig", tmp_path / "cache", InlineBackend(),
-                       doc=doc, progress=False, executor=count)  # fmt: skip
+    report = reproduce(["all"], ReproduceConfig(), tmp_path / "fig", tmp_path / "cache",
+                       InlineBackend(), doc=doc, progress=False, executor=count)  # fmt: skip
     rows = {r[0]: r for r in table_rows(report.summaries)}
     expected_yes = [
         "Fig. 6a: metachronal → tripod as β decreases",
@@ -205,7 +205,7 @@ def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path)
         assert {f"{stem}.png", f"{stem}.json", f"{stem}.csv"} <= names
     assert {"surface.json", "surface_penalty.json", "mechanism.png"} <= names
     surface = DriftSurface.model_validate_json((tmp_path / "fig" / "surface.json").read_text())
-    assert surface.betas == list(Config().surface_betas)
+    assert surface.betas == list(ReproduceConfig().surface_betas)
     # the toy's folds: metachronal (1.9) born between 0.64 and 0.645, tripod (2.9) gone by 0.67
     folds = {(round(f.d31), f.side): (f.beta_lo, f.beta_hi) for f in surface.folds}
     assert folds[(2, "ends as beta falls")][0] <= 0.645 <= folds[(2, "ends as beta falls")][1]
@@ -217,8 +217,8 @@ def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path)
     )
     assert count.tasks == report.stats.computed > 25 * 23  # 25 betas x the surface's grid
     # a re-run of one figure simulates nothing and keeps the other figures' rows
-    again = reproduce(["7"], Config(), tmp_path / "fig", tmp_path / "cache", InlineBackend(),
-                      progress=False, executor=count)  # fmt: skip
+    again = reproduce(["7"], ReproduceConfig(), tmp_path / "fig", tmp_path / "cache",
+                      InlineBackend(), progress=False, executor=count)  # fmt: skip
     assert again.stats.computed == 0 and "fig8" in again.summaries
 
 

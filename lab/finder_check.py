@@ -16,7 +16,8 @@ Two checks at each beta:
   basin is not a neighbourhood in Delta31: 4.580 at 0.655).
 
 Everything goes through the result cache, so the finder's own searches are read back when they
-were run before (`reproduce` at the same betas).
+were run before (`reproduce` at the same betas): its runs are the finder's own tasks
+(`sim_core.probe_task`, `task_runner`). The study is `python -m lab finder-check`.
 """
 
 from __future__ import annotations
@@ -25,13 +26,26 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from sim_core.model.gait import TWO_PI, angle_diff, settling
-from sim_core.model.params import ModelParams
-from sim_core.paper.fixedpoints import Cell, CellResult, FinderConfig, Probe, find
-from sim_core.paper.returnmap import initial_values
-from sim_core.paper.search import probe_task, task_runner
-from sim_core.runs.backends import Backend, RunStats, run_tasks
-from sim_core.runs.cache import ResultCache
+from sim_core import (
+    Backend,
+    ModelParams,
+    ResultCache,
+    RunStats,
+    probe_task,
+    run_tasks,
+    task_runner,
+)
+from sim_core.contract import (
+    TWO_PI,
+    Cell,
+    CellResult,
+    FinderConfig,
+    Probe,
+    angle_diff,
+    find,
+    initial_values,
+    settling,
+)
 
 MATCH = 0.05  # rad, the issue's tolerance
 Kick = tuple[float | None, bool]  # where a kick run ended (None: it failed), and if it settled
