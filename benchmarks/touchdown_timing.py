@@ -30,7 +30,7 @@ def main() -> None:
         for dt in DTS:
             row = [
                 float(drift_rates("implicitfast", dt,
-                                  params=ModelParams(touchdown_interpolation=interp),
+                                  params=ModelParams.of(touchdown_interpolation=interp),
                                   betas=(args.beta,), d31s=(d31,), duration_s=1.5)[0, 0])
                 for interp in (False, True)
             ]  # fmt: skip

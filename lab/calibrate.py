@@ -36,7 +36,7 @@ def reachable(params: ModelParams, beta: float = BETA_FAST, samples: int = 64) -
     """Whether every leg can reach its whole swing curve and stance line (with 2% margin)."""
     from sim_core import inverse_kinematics, leg_geometry, swing_point
 
-    geo = leg_geometry(params.model_copy(update={"femur_length": params.femur_length * 0.98}))
+    geo = leg_geometry(params.replace(**{"femur_length": params.legs.femur_length * 0.98}))
     aep = phi_aep(beta)
     tip = np.empty(3)
     q = np.empty(3)
@@ -93,9 +93,9 @@ def calibrate(
         study_name=study_name, storage=storage, sampler=sampler, load_if_exists=True
     )
     if len(study.trials) == 0 and seed_from is None:
-        study.enqueue_trial({k: getattr(base, k) for k in space})
+        study.enqueue_trial({k: base.leaf(k) for k in space})
     for point in start_from:  # earlier finds to evaluate first (the base fills what they omit)
-        study.enqueue_trial({k: point.get(k, getattr(base, k)) for k in space})
+        study.enqueue_trial({k: point.get(k, base.leaf(k)) for k in space})
     if len(study.trials) == 0 and seed_from is not None:
         if storage is None:
             raise ValueError("seed_from needs a persistent storage")
@@ -105,7 +105,7 @@ def calibrate(
         values = {
             name: trial.suggest_float(name, r.low, r.high, log=r.log) for name, r in space.items()
         }
-        params = base.model_copy(update=values)
+        params = base.replace(**values)
         if not reachable(params):
             trial.set_user_attr("unreachable", True)
             return 100.0
@@ -138,7 +138,7 @@ def calibrate(
         s = ev.score()
         if check_half_dt:
             half = evaluate(params, betas=betas, n_init=n_init, duration_s=duration_s,
-                            dt_s=params.dt / 2)  # fmt: skip
+                            dt_s=params.numerics.dt / 2)  # fmt: skip
             gap = outcome_gap(ev, half)
             trial.set_user_attr("half_dt_gap", gap)
             s += gap

@@ -114,7 +114,7 @@ def _cmd_diagnose(args: argparse.Namespace) -> int:
     from sim_core import ModelParams
 
     try:
-        params = ModelParams(**json.loads(args.params))
+        params = ModelParams.of(**json.loads(args.params))
     except (ValueError, ValidationError) as exc:
         print(f"python -m lab diagnose: error: --params: {exc}", file=sys.stderr)
         return EXIT_USAGE
@@ -155,7 +155,7 @@ def _param_overrides(command: str, text: str) -> dict[str, Any] | None:
 
     try:
         over = json.loads(text)
-        ModelParams(**over)
+        ModelParams.of(**over)
     except (ValueError, TypeError, ValidationError) as exc:
         print(f"python -m lab {command}: error: --params: {exc}", file=sys.stderr)
         return None
@@ -206,17 +206,17 @@ def _cmd_slope_heading(args: argparse.Namespace) -> int:
     from lab.readings import settings_name
 
     tag = settings_name("", over)
-    default_mu = ModelParams().friction
+    default_mu = ModelParams().contact.friction
     settings = [
         (
             f"constraint, noslip {n}" + ("" if mu == default_mu else f", friction {mu:g}") + tag,
-            ModelParams(**{"noslip_iterations": n, "friction": mu, **over}),
+            ModelParams.of(**{"noslip_iterations": n, "friction": mu, **over}),
         )
         for n in args.noslip
         for mu in args.friction
     ]
     if args.penalty:
-        settings.append(("paper's ground" + tag, ModelParams(**{"ground": "penalty", **over})))
+        settings.append(("paper's ground" + tag, ModelParams.of(**{"ground": "penalty", **over})))
     at = [t for t in (10.0, 20.0, 30.0, 40.0, 50.0, 60.0) if t <= args.duration_s]
     t0 = time.perf_counter()
     runs = headings(settings, args.slopes, duration_s=args.duration_s, at_s=at)
@@ -266,7 +266,7 @@ def _cmd_timing_lines(args: argparse.Namespace) -> int:
     record: dict[str, Any] = {"betas": args.betas, "d31s": d31s.tolist()}
     lines: list[str] = []
     for ground in args.grounds:
-        p = ModelParams(ground=ground)
+        p = ModelParams.of(ground=ground)
         if "open-loop" not in args.skip:
             t0 = time.perf_counter()
             ol = tl.open_loop_legs(p, args.betas, d31s.tolist())

@@ -60,7 +60,7 @@ def _standing(p: ModelParams) -> tuple[mujoco.MjModel, mujoco.MjData]:
     data = mujoco.MjData(model)
     q = mid_stance_angles(p).ravel()
     data.qpos[leg_qpos_addresses(model)] = q
-    data.qpos[2] = p.stand_height - p.attach_z + p.foot_radius
+    data.qpos[2] = p.trajectory.stand_height - p.legs.attach_z + p.legs.foot_radius
     data.qpos[3] = 1.0
     data.act[:] = q  # set-points; ctrl = 0 keeps them (integrator dynamics)
     data.ctrl[:] = 0.0
@@ -146,7 +146,7 @@ def support_stiffness(
     model, data = _standing(p)
     f0, z0 = _foot_forces(model, data), _hip_heights(p, data)
     torso = 1
-    data.xfrc_applied[torso, 2] = -push_share * p.body_mass * 9.81
+    data.xfrc_applied[torso, 2] = -push_share * p.body.body_mass * 9.81
     for _ in range(round(0.3 / model.opt.timestep)):
         mujoco.mj_step(model, data)
     df, dz = _foot_forces(model, data) - f0, _hip_heights(p, data) - z0
@@ -177,7 +177,7 @@ def load_share(
 
     def press(r: BatchRunner) -> None:
         if r.time >= settle_s:
-            h = r.feet[: len(specs), :, :6, 2] - p.foot_radius  # (n, k, 6) clearance
+            h = r.feet[: len(specs), :, :6, 2] - p.legs.foot_radius  # (n, k, 6) clearance
             depth[:] += np.clip(-h, 0.0, None).sum(axis=1)
 
     runner.run(hook=press)

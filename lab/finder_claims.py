@@ -95,7 +95,7 @@ def numerics(
     cells = [c for c in found.cells if any(abs(c.beta - b) < 1e-9 for b in betas)]
     points = [(c.beta, a) for c in cells for a in c.stable()]
     specs = [RunSpec(beta=b, d31_init=a.d31, duration_s=duration_s) for b, a in points]
-    halves = [s.model_copy(update={"dt_s": p.dt / 2}) for s in specs]
+    halves = [s.model_copy(update={"dt_s": p.numerics.dt / 2}) for s in specs]
     done = simulate_batch([*specs, *halves], p, nthread=nthread, progress=progress)
     out = []
     for k, (b, a) in enumerate(points):
@@ -142,7 +142,7 @@ def robustness(
     calibrated parameter (and on the default, first)."""
     base = params or ModelParams()
     scaled = scaled_values(base, names, scales)
-    variants = [("default", base)] + [(name, base.model_copy(update=u)) for name, u in scaled]
+    variants = [("default", base)] + [(name, base.replace(**u)) for name, u in scaled]
     runs = [(b, TRIPOD_START) for b in FOLD_BETAS] + [(b, METACHRONAL_START)
                                                        for b in METACHRONAL_BETAS]  # fmt: skip
     out: list[Variant] = []

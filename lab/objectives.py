@@ -98,13 +98,16 @@ def evaluate(
             finals[spec.beta].append(None)
             continue
         finals[spec.beta].append(window_d31(res.events.d31))  # a screen of short runs
-        v = nominal_speed(spec.beta, params.stroke, params.swing_duration) * 100
+        v = (
+            nominal_speed(spec.beta, params.trajectory.stroke, params.trajectory.swing_duration)
+            * 100
+        )
         if res.measures.speed_cm_s is not None:
             speed_err = max(speed_err, abs(res.measures.speed_cm_s - v) / v)
         if res.measures.slip_fraction is not None:
             slip = max(slip, res.measures.slip_fraction)
     return Evaluation(
-        params={k: getattr(params, k) for k in SEARCH_SPACE},
+        params={k: params.leaf(k) for k in SEARCH_SPACE},
         finals=finals,
         speed_error=speed_err,
         max_slip=slip,
@@ -236,7 +239,7 @@ def evaluate_pull(
         finals[b].append(final_d31(res.events.d31))  # where it ends, settled or not
         share[b].append(res.measures.landing_swing_share)
         slip[b].append(res.measures.slip_fraction)
-        v = nominal_speed(b, params.stroke, params.swing_duration) * 100
+        v = nominal_speed(b, params.trajectory.stroke, params.trajectory.swing_duration) * 100
         err[b].append(
             None if res.measures.speed_cm_s is None else abs(res.measures.speed_cm_s - v) / v
         )

@@ -146,7 +146,7 @@ def setting(reading: str, ground: str, over: dict[str, Any] | None) -> ModelPara
     """The model of a reading on a ground with a lever's values on top."""
     if reading not in READINGS:
         raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
-    return ModelParams(**{"ground": ground, **READINGS[reading], **(over or {})})
+    return ModelParams.of(**{"ground": ground, **READINGS[reading], **(over or {})})
 
 
 def settings_name(reading: str, over: dict[str, Any] | None) -> str:

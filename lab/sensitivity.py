@@ -54,12 +54,10 @@ def sensitivity(
     names = list(names or SEARCH_SPACE)
     variants: list[tuple[str, str, ModelParams]] = [("base", "0", params)]
     for name in names:
-        v = getattr(params, name)
+        v = params.leaf(name)
         for sign, label in ((-1, "-"), (1, "+")):
             try:
-                variants.append(
-                    (name, label, params.model_copy(update={name: v * (1 + sign * rel)}))
-                )
+                variants.append((name, label, params.replace(**{name: v * (1 + sign * rel)})))
             except ValueError:
                 continue
     out: dict[str, dict[str, list[Outcome]]] = {}

@@ -41,7 +41,7 @@ from sim_core import (
     probe_spec,
     run_task,
 )
-from sim_core.contract import surface_grid
+from sim_core.contract import PARAMETER_NAMES, surface_grid
 
 # six betas around the paper's folds (0.645, 0.67), none on them; 0.62 and 0.70 are Fig. 5's
 OBJECTIVE_BETAS = (0.62, 0.635, 0.655, 0.665, 0.685, 0.70)
@@ -134,15 +134,15 @@ def geometry(values: dict[str, float]) -> dict[str, float]:
 
 def coordinates(p: ModelParams) -> dict[str, float]:
     """The search's coordinates of `p` (the inverse of `geometry`, for starting points)."""
-    sprawl, stand = p.foot_y - p.attach_y, p.stand_height
+    sprawl, stand = p.trajectory.foot_y - p.legs.attach_y, p.trajectory.stand_height
     room = stand - math.sqrt(max(0.0, FOLDED_REACH**2 - (sprawl - COXA) ** 2))
-    out = {n: float(getattr(p, n)) for n in SPACE5 if hasattr(p, n)}
+    out = {n: float(p.leaf(n)) for n in SPACE5 if n in PARAMETER_NAMES}
     return out | {
         "leg_span": math.hypot(sprawl, stand),
         "leg_elevation_deg": math.degrees(math.atan2(stand, sprawl)),
-        "stance_dx_fore": p.stance_x_fore - p.attach_x_fore,
-        "stance_dx_hind": p.attach_x_hind - p.stance_x_hind,
-        "apex_share": p.swing_height / room if room > 0 else 1.0,
+        "stance_dx_fore": p.trajectory.stance_x_fore - p.legs.attach_x_fore,
+        "stance_dx_hind": p.legs.attach_x_hind - p.trajectory.stance_x_hind,
+        "apex_share": p.trajectory.swing_height / room if room > 0 else 1.0,
     }
 
 
@@ -292,7 +292,9 @@ def evaluate_candidate(
                             refine=False, progress=False)  # fmt: skip
     walking = []
     for probe in grid_probes(betas, config):  # the surface's own first pass, beta outer
-        v0 = 100 * nominal_speed(probe.beta, params.stroke, params.swing_duration)  # cm/s
+        v0 = 100 * nominal_speed(
+            probe.beta, params.trajectory.stroke, params.trajectory.swing_duration
+        )  # cm/s
         res = cache.get(run_task(probe_spec(probe, config), params)) or {}
         s = res.get("speed_cm_s")
         walking.append(res | {"speed_ratio": None if s is None else s / v0})

@@ -53,7 +53,7 @@ def l_fh(beta: float) -> float:
     return math.pi * beta
 
 
-def omega(beta: float, swing_duration: float = ModelParams().swing_duration) -> float:
+def omega(beta: float, swing_duration: float = ModelParams().trajectory.swing_duration) -> float:
     """Oscillator frequency at beta (eq. 2: the swing lasts T_sw, a (1 - beta) share), rad/s."""
     return TWO_PI * (1.0 - beta) / swing_duration
 
@@ -100,7 +100,7 @@ def open_loop_legs(
 
     per_pair = np.stack([np.nanmean(j[..., list(p)], axis=3) for p in (FORE, MIDDLE, HIND)])
     spread = np.nanmax(np.nanstd(per_pair, axis=3), axis=0)
-    return OpenLoop(params.ground, list(betas), [float(d) for d in d31s], pair(FORE),
+    return OpenLoop(params.contact.ground, list(betas), [float(d) for d in d31s], pair(FORE),
                     pair(MIDDLE), pair(HIND), spread)  # fmt: skip
 
 
@@ -190,12 +190,12 @@ def chain_lags(
     out = []
     for s, r in zip(specs, simulate_batch(specs, params, nthread=nthread), strict=True):
         if r.diverged:
-            out.append(ChainLag(params.ground, s.beta, s.d31_init, None, None, None))
+            out.append(ChainLag(params.contact.ground, s.beta, s.d31_init, None, None, None))
             continue
         st = settling(r.events.d31)
         lags: list[float] = []
         early: list[float] = []
-        w = omega(s.beta, params.swing_duration)
+        w = omega(s.beta, params.trajectory.swing_duration)
         for hind, mid in ((4, 2), (5, 3)):
             tds, phs = r.events.touchdowns_s[hind], r.events.touchdown_phases[hind]
             lifts = np.asarray(r.events.liftoffs_s[mid])
@@ -209,7 +209,7 @@ def chain_lags(
                     lags.append(1e3 * float(t - prior[-1]))
                 early.append(1e3 * float((phi_aep(s.beta) - ph) / w))
         out.append(ChainLag(
-            params.ground, s.beta, s.d31_init, st.final if st.settled else None,
+            params.contact.ground, s.beta, s.d31_init, st.final if st.settled else None,
             float(np.median(lags)) if lags else None,
             float(np.median(early)) if early else None, lags,
         ))  # fmt: skip

@@ -57,7 +57,8 @@ class JobPage(BaseModel):
 
 
 class ModelParameter(BaseModel):
-    name: str
+    name: str  # the leaf name a job's `params` and the CLI take
+    group: str  # its concern in ModelParams (body, legs, ..., numerics)
     value: float | int | bool | str | None
     origin: Literal["paper", "invented"]
     reason: str

@@ -47,8 +47,11 @@ from sim_core.model.gait import (
     yaw_of,  # research: the body's heading from its quaternions
 )
 from sim_core.model.params import (
+    GROUND_DEFAULT,
+    GROUNDS,
     INTEGRATORS,
     MAX_STABLE_DT_S,
+    PARAMETER_NAMES,
     Integrator,
     ModelParams,
     parameter_table,
@@ -109,9 +112,9 @@ from sim_core.paper.surface_types import REGION_COLOURS, DriftSurface, SurfaceAt
 from sim_core.paper.surface_types import grid as surface_grid
 
 _DEFAULTS = ModelParams()
-DEFAULT_INTEGRATOR: Integrator = _DEFAULTS.integrator
-DEFAULT_DT_S: float = _DEFAULTS.dt
-DEFAULT_CONTROL_DT_S: float = _DEFAULTS.control_dt
+DEFAULT_INTEGRATOR: Integrator = _DEFAULTS.numerics.integrator
+DEFAULT_DT_S: float = _DEFAULTS.numerics.dt
+DEFAULT_CONTROL_DT_S: float = _DEFAULTS.numerics.control_dt
 
 __all__ = [
     "ATLAS_AXES",
@@ -122,6 +125,8 @@ __all__ = [
     "DEFAULT_DT_S",
     "DEFAULT_INTEGRATOR",
     "FAILURE_KINDS",
+    "GROUNDS",
+    "GROUND_DEFAULT",
     "HEADING_KEPT_DEG",
     "INSECT_WORDS",
     "INTEGRATORS",
@@ -136,6 +141,7 @@ __all__ = [
     "MIN_DT_S",
     "NOT_SETTLED",
     "NO_FOOTHOLD_S",
+    "PARAMETER_NAMES",
     "RAMP_PARAMS",
     "RECORD_DT_S",
     "REGIONS",

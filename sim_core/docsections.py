@@ -27,10 +27,10 @@ def replace_section(text: str, name: str, body: str) -> str:
 
 def parameter_markdown(params: ModelParams | None = None) -> str:
     """The parameter table of docs/MODEL.md (kept in sync by a test)."""
-    lines = ["| parameter | value (SI) | origin | reason |", "|---|---|---|---|"]
-    for name, value, origin, reason in parameter_table(params):
+    lines = ["| parameter | group | value (SI) | origin | reason |", "|---|---|---|---|---|"]
+    for name, group, value, origin, reason in parameter_table(params):
         shown = f"{value:.6g}" if isinstance(value, float) else str(value)
-        lines.append(f"| `{name}` | {shown} | {origin} | {reason} |")
+        lines.append(f"| `{name}` | {group} | {shown} | {origin} | {reason} |")
     return "\n".join(lines)
 
 

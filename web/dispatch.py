@@ -50,7 +50,7 @@ class Dispatch(ViewerState):
                 self.playing = p and self.error is None
             case StepCycle():
                 if not self.playing and self.error is None:
-                    period = ModelParams().swing_duration / (1.0 - sim.beta)  # eq. 2
+                    period = ModelParams().trajectory.swing_duration / (1.0 - sim.beta)  # eq. 2
                     self._step(period, time.perf_counter() + 60.0)
             case SetFollow(mode=m):
                 self.scene.set_follow(m)
@@ -75,7 +75,7 @@ class Dispatch(ViewerState):
                 self._stop_ramp()
                 here = {"beta": sim.beta, "body_mass_g": sim.body_mass_g,
                         "slope_deg": sim.slope_deg, "d31_init": self.d31_init}  # fmt: skip
-                self.sim = Simulation(RunSpec(**here), ModelParams(ground=g))
+                self.sim = Simulation(RunSpec(**here), ModelParams.of(ground=g))
                 self.ground = g
                 self._restarted()
             case StartRamp(ramp=ramp):
@@ -110,7 +110,7 @@ class Dispatch(ViewerState):
         self._stop_ramp()
         if s.ground != self.ground:
             spec = RunSpec(beta=s.beta, d31_init=s.d31_init)
-            self.sim = Simulation(spec, ModelParams(ground=s.ground))
+            self.sim = Simulation(spec, ModelParams.of(ground=s.ground))
             self.ground = s.ground
         for name in PARAMS:
             value = controls.RAMP_SLIDERS[name].clamp(getattr(s, name))

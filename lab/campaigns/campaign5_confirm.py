@@ -44,8 +44,8 @@ def candidate(args: argparse.Namespace) -> tuple[str, ModelParams]:
     if args.trial is not None:
         rows = json.loads(Path(args.trials).read_text())["trials"]
         row = next(r for r in rows if r["number"] == args.trial)
-        return f"trial{args.trial}", ModelParams(**geometry(row["params"]))
-    return "params", ModelParams(**json.loads(args.params))
+        return f"trial{args.trial}", ModelParams.of(**geometry(row["params"]))
+    return "params", ModelParams.of(**json.loads(args.params))
 
 
 def branch_betas(surface: DriftSurface, window: tuple[float, float]) -> list[float]:
@@ -94,12 +94,15 @@ def ramps(params: ModelParams) -> list[dict[str, Any]]:
 
 
 def free_runs(params: ModelParams, betas: list[float]) -> list[dict[str, Any]]:
+    half = params.numerics.dt / 2
     specs = [RunSpec(beta=b, d31_init=d, duration_s=FREE_RUN_S, dt_s=dt)
-             for b in betas for d in STARTS.values() for dt in (None, params.dt / 2)]  # fmt: skip
+             for b in betas for d in STARTS.values() for dt in (None, half)]  # fmt: skip
     out = []
     for spec, res in zip(specs, simulate_batch(specs, params, progress=True), strict=True):
         s = res.summary()
-        v0 = 100 * nominal_speed(spec.beta, params.stroke, params.swing_duration)
+        v0 = 100 * nominal_speed(
+            spec.beta, params.trajectory.stroke, params.trajectory.swing_duration
+        )
         out.append({
             "beta": spec.beta, "start": spec.d31_init, "half_dt": spec.dt_s is not None,
             "final": s["d31_final"], "settled": s["settled"], "gait": s["gait"],

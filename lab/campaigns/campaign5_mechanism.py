@@ -118,12 +118,12 @@ def main() -> None:
     report: dict[str, Any] = {"jumps": {}, "tsw": {}}
     t0 = time.perf_counter()
     for ground in ("constraint", "penalty"):
-        p = ModelParams(ground=ground)
+        p = ModelParams.of(ground=ground)
         sf = drift_surface(JUMP_BETAS, cache=cache, backend=backend, config=JUMP_CONFIG,
                            params=p, refine=False, progress=False)  # fmt: skip
         readings = [jump_reading(sf, b) for b in JUMP_BETAS]
         for r in readings:
-            r["fore_response"] = fore_response(r["rows"], r["beta"], p.swing_duration)
+            r["fore_response"] = fore_response(r["rows"], r["beta"], p.trajectory.swing_duration)
         report["jumps"][ground] = readings
         print(f"\n{ground} ground ({time.perf_counter() - t0:.0f} s)")
         for r in readings:
@@ -140,7 +140,7 @@ def main() -> None:
                 )
             print(f"   fore response (ms after hind lift-off, mrad): {r['fore_response']}")
     for tsw in TSW_MS:
-        p = ModelParams(swing_duration=tsw * 1e-3)
+        p = ModelParams.of(swing_duration=tsw * 1e-3)
         sf = drift_surface(FOLD_BETAS, cache=cache, backend=backend, config=SurfaceConfig(),
                            params=p, progress=False)  # fmt: skip
         report["tsw"][str(tsw)] = {

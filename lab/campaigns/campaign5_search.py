@@ -38,8 +38,13 @@ from lab.surface_search import (
     geometry,
 )
 from sim_core import ModelParams, ResultCache, get_backend
+from sim_core.contract import PARAMETER_NAMES
 
 STUDY = "campaign5"
+
+
+def _leaf_or_none(p: ModelParams, name: str) -> Any:
+    return p.leaf(name) if name in PARAMETER_NAMES else None
 
 
 def _space(ground: str) -> dict[str, Range]:
@@ -75,12 +80,12 @@ def starting_points() -> list[dict[str, Any]]:
     base = ModelParams()
     out = []
     for ground in GROUNDS:
-        p = base.model_copy(update={"ground": ground})
+        p = base.replace(**{"ground": ground})
         c = coordinates(p)
-        out.append({"ground": ground, "trajectory_frame": p.trajectory_frame}
-                   | {n: c.get(n, getattr(p, n, None)) for n in _space(ground)})  # fmt: skip
-    out.append(out[0] | {"kp_lift": 0.9 * base.kp_lift})
-    out.append(out[0] | {"kd_lift": 1.1 * base.kd_lift})
+        out.append({"ground": ground, "trajectory_frame": p.trajectory.trajectory_frame}
+                   | {n: c.get(n, _leaf_or_none(p, n)) for n in _space(ground)})  # fmt: skip
+    out.append(out[0] | {"kp_lift": 0.9 * base.joints.kp_lift})
+    out.append(out[0] | {"kd_lift": 1.1 * base.joints.kd_lift})
     return out
 
 
@@ -172,7 +177,7 @@ def main() -> None:
         t0 = time.perf_counter()
         values = suggest(trial)
         try:
-            params = ModelParams(**geometry(values))
+            params = ModelParams.of(**geometry(values))
         except ValueError as exc:
             trial.set_user_attr("error", str(exc)[:300])
             return FAILED_SCORE

@@ -34,7 +34,7 @@ def main() -> None:
     ap.add_argument("--starts", type=int, default=12)
     ap.add_argument("--plot", default=None, help="PNG: Delta31 per cycle, per beta")
     a = ap.parse_args()
-    params = ModelParams().model_copy(update=json.loads(a.overrides))
+    params = ModelParams().replace(**json.loads(a.overrides))
     n = a.starts
     starts = np.linspace(0, 2 * np.pi, n, endpoint=False) + np.pi / n
     specs = [RunSpec(beta=b, d31_init=float(x), duration_s=a.duration_s, dt_s=a.dt_s)

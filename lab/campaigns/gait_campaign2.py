@@ -78,7 +78,7 @@ def row(r: RunResult, p: ModelParams) -> dict[str, Any]:
     if r.error:
         return out
     out.update(tail_stats(r))
-    v0 = nominal_speed(s.beta, p.stroke, p.swing_duration) * 100
+    v0 = nominal_speed(s.beta, p.trajectory.stroke, p.trajectory.swing_duration) * 100
     out["speed_rel"] = None if r.measures.speed_cm_s is None else r.measures.speed_cm_s / v0 - 1
     out["landing"] = r.measures.landing_swing_share
     out["slip"] = r.measures.slip_fraction
@@ -107,7 +107,7 @@ def fmt_cluster(c: tuple[float, float, int]) -> str:
 
 def run_finals(args: argparse.Namespace) -> list[dict[str, Any]]:
     sets = parse_sets(args.set)
-    p = ModelParams(**sets)
+    p = ModelParams.of(**sets)
     starts = args.starts or (EIGHT + (EXTRA if args.extra else []))
     specs = [
         RunSpec(beta=b, d31_init=s, duration_s=args.duration, dt_s=args.dt)
@@ -157,7 +157,7 @@ def diagnose(r: RunResult) -> dict[str, Any]:
 
 def run_openloop(args: argparse.Namespace) -> list[dict[str, Any]]:
     sets = parse_sets(args.set)
-    p = ModelParams(**sets)
+    p = ModelParams.of(**sets)
     grid = [round(x, 4) for x in np.arange(args.lo, args.hi + 1e-9, args.step)]
     specs = [
         RunSpec(beta=b, d31_init=x, duration_s=args.duration, phase_reset=False, dt_s=args.dt)
@@ -269,7 +269,7 @@ def binned_legs(
 
 def run_sweep(args: argparse.Namespace) -> dict[str, Any]:
     sets = parse_sets(args.set)
-    p = ModelParams(**sets)
+    p = ModelParams.of(**sets)
     ramp_s = abs(args.turn - args.start) / args.rate
     spec = RunSpec(beta=args.start, d31_init=args.d31_init, duration_s=1.0, dt_s=args.dt)
     res = sweep(spec, parameter="beta", turn=args.turn, hold_s=args.hold, ramp_s=ramp_s, params=p)

@@ -118,7 +118,7 @@ def run_map(args: argparse.Namespace) -> dict[str, Any]:
             if lag == 0
             else {"kp_lift": kp, "kd_lift": lag * 1e-3 * kp, "velocity_feedforward_lift": 0.0}
         )
-        p = ModelParams(**{**base, **lift, "com_offset_x": com * 1e-3})
+        p = ModelParams.of(**{**base, **lift, "com_offset_x": com * 1e-3})
         rows = finals(p, args.betas, args.starts, duration=args.duration, nthread=args.nthread)
         drift, _ = open_loop_drift(
             p,
@@ -284,7 +284,7 @@ def run_robust(args: argparse.Namespace) -> list[dict[str, Any]]:
     out = []
     for name in args.params:
         for f in (0.9, 1.1):
-            p = ModelParams(**{**base, name: base[name] * f})
+            p = ModelParams.of(**{**base, name: base[name] * f})
             rows = finals(p, args.betas, args.starts, duration=args.duration, nthread=args.nthread)
             out.append({"param": name, "factor": f, "rows": rows})
             summary = {
@@ -302,7 +302,7 @@ def run_robust(args: argparse.Namespace) -> list[dict[str, Any]]:
 
 
 def run_sweep(args: argparse.Namespace) -> dict[str, Any]:
-    p = ModelParams(**parse_sets(args.set, STEP_ONE))
+    p = ModelParams.of(**parse_sets(args.set, STEP_ONE))
     ramp_s = abs(args.turn - args.start) / args.rate
     spec = RunSpec(beta=args.start, d31_init=args.d31_init, duration_s=1.0, dt_s=args.dt)
     res = sweep(spec, parameter="beta", turn=args.turn, hold_s=args.hold, ramp_s=ramp_s, params=p)
@@ -327,7 +327,7 @@ def _sweep_task(job: SweepJob) -> Task:
     sets, low, high, rate, hold, direction = job
     begin, turn, d0 = (low, high, 3.0) if direction == "up" else (high, low, 1.8)
     ramp = Ramp("beta", begin, turn, hold, (high - low) / rate)
-    return ramp_task(ramp, RunSpec(beta=begin, d31_init=d0), ModelParams(**sets))
+    return ramp_task(ramp, RunSpec(beta=begin, d31_init=d0), ModelParams.of(**sets))
 
 
 def border_sweeps(
@@ -535,7 +535,7 @@ def main(argv: list[str] | None = None) -> int:
         plot_map(data, args.figure)
         return 0
     if args.cmd == "finals":
-        p = ModelParams(**parse_sets(args.set, STEP_ONE))
+        p = ModelParams.of(**parse_sets(args.set, STEP_ONE))
         rows = finals(
             p,
             args.betas,

@@ -24,8 +24,12 @@ def direct(
     """Today's model with the feet's solref re-spelled as (-k, -b) from (timeconst, dampratio)."""
     m = build_model(params, slope_deg, visual)
     p = params or ModelParams()
-    if p.ground == "constraint":
-        tc, dr, dmax = p.contact_timeconst, p.contact_dampratio, p.contact_dmax
+    if p.contact.ground == "constraint":
+        tc, dr, dmax = (
+            p.contact.contact_timeconst,
+            p.contact.contact_dampratio,
+            p.contact.contact_dmax,
+        )
         k = 1.0 / (dmax * dmax * tc * tc * dr * dr)  # MuJoCo: aref = -b v - k r, from (tc, dr)
         b = 2.0 / (dmax * tc)
         feet = [g for g in range(m.ngeom) if m.geom_contype[g] == 1]
@@ -57,7 +61,7 @@ def main() -> None:
         for name, p, respelled in (
             ("constraint (timeconst, dampratio)", ModelParams(), False),
             ("constraint (solref as -k, -b)", ModelParams(), True),
-            ("penalty ground", ModelParams(ground="penalty"), False),
+            ("penalty ground", ModelParams.of(ground="penalty"), False),
         ):
             x, res = rate(p, spec, respelled)
             m = res.measures

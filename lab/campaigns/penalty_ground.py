@@ -21,11 +21,11 @@ STEPS = {"default": (None, None), "half": (None, 2.5e-5), "rk4": ("rk4", 2e-5)}
 
 
 def main() -> None:
-    p = ModelParams(ground="penalty", ground_stiffness=K, ground_tangential_stiffness=K,
+    p = ModelParams.of(ground="penalty", ground_stiffness=K, ground_tangential_stiffness=K,
                     ground_damping=C, ground_tangential_damping=C)  # fmt: skip
     if VARY:
         field, factor = VARY.split(":")
-        p = p.model_copy(update={field: getattr(p, field) * float(factor)})
+        p = p.replace(**{field: p.leaf(field) * float(factor)})
     out = {}
     for label in LABELS:
         integ, dt = STEPS[label]

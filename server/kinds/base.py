@@ -21,9 +21,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validat
 from server.kinds.bounds import (
     BETA_BOUNDS,
     DT_REASON,
-    GROUND_DEFAULT,
     GROUND_HELP,
-    GROUNDS,
     MAX_DT_S,
     IntLike,
     bounded,
@@ -33,6 +31,8 @@ from server.kinds.bounds import (
 from sim_core.contract import (
     DEFAULT_DT_S,
     DEFAULT_INTEGRATOR,
+    GROUND_DEFAULT,
+    GROUNDS,
     INTEGRATORS,
     Integrator,
     ModelParams,
@@ -100,7 +100,7 @@ class Physics(Strict):
 
     def model_params(self) -> ModelParams:
         """The core's parameters of this job: the defaults on the job's ground."""
-        return ModelParams(ground=self.ground)
+        return ModelParams.of(ground=self.ground)
 
     @classmethod
     def kind_name(cls) -> str:

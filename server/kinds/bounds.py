@@ -8,7 +8,7 @@ states only tighter bounds, each with its reason. Nothing here loads MuJoCo.
 from __future__ import annotations
 
 import math
-from typing import Annotated, Any, TypedDict, get_args
+from typing import Annotated, Any, TypedDict
 
 import annotated_types
 from pydantic import BeforeValidator, Field
@@ -19,7 +19,6 @@ from sim_core.contract import (
     MAX_STABLE_DT_S,
     MIN_DT_S,
     TWO_PI,
-    ModelParams,
     RunSpec,
 )
 
@@ -61,8 +60,6 @@ def core_default(name: str) -> Any:
 
 
 # The grounds a job may walk on (`ModelParams.ground`, read from it) and the default's.
-GROUNDS: tuple[str, ...] = get_args(ModelParams.model_fields["ground"].annotation)
-GROUND_DEFAULT: str = ModelParams.model_fields["ground"].default
 GROUND_HELP = (
     "the ground model: 'constraint' (MuJoCo's contact, the default) or 'penalty' (the paper's "
     "viscoelastic feet, which keep the heading on slopes: docs/MODEL.md, 'Slopes')"

@@ -118,10 +118,7 @@ def _plain(v: Any) -> Any:
     summary="The model parameters in use, with their origin (paper or invented)",
 )
 def get_model() -> Any:
-    return [
-        {"name": n, "value": _plain(v), "origin": o, "reason": r}
-        for n, v, o, r in parameter_table()
-    ]
+    return [row._asdict() | {"value": _plain(row.value)} for row in parameter_table()]
 
 
 @router.get("/healthz", response_model=Health)

@@ -6,13 +6,13 @@ import argparse
 import json
 import sys
 from pathlib import Path
-from typing import Any, get_args
+from typing import Any
 
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE
 from sim_core.cli.fields import add_field_flags, flag, given
-from sim_core.model.params import ModelParams
+from sim_core.model.params import GROUNDS, ModelParams
 from sim_core.model.spec import INSECT_WORDS, RunSpec, cost_problem, numerics_problem
 
 # `run` without --duration-s runs until settled: a first command should name a gait. The settled
@@ -20,7 +20,6 @@ from sim_core.model.spec import INSECT_WORDS, RunSpec, cost_problem, numerics_pr
 # 15-25 s on a ghost before it slides (README, "Status"), so the try is 30 s and the cap 60 s
 SETTLE_TRY_S = 30.0
 SETTLE_CAP_S = 60.0
-GROUNDS: tuple[str, ...] = get_args(ModelParams.model_fields["ground"].annotation)
 
 
 def _add_run(sub: Any) -> None:
@@ -42,9 +41,9 @@ def _add_run(sub: Any) -> None:
             "stop_if_settled_s": f"{SETTLE_TRY_S:g} without --duration-s, else none",
         },
         null_means={
-            "integrator": f"the model's, {d.integrator}",
-            "dt_s": f"the model's, {d.dt:g}",
-            "control_dt_s": f"the model's, {d.control_dt:g}",
+            "integrator": f"the model's, {d.numerics.integrator}",
+            "dt_s": f"the model's, {d.numerics.dt:g}",
+            "control_dt_s": f"the model's, {d.numerics.control_dt:g}",
             "pin_d31": "off (the paper's model)",
         },
     )
@@ -97,7 +96,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if problem:
         print(f"insect-gait run: error: --duration-s: {problem}", file=sys.stderr)
         return EXIT_USAGE
-    result = simulate(spec, ModelParams(ground=args.ground))
+    result = simulate(spec, ModelParams.of(ground=args.ground))
     summary = result.summary()
     if args.json:
         print(json.dumps(summary))
@@ -110,7 +109,7 @@ def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
     from sim_core.model.params import nominal_speed
 
     p = ModelParams()
-    v_nom = nominal_speed(spec.beta, p.stroke, p.swing_duration) * 100
+    v_nom = nominal_speed(spec.beta, p.trajectory.stroke, p.trajectory.swing_duration) * 100
     if s["diverged"]:
         f = s.get("failure") or {}
         kind, at = f.get("kind", ""), f.get("time_s")
@@ -169,9 +168,7 @@ def _cmd_params(args: argparse.Namespace) -> int:
         path.write_text(update_parameter_doc(path.read_text()))
         return 0
     if args.json:
-        rows = [
-            {"name": n, "value": v, "origin": o, "reason": r} for n, v, o, r in parameter_table()
-        ]
+        rows = [row._asdict() for row in parameter_table()]
         print(json.dumps(rows, indent=1))
     else:
         print(parameter_markdown())

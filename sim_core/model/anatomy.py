@@ -25,17 +25,19 @@ def leg_names() -> tuple[str, ...]:
 
 def attachment_points(p: ModelParams) -> np.ndarray:
     """(6, 3) coxa attachment points in the body frame."""
-    xs = np.array([p.attach_x_fore, p.attach_x_mid, p.attach_x_hind])[LEG_PAIR]
-    return np.stack([xs, LEG_SIDE * p.attach_y, np.full(6, p.attach_z)], axis=1)
+    xs = np.array([p.legs.attach_x_fore, p.legs.attach_x_mid, p.legs.attach_x_hind])[LEG_PAIR]
+    return np.stack([xs, LEG_SIDE * p.legs.attach_y, np.full(6, p.legs.attach_z)], axis=1)
 
 
 def stance_line(p: ModelParams) -> tuple[np.ndarray, np.ndarray]:
     """(AEP, PEP), each (6, 3), in the body frame: the tip's nominal stance segment."""
-    cx = np.array([p.stance_x_fore, p.stance_x_mid, p.stance_x_hind])[LEG_PAIR]
-    y = LEG_SIDE * p.foot_y
-    z = np.full(6, p.attach_z - p.stand_height)
-    aep = np.stack([cx + p.stroke / 2, y, z], axis=1)
-    pep = np.stack([cx - p.stroke / 2, y, z], axis=1)
+    cx = np.array(
+        [p.trajectory.stance_x_fore, p.trajectory.stance_x_mid, p.trajectory.stance_x_hind]
+    )[LEG_PAIR]
+    y = LEG_SIDE * p.trajectory.foot_y
+    z = np.full(6, p.legs.attach_z - p.trajectory.stand_height)
+    aep = np.stack([cx + p.trajectory.stroke / 2, y, z], axis=1)
+    pep = np.stack([cx - p.trajectory.stroke / 2, y, z], axis=1)
     return aep, pep
 
 
@@ -43,4 +45,10 @@ def leg_reach(p: ModelParams) -> float:
     """m: the farthest a foot's surface can be from its coxa attachment (coxa + femur + tibia,
     the sprung tarsus' extension, the foot sphere): a body whose lowest attachment is higher
     above the floor than this has no foot that can touch it."""
-    return p.coxa_length + p.femur_length + p.tibia_length + p.tarsus_extension + p.foot_radius
+    return (
+        p.legs.coxa_length
+        + p.legs.femur_length
+        + p.legs.tibia_length
+        + p.legs.tarsus_extension
+        + p.legs.foot_radius
+    )

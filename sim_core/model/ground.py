@@ -127,21 +127,22 @@ class PenaltyGround(Ground):
 
 
 def ground_for(p: ModelParams) -> Ground:
-    """The ground `p.ground` names, with its parameters from `p`."""
-    if p.ground == "penalty":
+    """The ground `p.contact.ground` names, with its parameters from `p`."""
+    c = p.contact
+    if c.ground == "penalty":
         return PenaltyGround(
-            stiffness=p.ground_stiffness,
-            damping=p.ground_damping,
-            tangential_stiffness=p.ground_tangential_stiffness,
-            tangential_damping=p.ground_tangential_damping,
-            friction=p.friction,
-            foot_radius=p.foot_radius,
+            stiffness=c.ground_stiffness,
+            damping=c.ground_damping,
+            tangential_stiffness=c.ground_tangential_stiffness,
+            tangential_damping=c.ground_tangential_damping,
+            friction=c.friction,
+            foot_radius=p.legs.foot_radius,
         )
     return ConstraintGround(
-        friction=(p.friction, p.torsional_friction, p.rolling_friction),
-        solref=(p.contact_timeconst, p.contact_dampratio),
-        solimp=(p.contact_dmin, p.contact_dmax, p.foot_radius * p.contact_width_share,
-                p.contact_midpoint, p.contact_power),
+        friction=(c.friction, c.torsional_friction, c.rolling_friction),
+        solref=(c.contact_timeconst, c.contact_dampratio),
+        solimp=(c.contact_dmin, c.contact_dmax, p.legs.foot_radius * c.contact_width_share,
+                c.contact_midpoint, c.contact_power),
     )  # fmt: skip
 
 

@@ -58,14 +58,19 @@ def leg_geometry(p: ModelParams) -> LegGeometry:
         pep=rows(pep),
         attach=rows(attachment_points(p)),
         side=np.ascontiguousarray(LEG_SIDE, dtype=np.float64),
-        coxa=float(p.coxa_length),
-        femur=float(p.femur_length),
-        tibia=float(p.tibia_length),
-        swing_height=float(p.swing_height),
-        swing_shape=float(p.swing_shape),
-        landing_kept=float(p.landing_height_kept),
-        descent=float(p.late_swing_descent * p.swing_height * math.pi * p.swing_shape),
-        level=p.trajectory_frame == "level",
+        coxa=float(p.legs.coxa_length),
+        femur=float(p.legs.femur_length),
+        tibia=float(p.legs.tibia_length),
+        swing_height=float(p.trajectory.swing_height),
+        swing_shape=float(p.trajectory.swing_shape),
+        landing_kept=float(p.trajectory.landing_height_kept),
+        descent=float(
+            p.trajectory.late_swing_descent
+            * p.trajectory.swing_height
+            * math.pi
+            * p.trajectory.swing_shape
+        ),
+        level=p.trajectory.trajectory_frame == "level",
     )
 
 

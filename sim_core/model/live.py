@@ -253,7 +253,7 @@ class Simulation:
             ramp = self._ramp
             now = EventConditions(
                 float(r.beta[0]), float(r.body_mass_g[0]), float(r.slope_deg[0]),
-                r.params.ground, self._phase, ramp.param if ramp is not None else "",
+                r.params.contact.ground, self._phase, ramp.param if ramp is not None else "",
             )  # fmt: skip
             for k in range(len(self._events), len(v)):
                 self._events.append((t[k], v[k]))

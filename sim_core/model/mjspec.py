@@ -77,15 +77,15 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
     spec = mujoco.MjSpec()
     spec.modelname = "insect_gait_hexapod"
     opt = spec.option
-    opt.timestep = p.dt
-    opt.integrator = integrator_enum(p.integrator)
-    opt.cone = CONES[p.cone]
-    opt.impratio = p.impratio
-    opt.noslip_iterations = p.noslip_iterations
-    opt.tolerance = p.solver_tolerance
-    opt.solver = SOLVERS[p.solver]
-    opt.iterations = p.solver_iterations
-    if not p.warmstart:
+    opt.timestep = p.numerics.dt
+    opt.integrator = integrator_enum(p.numerics.integrator)
+    opt.cone = CONES[p.numerics.cone]
+    opt.impratio = p.contact.impratio
+    opt.noslip_iterations = p.contact.noslip_iterations
+    opt.tolerance = p.numerics.solver_tolerance
+    opt.solver = SOLVERS[p.numerics.solver]
+    opt.iterations = p.numerics.solver_iterations
+    if not p.numerics.warmstart:
         opt.disableflags |= int(mujoco.mjtDisableBit.mjDSBL_WARMSTART)
     opt.gravity = gravity_vector(slope_deg)
     # The hexapod is one constraint island whenever a foot touches, so MuJoCo's island
@@ -101,19 +101,20 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
         conaffinity=1,
         rgba=[0.85, 0.85, 0.8, 1.0],
     )
-    floor.friction = [p.friction, p.torsional_friction, p.rolling_friction]
+    floor.friction = [p.contact.friction, p.contact.torsional_friction, p.contact.rolling_friction]
     if visual:
         world.add_light(pos=[0, 0, 1.0], dir=[0, 0, -1])
 
     torso = world.add_body(
-        name="torso", pos=[0.0, 0.0, p.stand_height - p.attach_z + p.foot_radius]
+        name="torso",
+        pos=[0.0, 0.0, p.trajectory.stand_height - p.legs.attach_z + p.legs.foot_radius],
     )
     torso.add_freejoint(name="root")
-    size = (p.body_length, p.body_width, p.body_thickness)
+    size = (p.body.body_length, p.body.body_width, p.body.body_thickness)
     torso.explicitinertial = True
-    torso.mass = p.body_mass
-    torso.ipos = [p.com_offset_x, 0.0, 0.0]
-    torso.inertia = box_inertia(p.body_mass, size)
+    torso.mass = p.body.body_mass
+    torso.ipos = [p.body.com_offset_x, 0.0, 0.0]
+    torso.inertia = box_inertia(p.body.body_mass, size)
     if visual:
         torso.add_geom(
             name="torso_geom",
@@ -136,45 +137,61 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
             name=f"{name}_j1",
             type=mujoco.mjtJoint.mjJNT_HINGE,
             axis=[0.0, 0.0, -side],  # positive = tip forward on both sides
-            armature=p.armature,
+            armature=p.joints.armature,
         )
-        _add_link(coxa, f"{name}_coxa", p.coxa_mass, p.coxa_length, p.coxa_radius, visual)
-        femur = coxa.add_body(name=f"{name}_femur", pos=[p.coxa_length, 0.0, 0.0])
+        _add_link(
+            coxa, f"{name}_coxa", p.legs.coxa_mass, p.legs.coxa_length, p.legs.coxa_radius, visual
+        )
+        femur = coxa.add_body(name=f"{name}_femur", pos=[p.legs.coxa_length, 0.0, 0.0])
         femur.add_joint(
             name=f"{name}_j2",
             type=mujoco.mjtJoint.mjJNT_HINGE,
             axis=[0.0, -1.0, 0.0],  # positive = raise
-            armature=p.armature,
+            armature=p.joints.armature,
         )
-        _add_link(femur, f"{name}_femur", p.femur_mass, p.femur_length, p.femur_radius, visual)
-        tibia = femur.add_body(name=f"{name}_tibia", pos=[p.femur_length, 0.0, 0.0])
+        _add_link(
+            femur,
+            f"{name}_femur",
+            p.legs.femur_mass,
+            p.legs.femur_length,
+            p.legs.femur_radius,
+            visual,
+        )
+        tibia = femur.add_body(name=f"{name}_tibia", pos=[p.legs.femur_length, 0.0, 0.0])
         tibia.add_joint(
             name=f"{name}_j3",
             type=mujoco.mjtJoint.mjJNT_HINGE,
             axis=[0.0, -1.0, 0.0],
-            armature=p.armature,
+            armature=p.joints.armature,
         )
-        _add_link(tibia, f"{name}_tibia", p.tibia_mass, p.tibia_length, p.tibia_radius, visual)
-        tip_body, tip_pos = tibia, [p.tibia_length, 0.0, 0.0]
-        if p.tarsus_stiffness > 0:  # a sprung tarsus: the foot slides along the tibia axis
+        _add_link(
+            tibia,
+            f"{name}_tibia",
+            p.legs.tibia_mass,
+            p.legs.tibia_length,
+            p.legs.tibia_radius,
+            visual,
+        )
+        tip_body, tip_pos = tibia, [p.legs.tibia_length, 0.0, 0.0]
+        if p.legs.tarsus_stiffness > 0:  # a sprung tarsus: the foot slides along the tibia axis
             tip_body = tibia.add_body(name=f"{name}_tarsus", pos=tip_pos)
             tip_body.explicitinertial = True
-            tip_body.mass = p.tarsus_mass
-            tip_body.inertia = [p.tarsus_inertia] * 3
+            tip_body.mass = p.legs.tarsus_mass
+            tip_body.inertia = [p.legs.tarsus_inertia] * 3
             tip_body.add_joint(
                 name=f"{name}_tarsus",
                 type=mujoco.mjtJoint.mjJNT_SLIDE,
                 axis=tarsus_axes[i].tolist(),  # positive = compressed (the foot moves up)
-                stiffness=p.tarsus_stiffness,
-                damping=p.tarsus_damping,
-                range=[-p.tarsus_extension, p.tarsus_compression],
+                stiffness=p.legs.tarsus_stiffness,
+                damping=p.legs.tarsus_damping,
+                range=[-p.legs.tarsus_extension, p.legs.tarsus_compression],
                 limited=mujoco.mjtLimited.mjLIMITED_TRUE,
             )
             tip_pos = [0.0, 0.0, 0.0]
         tip_body.add_geom(  # how it touches the floor is the ground's (add_to below)
             name=ground.foot_geom(name),
             type=mujoco.mjtGeom.mjGEOM_SPHERE,
-            size=[p.foot_radius, 0, 0],
+            size=[p.legs.foot_radius, 0, 0],
             pos=tip_pos,
             contype=0,
             conaffinity=0,
@@ -184,7 +201,7 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
         tip_body.add_site(  # the foot's centre: its height is the touch sense (controller.py)
             name=ground.foot_site(name),
             type=mujoco.mjtGeom.mjGEOM_SPHERE,
-            size=[p.foot_radius * 1.01, 0, 0],
+            size=[p.legs.foot_radius * 1.01, 0, 0],
             pos=tip_pos,
         )
 
@@ -213,16 +230,16 @@ def build_spec(p: ModelParams, slope_deg: float = 0.0, visual: bool = True) -> m
 def lift_scale(p: ModelParams, pair: int) -> float:
     """How much the lift joints of leg pair `pair` (0 fore, 1 middle, 2 hind) are scaled so
     that the middle pair is `support_ratio` times as stiff as fore and hind, at equal total."""
-    r = p.support_ratio
+    r = p.joints.support_ratio
     return 3.0 * (r if pair == 1 else 1.0) / (2.0 + r)
 
 
 def joint_gains(p: ModelParams, joint: str, pair: int = 0) -> tuple[float, float]:
     """(kp, kd) of leg joint "j1" (yaw), "j2" or "j3" (lift) of a leg of pair `pair`."""
     if joint == "j1":
-        return p.kp_yaw, p.kd_yaw
+        return p.joints.kp_yaw, p.joints.kd_yaw
     k = lift_scale(p, pair)  # scales kp and kd alike: the joint's time constant is kept
-    return p.kp_lift * k, p.kd_lift * k
+    return p.joints.kp_lift * k, p.joints.kd_lift * k
 
 
 def servo_leads(p: ModelParams) -> np.ndarray:
@@ -230,8 +247,8 @@ def servo_leads(p: ModelParams) -> np.ndarray:
     desired trajectory the set-point sits so that kp (act - q) carries the feed-forward
     s kd dq*/dt, s the joint group's `velocity_feedforward_*` share (0: tau = kp (q* - q) -
     kd dq/dt, damping on the joint's own velocity)."""
-    share = {"j1": p.velocity_feedforward_yaw, "j2": p.velocity_feedforward_lift,
-             "j3": p.velocity_feedforward_lift}  # fmt: skip
+    share = {"j1": p.joints.velocity_feedforward_yaw, "j2": p.joints.velocity_feedforward_lift,
+             "j3": p.joints.velocity_feedforward_lift}  # fmt: skip
     per_joint = [share[j] * kd / kp for j, (kp, kd) in ((j, joint_gains(p, j)) for j in share)]
     return np.tile(per_joint, len(LEG_NAMES))
 
@@ -243,7 +260,7 @@ def tarsus_axes_in_tibia(p: ModelParams) -> np.ndarray:
     leg stands at mid-stance, so the spring carries the load the way a viscoelastic ground
     does (joint 1 turns about the vertical, so only the tibia's pitch q2 + q3 matters).
     """
-    if p.tarsus_axis == "tibia":
+    if p.legs.tarsus_axis == "tibia":
         return np.tile([-1.0, 0.0, 0.0], (6, 1))
     pitch = mid_stance_angles(p)[:, 1:].sum(axis=1)  # tibia above the horizontal, about -y
     return np.stack([np.sin(pitch), np.zeros(6), np.cos(pitch)], axis=1)

@@ -11,11 +11,14 @@ Units are SI inside the core (m, kg, s, rad, N); edge-facing names carry units i
 from __future__ import annotations
 
 import math
-from typing import Any, Literal
+from typing import Any, Literal, NamedTuple, get_args
 
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, model_validator
 
 Integrator = Literal["euler", "implicit", "implicitfast", "rk4", "discrete"]
+# the grounds a walk can stand on (`Contact.ground`): the CLI's and the API's choices read these
+Ground = Literal["constraint", "penalty"]
+GROUNDS: tuple[Ground, ...] = get_args(Ground)
 INTEGRATORS: tuple[Integrator, ...] = ("euler", "implicit", "implicitfast", "rk4", "discrete")
 # The largest timestep at which each integrator keeps this model upright, measured: the
 # docs/NUMERICS.md grid (3 s runs, beta 0.62 and 0.70) and 0.5 s runs at beta 0.66: euler is
@@ -66,42 +69,14 @@ def _ours(default: float, reason: str, **bounds: Any) -> float:
     return field
 
 
-class ModelParams(BaseModel):
-    """The hexapod, its nervous system and its ground. Frozen: derive variants with model_copy."""
+class Body(BaseModel):
+    """The body: Table I and the shape the paper leaves open."""
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    # --- Table I (paper) -------------------------------------------------------------------
     body_mass: float = _paper(3.0e-3, "Table I body mass 3.0 g", gt=0)
     body_length: float = _paper(4.2e-2, "Table I body length 4.2 cm", gt=0)
     body_width: float = _paper(1.0e-2, "Table I body width 1.0 cm", gt=0)
-    coxa_mass: float = _paper(0.05e-3, "Table I coxa mass 0.05 g", gt=0)
-    coxa_length: float = _paper(0.2e-3, "Table I coxa length 0.02 cm", gt=0)
-    femur_mass: float = _paper(0.03e-3, "Table I femur mass 0.03 g", gt=0)
-    femur_length: float = _paper(2.0e-3, "Table I femur length 0.2 cm", gt=0)
-    tibia_mass: float = _paper(0.03e-3, "Table I tibia mass 0.03 g", gt=0)
-    tibia_length: float = _paper(1.0e-2, "Table I tibia length 1.0 cm", gt=0)
-
-    # --- Leg links: what Table I leaves open ---------------------------------------------------
-    coxa_radius: float = _ours(
-        0.25e-3, "coxa rod radius, m: the radius term of its inertia (and the drawn capsule)", gt=0
-    )
-    femur_radius: float = _ours(
-        0.3e-3, "femur rod radius, m: a cockroach femur is ~0.5 mm thick", gt=0
-    )
-    tibia_radius: float = _ours(
-        0.15e-3, "tibia rod radius, m: the thin distal segment; bounds its axial inertia", gt=0
-    )
-
-    # --- Leg kinematics (paper, Sec. II B 2) ----------------------------------------------------
-    stroke: float = _paper(2.0e-3, "D, distance AEP-PEP, 2 mm", gt=0)
-    swing_duration: float = _paper(34e-3, "T_sw, swing duration when LP = AEP, 34 ms", gt=0)
-
-    # --- Oscillators (paper, eqs. 3, 5-7) ------------------------------------------------------
-    k_contralateral: float = _paper(32.0, "K12=K21=K34=K43=K56=K65, eq. 5", ge=0)
-    k_ipsilateral: float = _paper(40.0, "K31=K35=K42=K46, eq. 7", ge=0)
-
-    # --- Body shape the paper leaves open --------------------------------------------------------
     body_thickness: float = _ours(
         4.0e-3, "box height for inertia and drawing; an insect thorax is a few mm thick", gt=0
     )
@@ -111,6 +86,28 @@ class ModelParams(BaseModel):
         "the tripod's fold near the paper's beta 0.67 (docs/studies/gait_campaign3.md)",
         ge=-5e-3,
         le=5e-3,
+    )
+
+
+class Legs(BaseModel):
+    """The legs: Table I links, their radii, where they attach, the feet, a sprung tarsus."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    coxa_mass: float = _paper(0.05e-3, "Table I coxa mass 0.05 g", gt=0)
+    coxa_length: float = _paper(0.2e-3, "Table I coxa length 0.02 cm", gt=0)
+    femur_mass: float = _paper(0.03e-3, "Table I femur mass 0.03 g", gt=0)
+    femur_length: float = _paper(2.0e-3, "Table I femur length 0.2 cm", gt=0)
+    tibia_mass: float = _paper(0.03e-3, "Table I tibia mass 0.03 g", gt=0)
+    tibia_length: float = _paper(1.0e-2, "Table I tibia length 1.0 cm", gt=0)
+    coxa_radius: float = _ours(
+        0.25e-3, "coxa rod radius, m: the radius term of its inertia (and the drawn capsule)", gt=0
+    )
+    femur_radius: float = _ours(
+        0.3e-3, "femur rod radius, m: a cockroach femur is ~0.5 mm thick", gt=0
+    )
+    tibia_radius: float = _ours(
+        0.15e-3, "tibia rod radius, m: the thin distal segment; bounds its axial inertia", gt=0
     )
     attach_x_fore: float = _ours(
         10e-3, "fore coxa attachment ahead of the box centre; legs sit on the front half", ge=0
@@ -123,8 +120,48 @@ class ModelParams(BaseModel):
         5.0e-3, "coxae attach at the body's side, half of the 1.0 cm width", gt=0
     )
     attach_z: float = _ours(0.0, "coxae attach at the body's mid-height plane")
+    foot_radius: float = _ours(0.25e-3, "tarsus tip sphere; small against the 2 mm stroke", gt=0)
+    tarsus_stiffness: float = _ours(
+        0.0,
+        "N/m of a sprung tarsus (slide joint along the tibia at each foot), a physical "
+        "viscoelastic foot-ground spring; 0 = rigid foot, no joint (the default)",
+        ge=0,
+    )
+    tarsus_damping: float = _ours(
+        0.0, "N s/m of the sprung tarsus; used only when tarsus_stiffness > 0", ge=0
+    )
+    tarsus_axis: Literal["tibia", "vertical"] = Field(
+        "vertical",
+        json_schema_extra=OURS,
+        description="direction the sprung tarsus slides: 'vertical' (the body's "
+        "vertical at mid-stance, as the paper's viscoelastic ground pushes) or 'tibia' (along "
+        "the tibia, as in the second study; part of its travel is sideways)",
+    )
+    tarsus_mass: float = _ours(
+        2e-6, "kg of a sprung tarsus: ~7% of a tibia, keeps the spring-mass mode fast", gt=0
+    )
+    tarsus_inertia: float = _ours(
+        1e-13,
+        "kg m^2 of a sprung tarsus on each axis: negligible, only keeps MuJoCo's body valid",
+        gt=0,
+    )
+    tarsus_extension: float = _ours(
+        5e-4,
+        "m a sprung tarsus may extend beyond rest (joint limit): a quarter of the stroke",
+        ge=0,
+    )
+    tarsus_compression: float = _ours(
+        1.5e-3, "m a sprung tarsus may compress (joint limit): far beyond its loaded travel", gt=0
+    )
 
-    # --- Stance geometry the paper leaves open ------------------------------------------------
+
+class Trajectory(BaseModel):
+    """The tips' swing and stance trajectories (Fig. 3): D, T_sw and what the paper leaves."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    stroke: float = _paper(2.0e-3, "D, distance AEP-PEP, 2 mm", gt=0)
+    swing_duration: float = _paper(34e-3, "T_sw, swing duration when LP = AEP, 34 ms", gt=0)
     stand_height: float = _ours(
         6.5e-3,
         "height of the coxa attachment above the stance line; keeps the 2+10 mm leg mid-range; "
@@ -150,7 +187,6 @@ class ModelParams(BaseModel):
         gt=0.2,
         le=5.0,
     )
-
     landing_height_kept: float = _ours(
         0.0,
         "share of the landing point's height above the AEP-PEP line that the stance line "
@@ -167,7 +203,6 @@ class ModelParams(BaseModel):
         ge=0,
         le=2,
     )
-
     trajectory_frame: Literal["body", "level"] = Field(
         "body",
         json_schema_extra=OURS,
@@ -178,7 +213,39 @@ class ModelParams(BaseModel):
         "would give the body no attitude stiffness: it flips within 1 s)",
     )
 
-    # --- Joint control (PD) the paper leaves open -------------------------------------------------
+
+class Oscillators(BaseModel):
+    """The phase oscillators (eqs. 3, 5-7) and the touch sensing that resets them (eq. 4)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    k_contralateral: float = _paper(32.0, "K12=K21=K34=K43=K56=K65, eq. 5", ge=0)
+    k_ipsilateral: float = _paper(40.0, "K31=K35=K42=K46, eq. 7", ge=0)
+    touch_depth: float = _ours(
+        1e-7,
+        "foot pressed this far into the ground, m, counts as touch: ~3% of a leg's static "
+        "load (2.7 um carries it); a cutaneous threshold, cheaper than MuJoCo's touch sensor",
+        gt=0,
+    )
+    lift_clearance: float = _ours(
+        1e-5,
+        "a stance foot this far above the ground, m, has left it: counts contact chatter "
+        "(RunMeasures.retouches_per_stance); 2x the stance penetration, 0.5% of the stroke",
+        gt=0,
+    )
+    scuff_fraction: float = _ours(
+        0.5,
+        "touches in swing before s = phi/phi_AEP reaches this are ignored as scuffs",
+        ge=0,
+        lt=1,
+    )
+
+
+class Joints(BaseModel):
+    """Joint control: the PD servos tracking the tip trajectories (the paper leaves them open)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
     kp_yaw: float = _ours(5e-3, "joint 1 stiffness, N m/rad: ~0.01 rad sag under stance load", gt=0)
     kp_lift: float = _ours(
         3e-3,
@@ -222,54 +289,26 @@ class ModelParams(BaseModel):
         ge=0,
     )
 
-    # --- Ground and touch sensing the paper leaves open -----------------------------------------
-    tarsus_stiffness: float = _ours(
-        0.0,
-        "N/m of a sprung tarsus (slide joint along the tibia at each foot), a physical "
-        "viscoelastic foot-ground spring; 0 = rigid foot, no joint (the default)",
-        ge=0,
-    )
-    tarsus_damping: float = _ours(
-        0.0, "N s/m of the sprung tarsus; used only when tarsus_stiffness > 0", ge=0
-    )
-    tarsus_axis: Literal["tibia", "vertical"] = Field(
-        "vertical",
-        json_schema_extra=OURS,
-        description="direction the sprung tarsus slides: 'vertical' (the body's "
-        "vertical at mid-stance, as the paper's viscoelastic ground pushes) or 'tibia' (along "
-        "the tibia, as in the second study; part of its travel is sideways)",
-    )
-    tarsus_mass: float = _ours(
-        2e-6, "kg of a sprung tarsus: ~7% of a tibia, keeps the spring-mass mode fast", gt=0
-    )
-    tarsus_inertia: float = _ours(
-        1e-13,
-        "kg m^2 of a sprung tarsus on each axis: negligible, only keeps MuJoCo's body valid",
-        gt=0,
-    )
-    tarsus_extension: float = _ours(
-        5e-4,
-        "m a sprung tarsus may extend beyond rest (joint limit): a quarter of the stroke",
-        ge=0,
-    )
-    tarsus_compression: float = _ours(
-        1.5e-3, "m a sprung tarsus may compress (joint limit): far beyond its loaded travel", gt=0
-    )
-    foot_radius: float = _ours(0.25e-3, "tarsus tip sphere; small against the 2 mm stroke", gt=0)
-    friction: float = _ours(1.0, "foot-ground friction; claws and pads grip firmly", gt=0)
-    torsional_friction: float = _ours(
-        0.005, "MuJoCo's torsional friction of the foot contact (condim 3 leaves it unused)", ge=0
-    )
-    rolling_friction: float = _ours(
-        0.0001, "MuJoCo's rolling friction of the foot contact (condim 3 leaves it unused)", ge=0
-    )
-    ground: Literal["constraint", "penalty"] = Field(
+
+class Contact(BaseModel):
+    """The foot-ground contact: which ground, its friction, and each ground's own constants."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    ground: Ground = Field(
         "constraint",
         json_schema_extra=OURS,
         description="foot-ground contact: 'constraint' = MuJoCo's soft constraint "
         "(solref/solimp below, elliptic cone); 'penalty' = the paper's viscoelastic elements, "
         "normal and tangential spring-dampers per foot anchored at touchdown "
         "(sim_core/model/ground.py, ground_* below)",
+    )
+    friction: float = _ours(1.0, "foot-ground friction; claws and pads grip firmly", gt=0)
+    torsional_friction: float = _ours(
+        0.005, "MuJoCo's torsional friction of the foot contact (condim 3 leaves it unused)", ge=0
+    )
+    rolling_friction: float = _ours(
+        0.0001, "MuJoCo's rolling friction of the foot contact (condim 3 leaves it unused)", ge=0
     )
     ground_stiffness: float = _ours(
         2000.0,
@@ -315,26 +354,13 @@ class ModelParams(BaseModel):
         ge=0,
         le=100,
     )
-    touch_depth: float = _ours(
-        1e-7,
-        "foot pressed this far into the ground, m, counts as touch: ~3% of a leg's static "
-        "load (2.7 um carries it); a cutaneous threshold, cheaper than MuJoCo's touch sensor",
-        gt=0,
-    )
-    lift_clearance: float = _ours(
-        1e-5,
-        "a stance foot this far above the ground, m, has left it: counts contact chatter "
-        "(RunMeasures.retouches_per_stance); 2x the stance penetration, 0.5% of the stroke",
-        gt=0,
-    )
-    scuff_fraction: float = _ours(
-        0.5,
-        "touches in swing before s = phi/phi_AEP reaches this are ignored as scuffs",
-        ge=0,
-        lt=1,
-    )
 
-    # --- Numerics defaults (see docs/NUMERICS.md) ---------------------------------------------
+
+class Numerics(BaseModel):
+    """Numerics: integrator, steps, constraint solver, landing instant (docs/NUMERICS.md)."""
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
     integrator: Integrator = Field(
         "implicitfast",
         json_schema_extra=OURS,
@@ -346,7 +372,6 @@ class ModelParams(BaseModel):
     control_dt: float = _ours(
         5e-4, "controller update period, s; targets are interpolated per physics step", gt=0
     )
-
     solver_tolerance: float = _ours(
         1e-6,
         "MuJoCo constraint-solver tolerance; the default 1e-8 costs ~7% more for the same "
@@ -387,6 +412,95 @@ class ModelParams(BaseModel):
     )
 
 
+class ModelParams(BaseModel):
+    """The hexapod, its nervous system and its ground, grouped by concern. Frozen: derive
+    variants with `replace`.
+
+    Every parameter has a unique leaf name (`friction`, `kp_lift`), and that name is what the
+    edges, the cache key (`leaf_values`) and the studies use: the model takes them flat
+    (`ModelParams.of(friction=0.8)`, a job's `params`) as well as grouped, and `replace` and `leaf`
+    address them by name. Code reads them through their group (`p.contact.friction`).
+    """
+
+    model_config = ConfigDict(frozen=True, extra="forbid")
+
+    body: Body = Field(default_factory=Body)
+    legs: Legs = Field(default_factory=Legs)
+    trajectory: Trajectory = Field(default_factory=Trajectory)
+    oscillators: Oscillators = Field(default_factory=Oscillators)
+    joints: Joints = Field(default_factory=Joints)
+    contact: Contact = Field(default_factory=Contact)
+    numerics: Numerics = Field(default_factory=Numerics)
+
+    @model_validator(mode="before")
+    @classmethod
+    def _group_leaves(cls, data: Any) -> Any:
+        """Leaf names given flat go to their group (a group given as well takes them too)."""
+        if not isinstance(data, dict) or not any(k in GROUP_OF for k in data):
+            return data
+        out: dict[str, Any] = {k: v for k, v in data.items() if k not in GROUP_OF}
+        for g, value in list(out.items()):
+            if g in GROUPS and isinstance(value, BaseModel):
+                out[g] = value.model_dump()
+        for leaf, value in data.items():
+            if leaf in GROUP_OF:
+                into = out.setdefault(GROUP_OF[leaf], {})
+                if not isinstance(into, dict):
+                    raise ValueError(f"{GROUP_OF[leaf]} is not a group of fields")
+                into[leaf] = value
+        return out
+
+    @classmethod
+    def of(cls, **leaves: Any) -> ModelParams:
+        """Validated parameters from leaf names (`ModelParams.of(ground="penalty")`)."""
+        return cls.model_validate(leaves)
+
+    def leaf(self, name: str) -> Any:
+        """A parameter's value by its leaf name (`p.leaf("friction")`)."""
+        return getattr(getattr(self, GROUP_OF[name]), name)
+
+    def replace(self, **changes: Any) -> ModelParams:
+        """A copy with the named leaves changed, unvalidated like `model_copy(update=...)`
+        (a study's +-10% may leave a field's range on purpose)."""
+        update: dict[str, dict[str, Any]] = {}
+        for name, value in changes.items():
+            if name not in GROUP_OF:
+                raise KeyError(f"ModelParams has no parameter {name!r}")
+            update.setdefault(GROUP_OF[name], {})[name] = value
+        groups = {g: getattr(self, g).model_copy(update=u) for g, u in update.items()}
+        return self.model_copy(update=groups)
+
+
+# group name -> its model, and leaf name -> its group: the one map the flat view reads
+GROUPS: dict[str, type[BaseModel]] = {
+    "body": Body,
+    "legs": Legs,
+    "trajectory": Trajectory,
+    "oscillators": Oscillators,
+    "joints": Joints,
+    "contact": Contact,
+    "numerics": Numerics,
+}
+GROUP_OF: dict[str, str] = {leaf: g for g, m in GROUPS.items() for leaf in m.model_fields}
+PARAMETER_NAMES: tuple[str, ...] = tuple(GROUP_OF)
+GROUND_DEFAULT: Ground = Contact.model_fields["ground"].default
+
+
+def leaf_values(model: BaseModel) -> dict[str, Any]:
+    """A model's fields that differ from their defaults as {leaf name: JSON value}, a field that
+    is itself a model (a group) giving its own leaves by their names; names must be unique.
+    The cache key's parameter part: regrouping the fields keeps it."""
+    into: dict[str, Any] = {}
+    for name, value in model.model_dump(mode="json", exclude_defaults=True).items():
+        group = getattr(model, name)
+        pairs = leaf_values(group).items() if isinstance(group, BaseModel) else [(name, value)]
+        for leaf, v in pairs:
+            if leaf in into:
+                raise ValueError(f"two parameters are called {leaf!r}: the key needs unique names")
+            into[leaf] = v
+    return into
+
+
 def phi_aep(beta: float) -> float:
     """Oscillator phase at the AEP, 2 pi (1 - beta) (Sec. II B 2)."""
     return math.tau * (1.0 - beta)  # math.tau: params imports no sibling module
@@ -402,14 +516,27 @@ def nominal_speed(beta: float, stroke: float, swing_duration: float) -> float:
     return (1.0 - beta) * stroke / (beta * swing_duration)
 
 
-def parameter_table(params: ModelParams | None = None) -> list[tuple[str, object, str, str]]:
-    """(name, value, origin, reason) for every parameter, for docs and the API."""
+class ParameterRow(NamedTuple):
+    """One parameter as the docs, `insect-gait params` and `GET /v1/model` show it."""
+
+    name: str
+    group: str
+    value: object
+    origin: str
+    reason: str
+
+
+def parameter_table(params: ModelParams | None = None) -> list[ParameterRow]:
+    """Every parameter by group, with its value, origin (paper or invented) and reason."""
     p = params or ModelParams()
     rows = []
-    for name, field in ModelParams.model_fields.items():
-        extra = field.json_schema_extra
-        origin = extra.get("origin") if isinstance(extra, dict) else None
-        if origin not in (PAPER, INVENTED):
-            raise TypeError(f"ModelParams.{name} says not whether it is the paper's or ours")
-        rows.append((name, getattr(p, name), str(origin), field.description or ""))
+    for group, model in GROUPS.items():
+        for name, field in model.model_fields.items():
+            extra = field.json_schema_extra
+            origin = extra.get("origin") if isinstance(extra, dict) else None
+            if origin not in (PAPER, INVENTED):
+                raise TypeError(f"ModelParams.{group}.{name} says not whether it is ours")
+            rows.append(
+                ParameterRow(name, group, p.leaf(name), str(origin), field.description or "")
+            )
     return rows

@@ -23,7 +23,7 @@ from sim_core.model.spec import (
 )
 
 # the step docs/NUMERICS.md measured converged; a run on a coarser one says so in its warnings
-CONVERGED_DT_S = ModelParams().dt
+CONVERGED_DT_S = ModelParams().numerics.dt
 
 
 def assemble_result(

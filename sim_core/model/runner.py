@@ -129,7 +129,7 @@ class BatchRunner:
         if len(numerics) != 1:
             raise ValueError("one BatchRunner needs one (integrator, dt, control_dt); group specs")
         self.integrator, self.dt, self.control_dt, self.nsub = numerics.pop()
-        self.params = base.model_copy(update={"integrator": self.integrator, "dt": self.dt})
+        self.params = base.replace(**{"integrator": self.integrator, "dt": self.dt})
         self.specs = list(specs)
         n = self.n = len(specs)
         self.model = build(self.params, visual=False)  # drawing: Simulation.model
@@ -161,7 +161,7 @@ class BatchRunner:
             lo_time=np.full((n, 6), np.nan),
             d31=np.full(n, np.nan),
         )
-        self.body_mass_g = np.full(n, p.body_mass * 1e3)
+        self.body_mass_g = np.full(n, p.body.body_mass * 1e3)
         self.slope_deg = np.zeros(n)
         self.duration = (
             np.full(n, np.inf) if open_ended else np.array([s.duration_s for s in specs])
@@ -178,7 +178,7 @@ class BatchRunner:
         self._guard_codes = np.zeros(n, dtype=np.int64)
         self._guard_values = np.zeros(n)
         self._attach = attachment_points(p)
-        self._limits = Limits(p.body_thickness / 2, MIN_UP_COS, leg_reach(p), NO_FOOTHOLD_S,
+        self._limits = Limits(p.body.body_thickness / 2, MIN_UP_COS, leg_reach(p), NO_FOOTHOLD_S,
                               SLIDE_WINDOW_S, SLIDE_BACK_SPEED_M_S)  # fmt: skip
         self._footing = new_footing(n)
         self._guard_kernel: Callable[..., int] | None = None
@@ -186,8 +186,10 @@ class BatchRunner:
         self.act = self.batch.bind("act")  # the PD set-points (integrator dynamics)
         self.ctrl = self.batch.bind("ctrl")  # desired joint velocities
         self.qvel = self.batch.bind("qvel")
-        self._rules = TouchRules(p.foot_radius, p.touch_depth, p.scuff_fraction,
-                                 p.touchdown_interpolation, p.lift_clearance)  # fmt: skip
+        touch = p.oscillators
+        self._rules = TouchRules(p.legs.foot_radius, touch.touch_depth, touch.scuff_fraction,
+                                 p.numerics.touchdown_interpolation,
+                                 touch.lift_clearance)  # fmt: skip
         self._plan: Callable[..., None] | None = None  # the kernels, bound at the first period
         self._events: Callable[..., int] | None = None
         self.nblock = 0
@@ -196,7 +198,7 @@ class BatchRunner:
         self.active = np.ones(n, dtype=np.bool_)
         self.failures: list[RunFailure | None] = [None] * n
         # what happened (events) and what was sampled (time series): kept beside the stepping
-        self.journal = EventJournal(n, p.stroke)
+        self.journal = EventJournal(n, p.trajectory.stroke)
         self.recorder: Recorder | None = None
         if record:
             every = max(1, round(record_dt / self.control_dt))
@@ -214,7 +216,7 @@ class BatchRunner:
             if spec.pin_d31 is not None:  # the drift surface's instrument (cpg.pin)
                 self.drive.pin_d31[i] = spec.pin_d31
                 self.drive.pin_gain[i] = spec.pin_gain_per_s
-            if spec.body_mass_g != p.body_mass * 1e3:
+            if spec.body_mass_g != p.body.body_mass * 1e3:
                 self.set_body_mass_g(i, spec.body_mass_g)
             if spec.slope_deg != 0.0:
                 self.set_slope_deg(i, spec.slope_deg)
@@ -239,7 +241,7 @@ class BatchRunner:
     def set_beta(self, i: int, beta: float) -> None:
         check_field("beta", beta)
         self.beta[i] = beta
-        self.drive.omega[i] = omega(beta, self.params.swing_duration)
+        self.drive.omega[i] = omega(beta, self.params.trajectory.swing_duration)
         self.drive.phi_aep[i] = phi_aep(beta)
 
     def set_body_mass_g(self, i: int, mass_g: float) -> None:
@@ -247,7 +249,7 @@ class BatchRunner:
         mass = self.batch.expand("body_mass")
         inertia = self.batch.expand("body_inertia")
         mass[i, TORSO] = mass_g * 1e-3
-        inertia[i, TORSO] = self._torso_inertia * (mass_g * 1e-3 / self.params.body_mass)
+        inertia[i, TORSO] = self._torso_inertia * (mass_g * 1e-3 / self.params.body.body_mass)
         self.body_mass_g[i] = mass_g
         self.batch.set_const(np.array([i]))
 
@@ -277,12 +279,12 @@ class BatchRunner:
             tips,
         )
         qpos = np.zeros(self.model.nq)
-        qpos[2] = p.stand_height - p.attach_z + p.foot_radius
+        qpos[2] = p.trajectory.stand_height - p.legs.attach_z + p.legs.foot_radius
         qpos[3] = 1.0
         qpos[self._leg_qpos] = q
         self.qpos[i] = qpos
         qvel = np.zeros(self.model.nv)
-        qvel[0] = nominal_speed(self.beta[i], p.stroke, p.swing_duration)
+        qvel[0] = nominal_speed(self.beta[i], p.trajectory.stroke, p.trajectory.swing_duration)
         self.qvel[i] = qvel
         self.active[i] = True
         self.failures[i] = None
@@ -302,7 +304,8 @@ class BatchRunner:
         p = self.params
         clock = time.perf_counter
         t_start = clock()
-        plan_args = (ids, self.legs, self.drive, p.k_contralateral, p.k_ipsilateral,
+        k = p.oscillators
+        plan_args = (ids, self.legs, self.drive, k.k_contralateral, k.k_ipsilateral,
                      self.control_dt, self.geo, self._lead, self.act, self.ctrl,
                      self.qpos)  # fmt: skip
         if self._plan is None:

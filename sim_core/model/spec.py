@@ -125,7 +125,7 @@ def control_problem(dt_s: float | None, control_dt_s: float | None) -> str | Non
     model's), in the words RunSpec, the CLI and the REST API share; None if it is not."""
     if control_dt_s is None:
         return None
-    dt = ModelParams().dt if dt_s is None else dt_s
+    dt = ModelParams().numerics.dt if dt_s is None else dt_s
     if control_dt_s < dt * (1 - 1e-9):
         shown = f"{dt:g}" if dt_s is not None else f"the default {dt:g}"
         return f"control_dt_s ({control_dt_s:g}) must be >= dt_s ({shown})"
@@ -162,9 +162,9 @@ def resolve_numerics(
     (possibly null) settings uses: null means the model's default, and the control period is a
     whole number of physics steps, never shorter than one."""
     p = params or ModelParams()
-    name = integrator or p.integrator
-    dt = dt_s or p.dt
-    ratio = (control_dt_s or max(p.control_dt, dt)) / dt
+    name = integrator or p.numerics.integrator
+    dt = dt_s or p.numerics.dt
+    ratio = (control_dt_s or max(p.numerics.control_dt, dt)) / dt
     if not ratio <= MAX_SUBSTEPS:  # also inf, for a step like 5e-324 s
         raise ValueError(
             f"dt_s ({dt:g} s) is too small: one control period would take more than "

@@ -52,14 +52,14 @@ def run_bench(sim_seconds: float = 2.0, nsim: int = 32, verbose: bool = True) ->
     single_rtf, share = single_rate(default)
     batch_rate = _batch(default, nsim)
     rk4_rtf, rk4_share = single_rate(paper)
-    penalty = ModelParams(ground="penalty")
+    penalty = ModelParams.of(ground="penalty")
     pen_rtf, pen_share = single_rate(default, penalty)
     pen_batch = _batch(default, nsim, penalty)
     pen_rk4_rtf, _ = single_rate(paper, penalty)
     report = {
-        "integrator": p.integrator,
-        "dt_s": p.dt,
-        "control_dt_s": p.control_dt,
+        "integrator": p.numerics.integrator,
+        "dt_s": p.numerics.dt,
+        "control_dt_s": p.numerics.control_dt,
         "single_realtime_factor": single_rtf,
         "batch_sim_s_per_wall_s": batch_rate,
         "batch_size": nsim,
@@ -77,7 +77,10 @@ def run_bench(sim_seconds: float = 2.0, nsim: int = 32, verbose: bool = True) ->
         "penalty_vs_penalty_rk4": pen_rtf / pen_rk4_rtf,
     }
     if verbose:
-        print(f"default: {p.integrator} dt {p.dt:g} s, control every {p.control_dt:g} s")
+        print(
+            f"default: {p.numerics.integrator} dt {p.numerics.dt:g} s, "
+            f"control every {p.numerics.control_dt:g} s"
+        )
         print(f"{'':22s}{'constraint ground':>20s}{'penalty ground':>18s}")
         print(f"{'one simulation':22s}{single_rtf:14.2f} x rt{pen_rtf:12.2f} x rt")
         print(f"{'batch of ' + str(nsim):22s}{batch_rate:12.2f} sim-s/s{pen_batch:10.2f} sim-s/s")

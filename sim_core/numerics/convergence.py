@@ -54,7 +54,8 @@ def drift_rates(
     p = params or ModelParams()
     drift, _ = open_loop_drift(p, betas=betas, d31s=d31s, duration_s=duration_s,
                                settle_s=settle_s, integrator=integrator, dt_s=dt_s,
-                               control_dt_s=max(p.control_dt, dt_s), nthread=nthread)  # fmt: skip
+                               control_dt_s=max(p.numerics.control_dt, dt_s),
+                               nthread=nthread)  # fmt: skip
     return drift
 
 
@@ -114,9 +115,9 @@ def convergence_check(
     nthread: int = 0,
 ) -> ConvergenceReport:
     p = params or ModelParams()
-    dt = dt_s or p.dt
-    integ = integrator or p.integrator
-    control = max(p.control_dt, dt)
+    dt = dt_s or p.numerics.dt
+    integ = integrator or p.numerics.integrator
+    control = max(p.numerics.control_dt, dt)
 
     def specs(step: float) -> list[RunSpec]:
         return spec_grid(betas, inits, duration_s=duration_s, dt_s=step, control_dt_s=control,
@@ -217,7 +218,7 @@ def grid_study(
 
     def specs(integ: Integrator, dt: float) -> list[RunSpec]:
         return spec_grid(betas, inits, duration_s=duration_s, integrator=integ, dt_s=dt,
-                         control_dt_s=max(p.control_dt, dt))  # fmt: skip
+                         control_dt_s=max(p.numerics.control_dt, dt))  # fmt: skip
 
     t_ref = time.perf_counter()
     ref_runs = simulate_batch(specs(*REFERENCE), p, nthread=1)  # timed like every grid point
@@ -257,14 +258,16 @@ def grid_study(
     if with_penalty_ground:
         variants.extend(PENALTY_GROUND)
     # the reference each variant is measured against: RK4 at 2e-5 s on its own ground
-    refs: dict[str, list[float | None]] = {p.ground: ref}
+    refs: dict[str, list[float | None]] = {p.contact.ground: ref}
     out: list[GridPoint] = []
     for label, integ, over in variants:
-        pv = p.model_copy(update=over) if over else p
-        if pv.ground not in refs:
-            refs[pv.ground] = [r.measures.d31_final for r in simulate_batch(specs(*REFERENCE), pv)]
-            info[f"reference_{pv.ground}"] = refs[pv.ground]
-        own_ref = refs[pv.ground]
+        pv = p.replace(**over) if over else p
+        if pv.contact.ground not in refs:
+            refs[pv.contact.ground] = [
+                r.measures.d31_final for r in simulate_batch(specs(*REFERENCE), pv)
+            ]
+            info[f"reference_{pv.contact.ground}"] = refs[pv.contact.ground]
+        own_ref = refs[pv.contact.ground]
         for dt in dts:
             t0 = time.perf_counter()
             runs = simulate_batch(specs(integ, dt), pv, nthread=1)
@@ -282,13 +285,15 @@ def grid_study(
                 if with_batch:
                     bspecs = [RunSpec(beta=betas[k % len(betas)], d31_init=1.0 + 0.1 * k,
                                       duration_s=1.0, integrator=integ, dt_s=dt,
-                                      control_dt_s=max(p.control_dt, dt))
+                                      control_dt_s=max(p.numerics.control_dt, dt))
                               for k in range(BATCH_N)]  # fmt: skip
                     t1 = time.perf_counter()
                     simulate_batch(bspecs, pv, nthread=0)
                     thr = BATCH_N / (time.perf_counter() - t1)
                 drift_err = None
-                if ref_drift is not None and pv.ground == p.ground:  # drift: today's ground
+                if (
+                    ref_drift is not None and pv.contact.ground == p.contact.ground
+                ):  # drift: today's ground
                     drift = drift_rates(integ, dt, params=pv, betas=betas, d31s=drift_d31s)
                     drift_err = float(np.max(np.abs(drift - ref_drift)))  # NaN if a probe failed
                     drift_err = None if math.isnan(drift_err) else drift_err

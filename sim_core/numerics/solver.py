@@ -80,7 +80,7 @@ def solver_options_study(
 
     def specs(p: ModelParams, integrator: str, dt: float) -> list[RunSpec]:
         return spec_grid(betas, inits, duration_s=duration_s, integrator=integrator, dt_s=dt,
-                         control_dt_s=max(p.control_dt, dt))  # fmt: skip
+                         control_dt_s=max(p.numerics.control_dt, dt))  # fmt: skip
 
     ref_drift = drift_rates(*DRIFT_REFERENCE, params=base, betas=betas, d31s=DRIFT_D31)
     info: dict[str, object] = {
@@ -93,9 +93,9 @@ def solver_options_study(
     rows: list[OptionRow] = []
     default_finals: list[float | None] | None = None
     for label, over in options:
-        p = base.model_copy(update=over) if over else base
+        p = base.replace(**over) if over else base
         t0 = time.perf_counter()
-        runs = simulate_batch(specs(p, p.integrator, p.dt), p, nthread=1)
+        runs = simulate_batch(specs(p, p.numerics.integrator, p.numerics.dt), p, nthread=1)
         wall = (time.perf_counter() - t0) / (duration_s * len(runs))
         failed = [r.failure for r in runs if r.failure is not None]
         if failed:
@@ -105,7 +105,9 @@ def solver_options_study(
             if default_finals is None:
                 default_finals = finals
             ref = [r.measures.d31_final for r in simulate_batch(specs(p, *REFERENCE), p)]
-            drift = drift_rates(p.integrator, p.dt, params=p, betas=betas, d31s=DRIFT_D31)
+            drift = drift_rates(
+                p.numerics.integrator, p.numerics.dt, params=p, betas=betas, d31s=DRIFT_D31
+            )
             err = float(np.max(np.abs(drift - ref_drift)))
             row = OptionRow(
                 label,

@@ -22,4 +22,4 @@ def scaled_values(
 ) -> list[tuple[str, dict[str, float]]]:
     """The +-10% check's variants: each of `names` at each scale of its value in `base`, as
     ("<param> x<scale>", {param: value})."""
-    return [(f"{n} x{s:g}", {n: getattr(base, n) * s}) for n in names for s in scales]
+    return [(f"{n} x{s:g}", {n: base.leaf(n) * s}) for n in names for s in scales]

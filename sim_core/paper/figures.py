@@ -313,8 +313,8 @@ def _fig9_runs(cfg: ReproduceConfig, p: ModelParams) -> list[tuple[str, Ramp, Mo
     down and up the slope."""
     ramps = sweep_ramps(cfg)
     runs = [(name, r, p) for name, r in ramps.items()]
-    if p.ground != "penalty":
-        runs.append(("fig9b", ramps["fig9b"], p.model_copy(update={"ground": "penalty"})))
+    if p.contact.ground != "penalty":
+        runs.append(("fig9b", ramps["fig9b"], p.replace(**{"ground": "penalty"})))
     return runs
 
 
@@ -337,7 +337,7 @@ def _fig9(cfg: ReproduceConfig, p: ModelParams, get: Lookup) -> list[FigureData]
             figs[name].summary["paper_ground"] = data["sweep"]
             continue
         data["beta"] = cfg.sweep_beta
-        data["ground"] = q.ground
+        data["ground"] = q.contact.ground
         header = ["ramp", "time_s", r.param, "d31_rad"]
         rows = {name: (header, _series_rows(name, res))}
         figs[name] = FigureData(name, data, rows, dict(data["sweep"]))

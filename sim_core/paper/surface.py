@@ -476,7 +476,7 @@ def drift_surfaces(
 
     def surfaces() -> list[DriftSurface]:
         return [
-            assemble(betas, pts, cfg, sim_s=_sim_s(qs, cfg), ground=p.ground, **c._asdict())
+            assemble(betas, pts, cfg, sim_s=_sim_s(qs, cfg), ground=p.contact.ground, **c._asdict())
             for c, pts, qs in zip(conds, points, probes, strict=True)
         ]
 

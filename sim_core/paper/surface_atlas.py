@@ -110,7 +110,7 @@ def surface_atlas(
     return SurfaceAtlas(
         axis=axis,
         param=param,
-        ground=p.ground,
+        ground=p.contact.ground,
         betas=list(betas),
         values=list(values),
         points=points,

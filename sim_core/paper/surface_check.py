@@ -186,7 +186,7 @@ def robust_surfaces(
 
     base = params or ModelParams()
     variants = [("default", base)] + [
-        (name, base.model_copy(update=u)) for name, u in scaled_values(base, CALIBRATED, SCALES)
+        (name, base.replace(**u)) for name, u in scaled_values(base, CALIBRATED, SCALES)
     ]
     return {
         name: drift_surface(

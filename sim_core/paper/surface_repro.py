@@ -82,7 +82,7 @@ def surface_study(
                           "stats": stats, "executor": executor}  # fmt: skip
     surface = drift_surface(betas, config=cfg, params=params, **kw)
     t_surface = time.perf_counter() - t0
-    penalty = params.model_copy(update={"ground": "penalty"})
+    penalty = params.replace(**{"ground": "penalty"})
     paper_ground = drift_surface(MECHANISM_BETAS, config=cfg, params=penalty, **kw)
     sample = replace(cfg, d31_grid=SAMPLE_D31)
     variants = {
@@ -92,7 +92,7 @@ def surface_study(
         ),
         "dt/2": drift_surface(
             SAMPLE_BETAS, config=sample, params=params, refine=False,
-            numerics={"dt_s": params.dt / 2}, **kw,
+            numerics={"dt_s": params.numerics.dt / 2}, **kw,
         ),
     }  # fmt: skip
     checks, ok = variant_rows(surface, variants, cfg.floor_rad)

@@ -30,10 +30,9 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
-from pydantic import BaseModel
 
 from sim_core.model.gait import yaw_of
-from sim_core.model.params import ModelParams
+from sim_core.model.params import ModelParams, leaf_values
 from sim_core.model.ramp import RAMP_PARAMS, Ramp, RampDriver
 from sim_core.model.runner import BatchRunner
 from sim_core.model.spec import RunSpec
@@ -80,20 +79,6 @@ class Task:
         """Tasks with the same group can share one batch (same model and numerics)."""
         s = self.run_spec()
         return (self.params, self.physics, s.integrator, s.dt_s, s.control_dt_s)
-
-
-def leaf_values(model: BaseModel) -> dict[str, Any]:
-    """A model's fields that differ from their defaults as {leaf name: JSON value}, a field that
-    is itself a model (a group) giving its own leaves by their names; names must be unique."""
-    into: dict[str, Any] = {}
-    for name, value in model.model_dump(mode="json", exclude_defaults=True).items():
-        group = getattr(model, name)
-        pairs = leaf_values(group).items() if isinstance(group, BaseModel) else [(name, value)]
-        for leaf, v in pairs:
-            if leaf in into:
-                raise ValueError(f"two parameters are called {leaf!r}: the key needs unique names")
-            into[leaf] = v
-    return into
 
 
 def canonical_params(params: ModelParams | None) -> dict[str, Any]:

@@ -34,7 +34,7 @@ REL_TOL = 1e-9
 
 
 def _cases() -> dict[str, Task]:
-    penalty = ModelParams(ground="penalty")
+    penalty = ModelParams.of(ground="penalty")
     walk = RunSpec(beta=0.66, d31_init=2.094, duration_s=0.6)
     return {
         "constraint": run_task(walk),

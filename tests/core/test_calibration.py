@@ -9,6 +9,7 @@ from lab.calibrate import reachable
 from lab.objectives import Evaluation
 from lab.space import SEARCH_SPACE
 from sim_core import ModelParams
+from sim_core.model.params import PARAMETER_NAMES
 from sim_core.numerics.convergence import ConvergenceRow, convergence_check
 from sim_core.paper.protocols import ReturnMap, return_map
 
@@ -32,15 +33,15 @@ def test_score_prefers_the_papers_branches() -> None:
 
 def test_search_space_stays_inside_the_models_own_bounds() -> None:
     for name, r in SEARCH_SPACE.items():
-        assert name in ModelParams.model_fields
+        assert name in PARAMETER_NAMES
         assert r.low < r.high and len(r.reason) > 10
-        ModelParams(**{name: r.low})
-        ModelParams(**{name: r.high})
+        ModelParams.of(**{name: r.low})
+        ModelParams.of(**{name: r.high})
 
 
 def test_reachability_screen() -> None:
     assert reachable(ModelParams())
-    assert not reachable(ModelParams(stand_height=11.9e-3, foot_y=13e-3))
+    assert not reachable(ModelParams.of(stand_height=11.9e-3, foot_y=13e-3))
 
 
 def test_return_map_pairs_are_lagged_delta31() -> None:
@@ -82,7 +83,7 @@ def test_open_loop_drift_shapes_and_a_uniform_hind_bias() -> None:
     base, jumps = open_loop_drift(ModelParams(), **kw)
     assert base.shape == (1, 2) and jumps.shape == (1, 2, 6) and np.isfinite(jumps).all()
     # centre of mass moved back loads the hind legs: they land earlier, drift goes up
-    back, _ = open_loop_drift(ModelParams(com_offset_x=-3e-3), **kw)
+    back, _ = open_loop_drift(ModelParams.of(com_offset_x=-3e-3), **kw)
     assert (back > base).all()
 
 

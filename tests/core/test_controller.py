@@ -24,7 +24,9 @@ PHI_AEP = 2 * math.pi * (1 - BETA)
 DT = 5e-5
 NSUB = 10
 # radius 0: the heights below are the feet's clearances
-RULES = TouchRules(0.0, P.touch_depth, P.scuff_fraction, True, P.lift_clearance)
+RULES = TouchRules(
+    0.0, P.oscillators.touch_depth, P.oscillators.scuff_fraction, True, P.oscillators.lift_clearance
+)
 
 
 def _drive(reset: bool) -> Drive:
@@ -122,10 +124,13 @@ def _retouches(clearance: np.ndarray) -> int:
 
 
 def test_a_stance_foot_that_leaves_the_ground_and_comes_back_is_a_retouch() -> None:
-    pressed, up = -1e-5, 3 * P.lift_clearance
+    pressed, up = -1e-5, 3 * P.oscillators.lift_clearance
     assert _retouches(np.array([pressed, up, up, pressed, pressed, up, pressed, 0, 0, 0])) == 2
     # hovering below the lift clearance, or leaving without coming back, is no re-touch
-    assert _retouches(np.full(NSUB, 0.5 * P.lift_clearance) * np.resize([1, -1], NSUB)) == 0
+    assert (
+        _retouches(np.full(NSUB, 0.5 * P.oscillators.lift_clearance) * np.resize([1, -1], NSUB))
+        == 0
+    )
     assert _retouches(np.array([pressed] * 5 + [up] * 5)) == 0
 
 
@@ -139,7 +144,8 @@ def _plan(p: ModelParams, quat: np.ndarray) -> np.ndarray:
     act, ctrl = np.zeros((1, 18)), np.zeros((1, 18))
     qpos = np.zeros((1, 25))
     qpos[0, 3:7] = quat
-    plan_block(np.array([0]), st, _drive(True), p.k_contralateral, p.k_ipsilateral, 1e-3, geo,
+    k = p.oscillators
+    plan_block(np.array([0]), st, _drive(True), k.k_contralateral, k.k_ipsilateral, 1e-3, geo,
                np.zeros(18), act, ctrl, qpos)  # fmt: skip
     return act[0]
 
@@ -150,7 +156,7 @@ def test_level_frame_trajectories_keep_each_foot_target_level_under_the_hip() ->
     roll, pitch, yaw = 0.05, -0.03, 0.4
     quat = np.empty(4)
     mujoco.mju_euler2Quat(quat, np.array([roll, pitch, yaw]), "xyz")
-    level = ModelParams(trajectory_frame="level")
+    level = ModelParams.of(trajectory_frame="level")
     upright = np.array([1.0, 0.0, 0.0, 0.0])
     heading_only = np.empty(4)
     mujoco.mju_euler2Quat(heading_only, np.array([0.0, 0.0, yaw]), "xyz")

@@ -6,8 +6,8 @@ import numpy as np
 from sim_core import ModelParams, RunSpec, simulate
 from sim_core.model.mjspec import servo_leads
 
-JOINT_VELOCITY = ModelParams(velocity_feedforward_yaw=0.0, velocity_feedforward_lift=0.0)
-TRACKING = ModelParams(velocity_feedforward_yaw=1.0, velocity_feedforward_lift=1.0)
+JOINT_VELOCITY = ModelParams.of(velocity_feedforward_yaw=0.0, velocity_feedforward_lift=0.0)
+TRACKING = ModelParams.of(velocity_feedforward_yaw=1.0, velocity_feedforward_lift=1.0)
 
 
 def test_joint_velocity_has_no_leads() -> None:
@@ -19,11 +19,11 @@ def test_joint_velocity_has_no_leads() -> None:
 
 def test_feedforward_share_scales_each_group_alone() -> None:
     base = servo_leads(TRACKING).reshape(6, 3)
-    lift = servo_leads(TRACKING.model_copy(update={"velocity_feedforward_lift": 0.25}))
+    lift = servo_leads(TRACKING.replace(**{"velocity_feedforward_lift": 0.25}))
     lift = lift.reshape(6, 3)
     assert np.array_equal(lift[:, 0], base[:, 0])  # joint 1 keeps its feed-forward
     assert np.allclose(lift[:, 1:], 0.25 * base[:, 1:])
-    yaw = servo_leads(TRACKING.model_copy(update={"velocity_feedforward_yaw": 0.5}))
+    yaw = servo_leads(TRACKING.replace(**{"velocity_feedforward_yaw": 0.5}))
     yaw = yaw.reshape(6, 3)
     assert np.allclose(yaw[:, 0], 0.5 * base[:, 0]) and np.array_equal(yaw[:, 1:], base[:, 1:])
 
@@ -42,7 +42,7 @@ def test_support_ratio_moves_load_to_the_middle_pair_at_equal_total() -> None:
     from lab.diagnostics import support_stiffness
     from sim_core.model.mjspec import joint_gains, lift_scale
 
-    p = ModelParams(support_ratio=2.0)
+    p = ModelParams.of(support_ratio=2.0)
     assert sum(lift_scale(p, pair) for pair in (0, 1, 2)) == 3.0  # equal total
     assert joint_gains(p, "j2", 1)[0] == 2 * joint_gains(p, "j2", 0)[0]
     assert joint_gains(p, "j1", 1) == joint_gains(p, "j1", 0)  # yaw joints untouched

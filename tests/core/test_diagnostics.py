@@ -22,18 +22,18 @@ def test_ring_fit_recovers_a_known_damped_oscillation() -> None:
 
 
 def test_support_is_symmetric_fore_and_hind_and_carries_the_weight() -> None:
-    p = ModelParams(com_offset_x=0.0)  # the default's centre of mass sits 1 mm forward
+    p = ModelParams.of(com_offset_x=0.0)  # the default's centre of mass sits 1 mm forward
     s = support_stiffness(p)
     k = s["k_pair_N_per_m"]
     assert k["fore"] == pytest.approx(k["hind"], rel=0.01)  # mirror-symmetric body and legs
     assert 0.5 < s["ratio_r"] < 2.0 and all(v > 0 for v in k.values())
-    legs = 6 * (p.coxa_mass + p.femur_mass + p.tibia_mass)
-    assert sum(s["load_at_rest_N"]) == pytest.approx((p.body_mass + legs) * 9.81, rel=0.05)
+    legs = 6 * (p.legs.coxa_mass + p.legs.femur_mass + p.legs.tibia_mass)
+    assert sum(s["load_at_rest_N"]) == pytest.approx((p.body.body_mass + legs) * 9.81, rel=0.05)
 
 
 def test_a_forward_centre_of_mass_loads_the_fore_legs() -> None:
     base = load_share(ModelParams(), betas=(0.66,), duration_s=1.2, settle_s=0.5)[0.66]
-    fwd = load_share(ModelParams(com_offset_x=3e-3), betas=(0.66,), duration_s=1.2,
+    fwd = load_share(ModelParams.of(com_offset_x=3e-3), betas=(0.66,), duration_s=1.2,
                      settle_s=0.5)[0.66]  # fmt: skip
     assert sum(base["share"].values()) == pytest.approx(1.0, abs=1e-3)
     assert fwd["share"]["fore"] > base["share"]["fore"]

@@ -3,7 +3,7 @@
 from pathlib import Path
 
 from sim_core.docsections import update_parameter_doc
-from sim_core.model.params import ModelParams, parameter_table
+from sim_core.model.params import GROUP_OF, PARAMETER_NAMES, parameter_table
 
 DOC = Path(__file__).resolve().parents[2] / "docs" / "MODEL.md"
 
@@ -16,7 +16,10 @@ def test_model_doc_table_is_current() -> None:
 
 
 def test_every_parameter_has_an_origin_and_a_reason() -> None:
-    for name, _, origin, reason in parameter_table():
+    for name, group, _, origin, reason in parameter_table():
         assert origin in ("paper", "invented"), name
         assert len(reason) > 10, name
-    assert len(ModelParams.model_fields) == len(parameter_table())
+        assert GROUP_OF[name] == group
+    assert [row.name for row in parameter_table()] == list(PARAMETER_NAMES)
+    n = len(PARAMETER_NAMES)
+    assert n == len(set(PARAMETER_NAMES)) == 78  # every parameter once, by a unique name

@@ -15,7 +15,7 @@ import pytest
 from sim_core import ModelParams, RunSpec, build_model, simulate, simulate_batch
 from sim_core.model import ground
 
-PENALTY = ModelParams(ground="penalty")
+PENALTY = ModelParams.of(ground="penalty")
 REPO = Path(__file__).resolve().parents[2]
 
 
@@ -24,11 +24,11 @@ def test_one_factory_picks_the_ground_with_its_parameters() -> None:
     assert isinstance(constraint, ground.ConstraintGround)
     penalty = ground.ground_for(PENALTY)
     assert isinstance(penalty, ground.PenaltyGround)
-    assert penalty.stiffness == PENALTY.ground_stiffness
+    assert penalty.stiffness == PENALTY.contact.ground_stiffness
     # the plugin reads its numbers back with strtod: the strings name the same doubles
     config = penalty.config()
-    assert float(config["stiffness"]) == PENALTY.ground_stiffness
-    assert float(config["radius"]) == PENALTY.foot_radius
+    assert float(config["stiffness"]) == PENALTY.contact.ground_stiffness
+    assert float(config["radius"]) == PENALTY.legs.foot_radius
     assert len(config["sites"].split()) == ground.N_FEET
 
 
@@ -95,12 +95,12 @@ def test_the_insect_stands_and_walks_on_it_without_slipping() -> None:
     assert r.failure is None and r.measures.warnings == ()
     assert r.measures.slip_fraction is not None and r.measures.slip_fraction < 0.10
     height = float(np.median(r.series.body_pos_m[:, 2]))
-    assert abs(height - PENALTY.stand_height) < 0.5e-3, height  # on its feet, not sunk
+    assert abs(height - PENALTY.trajectory.stand_height) < 0.5e-3, height  # on its feet, not sunk
     assert r.measures.speed_cm_s is not None and r.measures.speed_cm_s > 2.5
 
 
 def test_a_ground_too_stiff_for_the_step_fails_as_a_typed_value() -> None:
-    stiff = ModelParams(ground="penalty", ground_stiffness=1e6, ground_tangential_stiffness=1e6)
+    stiff = ModelParams.of(ground="penalty", ground_stiffness=1e6, ground_tangential_stiffness=1e6)
     r = simulate(RunSpec(beta=0.66, duration_s=0.3), stiff)
     assert r.failure is not None and r.failure.kind in ("flipped", "on_floor", "non_finite",
                                                            "mujoco_warning", "left_ground",
@@ -110,7 +110,7 @@ def test_a_ground_too_stiff_for_the_step_fails_as_a_typed_value() -> None:
 @pytest.mark.parametrize("k", [2e4])
 def test_a_chattering_ground_says_so(k: float) -> None:
     """2e4 N/m at 5e-5 s does not blow up: feet leave and press in 10-30 times per stance."""
-    p = ModelParams(ground="penalty", ground_stiffness=k, ground_tangential_stiffness=k,
+    p = ModelParams.of(ground="penalty", ground_stiffness=k, ground_tangential_stiffness=k,
                     ground_damping=0.32, ground_tangential_damping=0.32)  # fmt: skip
     r = simulate(RunSpec(beta=0.70, d31_init=1.9, duration_s=1.5), p)
     assert r.failure is None

@@ -34,9 +34,9 @@ def test_swing_curve_runs_pep_to_aep_and_closes_along_the_line(leg: int) -> None
     np.testing.assert_allclose(_swing(leg, 0.0), PEP[leg], atol=1e-12)
     np.testing.assert_allclose(_swing(leg, PHI_AEP), AEP[leg], atol=1e-12)
     apex = _swing(leg, PHI_AEP / 2)
-    assert apex[2] - AEP[leg, 2] == pytest.approx(P.swing_height)
+    assert apex[2] - AEP[leg, 2] == pytest.approx(P.trajectory.swing_height)
     # the stroke is D and the AEP-PEP line is parallel to the body (same height)
-    assert AEP[leg, 0] - PEP[leg, 0] == pytest.approx(P.stroke)
+    assert AEP[leg, 0] - PEP[leg, 0] == pytest.approx(P.trajectory.stroke)
     assert AEP[leg, 2] == PEP[leg, 2]
     # past the AEP without touchdown: back along the line, reaching the PEP at 2 pi
     mid = _swing(leg, (PHI_AEP + 2 * math.pi) / 2)
@@ -45,7 +45,7 @@ def test_swing_curve_runs_pep_to_aep_and_closes_along_the_line(leg: int) -> None
 
 
 def test_the_late_descent_reading_keeps_reaching_down_past_the_aep() -> None:
-    p = ModelParams(late_swing_descent=1.0)
+    p = ModelParams.of(late_swing_descent=1.0)
     geo = leg_geometry(p)
     before, at, after = np.empty(3), np.empty(3), np.empty(3)
     eps = 1e-4
@@ -111,7 +111,7 @@ def test_ik_reports_unreachable_targets() -> None:
 
 
 def test_a_phase_run_backwards_past_zero_holds_the_pep() -> None:
-    geo = leg_geometry(ModelParams(swing_shape=1.7))
+    geo = leg_geometry(ModelParams.of(swing_shape=1.7))
     out = np.empty(3)
     swing_point(geo, 0, -0.05, PHI_AEP, out)
     assert np.isfinite(out).all()

@@ -71,7 +71,7 @@ def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_
     from sim_core import RunSpec, simulate
     from sim_core.model.mjspec import leg_qpos_addresses
 
-    p = ModelParams(tarsus_stiffness=200.0, tarsus_damping=0.5)
+    p = ModelParams.of(tarsus_stiffness=200.0, tarsus_damping=0.5)
     m = build_model(p)
     slides = [j for j in range(m.njnt) if m.jnt_type[j] == mujoco.mjtJoint.mjJNT_SLIDE]
     assert len(slides) == 6 and m.nq == 7 + 24
@@ -81,11 +81,13 @@ def test_sprung_tarsus_adds_a_slide_joint_per_foot_and_the_feet_still_carry_the_
     }
     # Table I masses plus the six tarsi
     assert m.body_mass.sum() == pytest.approx(
-        sum(build_model(ModelParams()).body_mass) + 6 * ModelParams().tarsus_mass
+        sum(build_model(ModelParams()).body_mass) + 6 * ModelParams().legs.tarsus_mass
     )
     res = simulate(RunSpec(beta=0.66, d31_init=2.9, duration_s=0.5), p)
     assert not res.diverged
-    assert res.series.body_pos_m[-1, 2] > p.stand_height / 2  # standing, on compressed tarsi
+    assert (
+        res.series.body_pos_m[-1, 2] > p.trajectory.stand_height / 2
+    )  # standing, on compressed tarsi
     assert res.series.body_pos_m[-1, 0] > 0.003  # and walking forward
 
 
@@ -94,7 +96,7 @@ def test_compressing_a_tarsus_moves_its_foot_up_and_vertical_means_straight_up(a
     from sim_core.model.anatomy import LEG_NAMES
     from sim_core.model.mjspec import leg_qpos_addresses, mid_stance_angles
 
-    p = ModelParams(tarsus_stiffness=15.0, tarsus_damping=0.04, tarsus_axis=axis)
+    p = ModelParams.of(tarsus_stiffness=15.0, tarsus_damping=0.04, tarsus_axis=axis)
     m = build_model(p)
     d = mujoco.MjData(m)
     d.qpos[3] = 1.0

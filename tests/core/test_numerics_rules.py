@@ -30,7 +30,7 @@ def test_the_solver_options_reach_mujoco_and_the_defaults_are_mujocos() -> None:
     from sim_core.model.params import ModelParams
 
     def opt(**over: object) -> mujoco.MjOption:
-        return build_spec(ModelParams(**over), visual=False).compile().opt
+        return build_spec(ModelParams.of(**over), visual=False).compile().opt
 
     d = opt()
     assert d.solver == mujoco.mjtSolver.mjSOL_NEWTON and d.iterations == 100

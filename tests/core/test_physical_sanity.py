@@ -69,7 +69,7 @@ def _guard(
     qpos: np.ndarray, stance: np.ndarray, time: float, footing: guard.Footing
 ) -> tuple[int, float]:
     p = ModelParams()
-    limits = guard.Limits(p.body_thickness / 2, 0.5, leg_reach(p), NO_FOOTHOLD_S, 0.25,
+    limits = guard.Limits(p.body.body_thickness / 2, 0.5, leg_reach(p), NO_FOOTHOLD_S, 0.25,
                           SLIDE_BACK_SPEED_M_S)  # fmt: skip
     codes, values = np.zeros(1, dtype=np.int64), np.zeros(1)
     warnings = np.zeros((1, 1, 2), dtype=np.int64)

@@ -53,7 +53,7 @@ def test_defaults_are_left_out_of_the_key() -> None:
     # so that a new field whose default keeps the physics keeps every cached run's key
     assert params_json(None) == params_json(ModelParams()) == "{}"
     assert spec_json(RunSpec()) == "{}"
-    assert json.loads(params_json(ModelParams(ground="penalty"))) == {"ground": "penalty"}
+    assert json.loads(params_json(ModelParams.of(ground="penalty"))) == {"ground": "penalty"}
     t = run_task(RunSpec(beta=0.62, duration_s=2.0))
     assert t.run_spec() == RunSpec(beta=0.62, duration_s=2.0) and t.duration_s == 2.0
 
@@ -68,19 +68,19 @@ def test_a_comment_in_the_physics_sources_keeps_the_cache_keys(tmp_path: Path) -
         "from sim_core.model.spec import RunSpec\n"
         "from sim_core.runs.tasks import run_task\n"
         "import sim_core; print(sim_core.__file__)\n"
-        "print(run_task(RunSpec(beta=0.62), ModelParams(ground='penalty')).key)\n"
+        "print(run_task(RunSpec(beta=0.62), ModelParams.of(ground='penalty')).key)\n"
     )
     env = os.environ | {"PYTHONPATH": str(tmp_path), "INSECT_GAIT_KERNEL_CACHE": str(tmp_path)}
     out = subprocess.run([sys.executable, "-c", code], cwd=tmp_path, env=env, check=True,
                          capture_output=True, text=True).stdout.split()  # fmt: skip
     assert out[0].startswith(str(copy))  # the edited copy was the one imported
-    assert out[1] == run_task(RunSpec(beta=0.62), ModelParams(ground="penalty")).key
+    assert out[1] == run_task(RunSpec(beta=0.62), ModelParams.of(ground="penalty")).key
 
 
 def test_the_key_names_each_parameter_by_its_leaf_so_regrouping_keeps_it() -> None:
     from pydantic import BaseModel
 
-    from sim_core.runs.tasks import leaf_values
+    from sim_core.model.params import leaf_values
 
     class Flat(BaseModel):
         friction: float = 1.0
@@ -107,7 +107,7 @@ def test_the_key_names_each_parameter_by_its_leaf_so_regrouping_keeps_it() -> No
     with pytest.raises(ValueError, match="friction"):
         leaf_values(Clash(contact=Contact(friction=0.5), friction=0.5))
     # today's model: the key part and its reading back
-    p = ModelParams(ground="penalty", friction=0.8)
+    p = ModelParams.of(ground="penalty", friction=0.8)
     t = run_task(RunSpec(beta=0.62), p)
     assert json.loads(t.params) == {"friction": 0.8, "ground": "penalty"}
     assert t.model_params() == p

@@ -26,7 +26,7 @@ def test_a_reading_changes_the_walk_and_ours_is_the_default() -> None:
     assert READINGS["ours"] == {}
     spec = RunSpec(beta=0.66, d31_init=2.0, duration_s=0.6)
     base = simulate(spec)
-    late = simulate(spec, ModelParams(**READINGS["late descent"]))
+    late = simulate(spec, ModelParams.of(**READINGS["late descent"]))
     assert base.failure is None and late.failure is None
     assert (
         base.events.d31.tolist() != late.events.d31.tolist()
@@ -90,7 +90,7 @@ def test_the_robustness_variants_scale_the_settings_own_values() -> None:
     assert {"com_offset_x": -0.9e-3, "support_ratio": 2.0} in [
         {k: pytest.approx(v) for k, v in x.items()} for x in vs
     ]
-    stand = ModelParams().stand_height
+    stand = ModelParams().trajectory.stand_height
     assert [x["stand_height"] for x in vs if "stand_height" in x] == pytest.approx(
         [0.9 * stand, 1.1 * stand]
     )

@@ -104,7 +104,7 @@ def test_task_keys_follow_content() -> None:
     assert a.key != run_task(RunSpec(beta=0.62, d31_init=1.1, duration_s=1.0)).key
     from sim_core import ModelParams
 
-    assert a.key != run_task(a.run_spec(), ModelParams(kp_lift=1e-3)).key
+    assert a.key != run_task(a.run_spec(), ModelParams.of(kp_lift=1e-3)).key
     r = ramp_task(Ramp("beta", 0.70, 0.62, 1.0, 2.0), RunSpec())
     assert r.kind == "ramp" and r.duration_s == 6.0 and r.key != a.key
     assert hash(r) == hash(ramp_task(Ramp("beta", 0.70, 0.62, 1.0, 2.0), RunSpec()))

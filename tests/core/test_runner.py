@@ -81,7 +81,7 @@ def test_default_configuration_does_not_diverge() -> None:
 @pytest.mark.parametrize("beta", [0.62, 0.70])
 def test_it_walks_at_the_eq2_speed_without_slipping(beta: float) -> None:
     res = simulate(RunSpec(beta=beta, d31_init=math.pi, duration_s=2.0))
-    v = nominal_speed(beta, P.stroke, P.swing_duration) * 100
+    v = nominal_speed(beta, P.trajectory.stroke, P.trajectory.swing_duration) * 100
     assert not res.diverged
     assert res.measures.speed_cm_s == pytest.approx(v, rel=0.10)
     assert res.measures.slip_fraction < 0.10
@@ -183,7 +183,7 @@ def test_landing_share_reads_where_in_the_swing_feet_land() -> None:
 
 def test_the_default_model_lands_its_feet_near_the_aep_and_a_soft_foot_spring_does_not() -> None:
     """The check that unmasked the fourth study's artefact (docs/studies/journal.md)."""
-    soft = ModelParams(tarsus_stiffness=15.0, tarsus_damping=0.04, swing_height=1e-3)
+    soft = ModelParams.of(tarsus_stiffness=15.0, tarsus_damping=0.04, swing_height=1e-3)
     spec = RunSpec(beta=0.62, d31_init=2.5, duration_s=1.5)
     stiff_res, soft_res = simulate(spec), simulate(spec, soft)
     assert (

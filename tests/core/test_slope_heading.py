@@ -22,7 +22,7 @@ def test_the_table_calls_a_turned_run_not_kept() -> None:
 @pytest.mark.slow
 def test_the_papers_ground_walks_down_and_up_a_20_degree_slope_for_a_minute() -> None:
     at = (10.0, 20.0, 30.0, 40.0, 50.0, 60.0)
-    paper = [("paper's ground", ModelParams(ground="penalty"))]
+    paper = [("paper's ground", ModelParams.of(ground="penalty"))]
     runs = headings(paper, (-20.0, 20.0), (1.9, 3.0), duration_s=60.0, at_s=at, nthread=2)
     assert len(runs) == 4
     assert all(r.holds for r in runs), "\n".join(table(runs, at))

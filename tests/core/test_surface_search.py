@@ -93,7 +93,7 @@ def test_the_search_coordinates_give_back_the_defaults() -> None:
     c = coordinates(base)
     for name, r in SPACE5.items():  # the defaults lie inside the searched ranges
         assert r.low <= c[name] <= r.high, name
-    back = ModelParams(**geometry(c))
+    back = ModelParams.of(**geometry(c))
     for name in ("foot_y", "stand_height", "stance_x_fore", "stance_x_hind", "swing_height"):
         assert getattr(back, name) == pytest.approx(getattr(base, name), rel=1e-12), name
 

@@ -20,7 +20,7 @@ STARTS = [2 * math.pi * k / 12 + 0.1 for k in range(12)]
 @pytest.mark.parametrize("beta", [0.62, 0.70])
 def test_walks_at_eq2_speed_from_every_start(beta: float) -> None:
     p = ModelParams()
-    v = nominal_speed(beta, p.stroke, p.swing_duration) * 100.0
+    v = nominal_speed(beta, p.trajectory.stroke, p.trajectory.swing_duration) * 100.0
     runs = simulate_batch([RunSpec(beta=beta, d31_init=x, duration_s=8.0) for x in STARTS], p)
     for x, r in zip(STARTS, runs, strict=True):
         assert not r.diverged, (x, r.error)

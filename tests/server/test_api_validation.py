@@ -390,7 +390,9 @@ def test_integrators_listed_as_the_core_has_them(client: httpx.Client) -> None:
 
     listed = client.get("/v1/integrators").json()
     assert tuple(i["name"] for i in listed) == tuple(sim_core.INTEGRATORS)
-    assert [i["name"] for i in listed if i["default"]] == [sim_core.ModelParams().integrator]
+    assert [i["name"] for i in listed if i["default"]] == [
+        sim_core.ModelParams().numerics.integrator
+    ]
     schema = client.get("/openapi.json").json()["components"]["schemas"]["RunJob"]
     text = json.dumps(schema["properties"]["integrator"])
     assert all(name in text for name in sim_core.INTEGRATORS)  # discrete included
