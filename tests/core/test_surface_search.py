@@ -95,7 +95,7 @@ def test_the_search_coordinates_give_back_the_defaults() -> None:
         assert r.low <= c[name] <= r.high, name
     back = ModelParams.of(**geometry(c))
     for name in ("foot_y", "stand_height", "stance_x_fore", "stance_x_hind", "swing_height"):
-        assert getattr(back, name) == pytest.approx(getattr(base, name), rel=1e-12), name
+        assert back.leaf(name) == pytest.approx(base.leaf(name), rel=1e-12), name
 
 
 def test_the_pareto_front_keeps_only_the_undominated() -> None:
