@@ -87,18 +87,10 @@ def bifurcation_svg(
         n_cached=str(len(pts)),
     )
     out += y_angle_axis(f) + reference_lines(f)
-    for b, d in pts.unsettled:
-        if lo <= b <= hi:
-            out.append(_marker("unsettled", f.x(b), f.y(d), ""))
-    for b, d in pts.ghosts:
-        if lo <= b <= hi:
-            out.append(_marker("ghost", f.x(b), f.y(d), ""))
-    for b, d in pts.unstable:
-        if lo <= b <= hi:
-            out.append(_marker("unstable", f.x(b), f.y(d), ""))
-    for b, d in pts.one_sided:
-        if lo <= b <= hi:
-            out.append(_marker("one-sided", f.x(b), f.y(d), ""))
+    kinds = (("unsettled", pts.unsettled), ("ghost", pts.ghosts), ("unstable", pts.unstable),
+             ("one-sided", pts.one_sided))  # fmt: skip
+    for kind, points in kinds:  # drawn in this order: the stable points go on top
+        out.extend(_marker(kind, f.x(b), f.y(d), "") for b, d in points if lo <= b <= hi)
     for b, d, gait in pts.stable:
         if lo <= b <= hi:
             colour = GAIT_COLOURS.get(gait, GAIT_COLOURS["other"])
