@@ -35,6 +35,7 @@ from sim_core import (
     task_runner,
 )
 from sim_core.contract import (
+    GROUND_ONLY,
     Cell,
     CellResult,
     FinderConfig,
@@ -146,7 +147,11 @@ def setting(reading: str, ground: str, over: dict[str, Any] | None) -> ModelPara
     """The model of a reading on a ground with a lever's values on top."""
     if reading not in READINGS:
         raise ValueError(f"unknown reading {reading!r}; choose from {list(READINGS)}")
-    return ModelParams.of(**{"ground": ground, **READINGS[reading], **(over or {})})
+    # a reading's constant of the other ground never acted on this one (the point foot's
+    # solimp width on the paper's ground): left out, as the model refuses it
+    other = set().union(*(names for g, names in GROUND_ONLY.items() if g != ground))
+    leaves = {k: v for k, v in READINGS[reading].items() if k not in other}
+    return ModelParams.of(**{"ground": ground, **leaves, **(over or {})})
 
 
 def settings_name(reading: str, over: dict[str, Any] | None) -> str:

@@ -48,6 +48,7 @@ from sim_core.model.gait import (
 )
 from sim_core.model.params import (
     GROUND_DEFAULT,
+    GROUND_ONLY,
     GROUNDS,
     INTEGRATORS,
     MAX_STABLE_DT_S,
@@ -127,6 +128,7 @@ __all__ = [
     "FAILURE_KINDS",
     "GROUNDS",
     "GROUND_DEFAULT",
+    "GROUND_ONLY",
     "HEADING_KEPT_DEG",
     "INSECT_WORDS",
     "INTEGRATORS",

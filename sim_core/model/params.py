@@ -11,7 +11,7 @@ Units are SI inside the core (m, kg, s, rad, N); edge-facing names carry units i
 from __future__ import annotations
 
 import math
-from typing import Any, Literal, NamedTuple, get_args
+from typing import Annotated, Any, Literal, NamedTuple, TypeAlias, get_args
 
 from pydantic import BaseModel, ConfigDict, Field, model_validator
 
@@ -290,19 +290,12 @@ class Joints(BaseModel):
     )
 
 
-class Contact(BaseModel):
-    """The foot-ground contact: which ground, its friction, and each ground's own constants."""
+class _ContactBase(BaseModel):
+    """What both grounds set: the floor's friction and MuJoCo's contact options (both grounds'
+    models carry them, so both keep them to stay bit-identical)."""
 
     model_config = ConfigDict(frozen=True, extra="forbid")
 
-    ground: Ground = Field(
-        "constraint",
-        json_schema_extra=OURS,
-        description="foot-ground contact: 'constraint' = MuJoCo's soft constraint "
-        "(solref/solimp below, elliptic cone); 'penalty' = the paper's viscoelastic elements, "
-        "normal and tangential spring-dampers per foot anchored at touchdown "
-        "(sim_core/model/ground.py, ground_* below)",
-    )
     friction: float = _ours(1.0, "foot-ground friction; claws and pads grip firmly", gt=0)
     torsional_friction: float = _ours(
         0.005, "MuJoCo's torsional friction of the foot contact (condim 3 leaves it unused)", ge=0
@@ -310,20 +303,31 @@ class Contact(BaseModel):
     rolling_friction: float = _ours(
         0.0001, "MuJoCo's rolling friction of the foot contact (condim 3 leaves it unused)", ge=0
     )
-    ground_stiffness: float = _ours(
-        2000.0,
-        "N/m normal spring of the penalty ground: the stiffest converged at dt 5e-5 s (5000 "
-        "is stable but one start lands elsewhere than at dt/2 and RK4; 2e4 chatters: the spring "
-        "is explicit in MuJoCo's integrators); the weight over ~3 feet presses a foot in ~4 um",
-        gt=0,
+    impratio: float = _ours(
+        10.0, "elliptic-cone impedance ratio: stops the tiny feet creeping in stance", ge=1
     )
-    ground_damping: float = _ours(
-        0.1, "N s/m normal damper of the penalty ground: ~0.35 of critical for a 10 mg tip", ge=0
+    noslip_iterations: int = Field(
+        0,
+        json_schema_extra=OURS,
+        description="MuJoCo's no-slip solver passes after the main solver "
+        "(constraint ground): > 0 removes the soft contact's tangential creep, a candidate "
+        "cause of the body turning on slopes; 0 = off, the calibrated default",
+        ge=0,
+        le=100,
     )
-    ground_tangential_stiffness: float = _ours(
-        2000.0, "N/m tangential spring from the touchdown point (penalty ground)", gt=0
+
+
+class ConstraintContact(_ContactBase):
+    """Today's ground: MuJoCo's soft constraint, its solref and solimp."""
+
+    ground: Literal["constraint"] = Field(
+        "constraint",
+        json_schema_extra=OURS,
+        description="foot-ground contact: 'constraint' = MuJoCo's soft constraint "
+        "(solref/solimp below, elliptic cone); 'penalty' = the paper's viscoelastic elements, "
+        "normal and tangential spring-dampers per foot anchored at touchdown "
+        "(sim_core/model/ground.py, ground_* below)",
     )
-    ground_tangential_damping: float = _ours(0.1, "N s/m tangential damper (penalty ground)", ge=0)
     contact_timeconst: float = _ours(
         5e-4, "contact solref time constant, s: stiff 'viscoelastic ground' as in the paper", gt=0
     )
@@ -342,18 +346,36 @@ class Contact(BaseModel):
     )
     contact_midpoint: float = _ours(0.5, "solimp midpoint (MuJoCo's default)", gt=0, lt=1)
     contact_power: float = _ours(2.0, "solimp power (MuJoCo's default)", ge=1)
-    impratio: float = _ours(
-        10.0, "elliptic-cone impedance ratio: stops the tiny feet creeping in stance", ge=1
-    )
-    noslip_iterations: int = Field(
-        0,
+
+
+class PenaltyContact(_ContactBase):
+    """The paper's ground: a spring-damper per foot (a compiled MuJoCo engine plugin)."""
+
+    ground: Literal["penalty"] = Field(
         json_schema_extra=OURS,
-        description="MuJoCo's no-slip solver passes after the main solver "
-        "(constraint ground): > 0 removes the soft contact's tangential creep, a candidate "
-        "cause of the body turning on slopes; 0 = off, the calibrated default",
-        ge=0,
-        le=100,
+        description="the paper's viscoelastic elements: normal and tangential spring-dampers "
+        "per foot, anchored at touchdown (sim_core/model/ground.py, ground_* below); always "
+        "named, so that the cache key and a job's params say which ground",
     )
+    ground_stiffness: float = _ours(
+        2000.0,
+        "N/m normal spring of the penalty ground: the stiffest converged at dt 5e-5 s (5000 "
+        "is stable but one start lands elsewhere than at dt/2 and RK4; 2e4 chatters: the spring "
+        "is explicit in MuJoCo's integrators); the weight over ~3 feet presses a foot in ~4 um",
+        gt=0,
+    )
+    ground_damping: float = _ours(
+        0.1, "N s/m normal damper of the penalty ground: ~0.35 of critical for a 10 mg tip", ge=0
+    )
+    ground_tangential_stiffness: float = _ours(
+        2000.0, "N/m tangential spring from the touchdown point (penalty ground)", gt=0
+    )
+    ground_tangential_damping: float = _ours(0.1, "N s/m tangential damper (penalty ground)", ge=0)
+
+
+# The foot-ground contact, one of the two grounds (`ground` names it): a field of the other
+# ground is an error, not a number that silently does nothing.
+Contact: TypeAlias = Annotated[ConstraintContact | PenaltyContact, Field(discriminator="ground")]
 
 
 class Numerics(BaseModel):
@@ -429,7 +451,7 @@ class ModelParams(BaseModel):
     trajectory: Trajectory = Field(default_factory=Trajectory)
     oscillators: Oscillators = Field(default_factory=Oscillators)
     joints: Joints = Field(default_factory=Joints)
-    contact: Contact = Field(default_factory=Contact)
+    contact: Contact = Field(default_factory=ConstraintContact)
     numerics: Numerics = Field(default_factory=Numerics)
 
     @model_validator(mode="before")
@@ -448,6 +470,9 @@ class ModelParams(BaseModel):
                 if not isinstance(into, dict):
                     raise ValueError(f"{GROUP_OF[leaf]} is not a group of fields")
                 into[leaf] = value
+        contact = out.get("contact")
+        if isinstance(contact, dict) and "ground" not in contact:
+            out["contact"] = {"ground": GROUND_DEFAULT, **contact}  # the union's tag
         return out
 
     @classmethod
@@ -457,33 +482,61 @@ class ModelParams(BaseModel):
 
     def leaf(self, name: str) -> Any:
         """A parameter's value by its leaf name (`p.leaf("friction")`)."""
-        return getattr(getattr(self, GROUP_OF[name]), name)
+        group = getattr(self, GROUP_OF[name])
+        if name not in type(group).model_fields:
+            raise KeyError(f"{name} is not a parameter of the {self.contact.ground} ground")
+        return getattr(group, name)
 
     def replace(self, **changes: Any) -> ModelParams:
         """A copy with the named leaves changed, unvalidated like `model_copy(update=...)`
-        (a study's +-10% may leave a field's range on purpose)."""
+        (a study's +-10% may leave a field's range on purpose). A new `ground` starts that
+        ground's own constants from their defaults and keeps the shared ones."""
         update: dict[str, dict[str, Any]] = {}
         for name, value in changes.items():
             if name not in GROUP_OF:
                 raise KeyError(f"ModelParams has no parameter {name!r}")
             update.setdefault(GROUP_OF[name], {})[name] = value
-        groups = {g: getattr(self, g).model_copy(update=u) for g, u in update.items()}
+        groups: dict[str, BaseModel] = {}
+        for g, u in update.items():
+            group = getattr(self, g)
+            tag = u.get("ground", getattr(group, "ground", None))
+            if g == "contact" and tag != self.contact.ground:
+                shared = {k: getattr(group, k) for k in _ContactBase.model_fields}
+                group = CONTACTS[str(tag)].model_validate({"ground": tag} | shared)
+            unknown = set(u) - set(type(group).model_fields)
+            if unknown:
+                raise KeyError(f"{sorted(unknown)}: not parameters of the {tag} ground")
+            groups[g] = group.model_copy(update=u)
         return self.model_copy(update=groups)
 
 
-# group name -> its model, and leaf name -> its group: the one map the flat view reads
-GROUPS: dict[str, type[BaseModel]] = {
-    "body": Body,
-    "legs": Legs,
-    "trajectory": Trajectory,
-    "oscillators": Oscillators,
-    "joints": Joints,
-    "contact": Contact,
-    "numerics": Numerics,
+# each ground's contact model, by its name
+CONTACTS: dict[str, type[ConstraintContact] | type[PenaltyContact]] = {
+    "constraint": ConstraintContact,
+    "penalty": PenaltyContact,
 }
-GROUP_OF: dict[str, str] = {leaf: g for g, m in GROUPS.items() for leaf in m.model_fields}
+# group name -> its models (the contact: one per ground), and leaf name -> its group: the one
+# map the flat view reads
+GROUPS: dict[str, tuple[type[BaseModel], ...]] = {
+    "body": (Body,),
+    "legs": (Legs,),
+    "trajectory": (Trajectory,),
+    "oscillators": (Oscillators,),
+    "joints": (Joints,),
+    "contact": (ConstraintContact, PenaltyContact),
+    "numerics": (Numerics,),
+}
+GROUP_OF: dict[str, str] = {
+    leaf: g for g, models in GROUPS.items() for m in models for leaf in m.model_fields
+}
 PARAMETER_NAMES: tuple[str, ...] = tuple(GROUP_OF)
-GROUND_DEFAULT: Ground = Contact.model_fields["ground"].default
+GROUND_DEFAULT: Ground = ConstraintContact.model_fields["ground"].default
+# the parameters only one ground has (a reading or a lever that sets one means nothing on the
+# other ground, where it is refused)
+GROUND_ONLY: dict[str, frozenset[str]] = {
+    g: frozenset(m.model_fields) - frozenset(_ContactBase.model_fields) - {"ground"}
+    for g, m in CONTACTS.items()
+}
 
 
 def leaf_values(model: BaseModel) -> dict[str, Any]:
@@ -527,16 +580,28 @@ class ParameterRow(NamedTuple):
 
 
 def parameter_table(params: ModelParams | None = None) -> list[ParameterRow]:
-    """Every parameter by group, with its value, origin (paper or invented) and reason."""
+    """Every parameter by group, with its value, origin (paper or invented) and reason. A
+    ground's own constant is listed in group "contact (<ground> ground)", with its default
+    where `params` stand on the other ground."""
     p = params or ModelParams()
-    rows = []
-    for group, model in GROUPS.items():
-        for name, field in model.model_fields.items():
-            extra = field.json_schema_extra
-            origin = extra.get("origin") if isinstance(extra, dict) else None
-            if origin not in (PAPER, INVENTED):
-                raise TypeError(f"ModelParams.{group}.{name} says not whether it is ours")
-            rows.append(
-                ParameterRow(name, group, p.leaf(name), str(origin), field.description or "")
-            )
+    rows: list[ParameterRow] = []
+    for group, models in GROUPS.items():
+        for model in models:
+            own_ground = len(models) > 1
+            for name, field in model.model_fields.items():
+                if any(row.name == name for row in rows):
+                    continue  # shared by both grounds: listed once
+                extra = field.json_schema_extra
+                origin = extra.get("origin") if isinstance(extra, dict) else None
+                if origin not in (PAPER, INVENTED):
+                    raise TypeError(f"ModelParams.{group}.{name} says not whether it is ours")
+                label = group
+                if own_ground and name not in _ContactBase.model_fields and name != "ground":
+                    label = (
+                        f"{group} ({get_args(model.model_fields['ground'].annotation)[0]} ground)"
+                    )
+                mine = name in type(getattr(p, group)).model_fields
+                value = p.leaf(name) if mine else field.default  # the other ground's default
+                reason = field.description or ""
+                rows.append(ParameterRow(name, label, value, str(origin), reason))
     return rows
