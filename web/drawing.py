@@ -27,7 +27,7 @@ from web.footfall_svg import footfall_svg
 from web.jobs import job_status_html
 from web.readouts import Readouts
 from web.record import d31_since, footfall_bars
-from web.return_map_svg import return_map_svg
+from web.return_map_plot import return_map_data
 from web.surface_svg import surface_svg
 
 
@@ -118,11 +118,10 @@ class Drawing(Dispatch):
                 (job.id[:8], job.d31_series) if job.d31_series else None,
             ),
         )
-        self._redraw(
-            self.panels.return_map,
-            (self._walk, len(events), sim.beta),
-            lambda: return_map_svg(self._return_map()),
-        )
+        key = (self._walk, len(events), sim.beta)
+        if self._drawn.get(id(self.panels.return_map)) != key:
+            self._drawn[id(self.panels.return_map)] = key
+            self.panels.return_map.data = return_map_data(self._return_map())
 
     def _redraw(self, handle: viser.GuiHtmlHandle, key: Hashable, build: Callable[[], str]) -> None:
         """Rebuild a panel only when `key`, the inputs it is drawn from, changed (the walk, the

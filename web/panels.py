@@ -59,6 +59,7 @@ from web.requests import (
     StepCycle,
     SubmitJob,
 )
+from web.return_map_plot import add_return_map
 
 
 class Panels(PanelCallbacks):
@@ -77,7 +78,7 @@ class Panels(PanelCallbacks):
         with gui.add_folder("Gait"):
             self.footfall = gui.add_html("<em>footfall: waiting for the first steps</em>")
             self.d31 = gui.add_html("<em>Δ31: waiting for leg-1 touchdowns</em>")
-            self.return_map = gui.add_html("<em>return map: waiting for touchdowns</em>")
+            self.return_map = add_return_map(gui)  # uPlot: the one chart that fits it
         with gui.add_folder("Controls"):
             # a drag streams, a typed number waits for Enter (web/entry.py)
             self.live = {

@@ -9,8 +9,8 @@ Here: the viewBox and its margins (`Frame`), a panel's opening (`open_svg`), the
 ticks, the gaits' reference lines, many dots as one path, the legend under the ticks and a note
 across the plot; one definition of each, so that every panel reads alike. The charts are one
 module per family, built from these: web/footfall_svg.py, web/d31_svg.py (the Delta31 history
-and its marks), web/return_map_svg.py, web/bifurcation_svg.py (the finder's states and a ramp's
-path), web/atlas_svg.py, web/surface_svg.py.
+and its marks), web/bifurcation_svg.py (the finder's states and a ramp's path),
+web/atlas_svg.py, web/surface_svg.py; the return map is uPlot's (web/return_map_plot.py).
 """
 
 from __future__ import annotations

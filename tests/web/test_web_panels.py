@@ -16,14 +16,14 @@ from typing import Any
 import numpy as np
 import pytest
 
-from sim_core.contract import DriftSurface, EventConditions, FinderOutput, SurfaceAtlas
+from sim_core.contract import TWO_PI, DriftSurface, EventConditions, FinderOutput, SurfaceAtlas
 from web import controls, export
 from web.atlas_svg import atlas_svg
 from web.bifurcation import WatchedFile, finder_points, load_validated
 from web.bifurcation_svg import bifurcation_svg
 from web.d31_svg import d31_svg
 from web.record import D31Event, d31_since, stance_intervals
-from web.return_map_svg import return_map_svg
+from web.return_map_plot import RECENCY_SHADES, SERIES, return_map_data
 from web.surface_cells import drift_colour, drift_level
 from web.surface_svg import surface_svg
 from web.svg import MAX_DRAWN, n_dots
@@ -216,9 +216,23 @@ def test_the_job_bodies_are_what_the_api_accepts() -> None:
 def test_the_return_map_and_the_status_box() -> None:
     from web.readouts import status_html
 
-    svg = return_map_svg([(2.0, 2.01), (2.01, 2.02)])
-    assert 'data-plot="return-map"' in svg and n_dots(svg) == 2
-    assert 'data-n-pairs="2"' in svg
+    # uPlot's aligned series: x sorted (with the diagonal's ends 0 and 2 pi), one column per
+    # age group, NaN where the pair is another group's; newest pairs in the last group
+    pairs = [(3.0, 3.1), (1.0, 1.2), (2.0, 2.05)] * 4  # 12 pairs, 2 per age group
+    x, diag, *groups = return_map_data(pairs)
+    assert len(groups) == RECENCY_SHADES and len(SERIES) == 2 + RECENCY_SHADES
+    assert x[0] < 0.0 and x[-1] > TWO_PI and (np.diff(x) >= 0).all()  # past both ends
+    assert (diag == x).all()
+
+    def points(col: np.ndarray) -> list[tuple[float, float]]:
+        return [(float(a), float(b)) for a, b in zip(x, col, strict=True) if np.isfinite(b)]
+
+    drawn = sorted(p for g in groups for p in points(g))
+    assert drawn == sorted(pairs)  # every pair once, in its place
+    assert set(points(groups[-1])) == {(1.0, 1.2), (2.0, 2.05)}  # the last two pairs given
+    assert len(return_map_data([(2.0, 2.0)] * 5000)[0]) == MAX_DRAWN + 2  # the latest only
+    x0, *rest = return_map_data([])
+    assert len(x0) == 2 and all(np.isnan(c).all() for c in rest[1:])
     long = "behind: 0.62x of 1x (machine cannot keep up); " + "x" * 200
     box = status_html(long)
     assert "white-space:normal" in box and long in box  # wrapped, nothing cut
