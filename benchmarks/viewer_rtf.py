@@ -253,6 +253,12 @@ def main() -> None:
     ap.add_argument("--json", type=Path, default=None, help="also write the report here")
     ap.add_argument("--shadows", action="store_true", help="the viewer casting shadows")
     ap.add_argument("--fps", type=float, default=LoopConfig.fps, help="pose stream rate")
+    ap.add_argument(
+        "--readout-hz",
+        type=float,
+        default=LoopConfig.readout_hz,
+        help="how often the loop sends the readouts",
+    )
     ap.add_argument("--query", default="", help="the page's URL query, e.g. fixedDpr=0.5")
     args = ap.parse_args()
     chromium = shutil.which("chromium")
@@ -263,7 +269,11 @@ def main() -> None:
     report: dict[str, Any] = {"host": f"{platform.processor() or platform.machine()}, "
                               f"{len(__import__('os').sched_getaffinity(0))} cores",
                               "bench_single_rtf": rate}  # fmt: skip
-    app = ViewerApp("127.0.0.1", 0, config=LoopConfig(shadows=args.shadows, fps=args.fps))
+    app = ViewerApp(
+        "127.0.0.1",
+        0,
+        config=LoopConfig(shadows=args.shadows, fps=args.fps, readout_hz=args.readout_hz),
+    )
     report["shadows"], report["fps"], report["query"] = args.shadows, args.fps, args.query
     app.start()
     try:

@@ -270,7 +270,7 @@ def test_a_value_typed_at_human_pace_applies_on_enter_and_never_a_prefix(
         page.get_by_text(f"typed {float(typed):g}: Enter applies it").wait_for(timeout=5_000)
         field.press("Enter")
         # the readout says so within 1 s of Enter (an input reaches the walk within 0.3 s, the
-        # readouts refresh 5 times a second)
+        # readouts are sent 8 times a second)
         _wait_read(page, readout, shown)
         page.wait_for_function("window.__seen !== null", timeout=10_000)
         late = page.evaluate("() => window.__seen - window.__enter")
