@@ -118,16 +118,20 @@ class Drawing(Dispatch):
                 (job.id[:8], job.d31_series) if job.d31_series else None,
             ),
         )
-        key = (self._walk, len(events), sim.beta)
-        if self._drawn.get(id(self.panels.return_map)) != key:
-            self._drawn[id(self.panels.return_map)] = key
+        if self._changed(self.panels.return_map, (self._walk, len(events), sim.beta)):
             self.panels.return_map.data = return_map_data(self._return_map())
 
+    def _changed(self, handle: object, key: Hashable) -> bool:
+        """Whether `key`, the inputs a panel is drawn from (the walk, the record's length or
+        time, the window), changed since it was last drawn: an idle plot costs nothing."""
+        if self._drawn.get(id(handle)) == key:
+            return False
+        self._drawn[id(handle)] = key
+        return True
+
     def _redraw(self, handle: viser.GuiHtmlHandle, key: Hashable, build: Callable[[], str]) -> None:
-        """Rebuild a panel only when `key`, the inputs it is drawn from, changed (the walk, the
-        record's length or time, the window): an idle plot costs nothing."""
-        if self._drawn.get(id(handle)) != key:
-            self._drawn[id(handle)] = key
+        """Rebuild an SVG panel only when its inputs changed (`_changed`)."""
+        if self._changed(handle, key):
             self.panels.show_html(handle, build())
 
     def _return_map(self) -> list[tuple[float, float]]:

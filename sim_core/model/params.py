@@ -584,22 +584,18 @@ def parameter_table(params: ModelParams | None = None) -> list[ParameterRow]:
     ground's own constant is listed in group "contact (<ground> ground)", with its default
     where `params` stand on the other ground."""
     p = params or ModelParams()
+    own_ground = {name: g for g, names in GROUND_ONLY.items() for name in names}
     rows: list[ParameterRow] = []
     for group, models in GROUPS.items():
         for model in models:
-            own_ground = len(models) > 1
             for name, field in model.model_fields.items():
-                if any(row.name == name for row in rows):
+                if name in (row.name for row in rows):
                     continue  # shared by both grounds: listed once
                 extra = field.json_schema_extra
                 origin = extra.get("origin") if isinstance(extra, dict) else None
                 if origin not in (PAPER, INVENTED):
                     raise TypeError(f"ModelParams.{group}.{name} says not whether it is ours")
-                label = group
-                if own_ground and name not in _ContactBase.model_fields and name != "ground":
-                    label = (
-                        f"{group} ({get_args(model.model_fields['ground'].annotation)[0]} ground)"
-                    )
+                label = f"{group} ({own_ground[name]} ground)" if name in own_ground else group
                 mine = name in type(getattr(p, group)).model_fields
                 value = p.leaf(name) if mine else field.default  # the other ground's default
                 reason = field.description or ""

@@ -8,7 +8,7 @@ key, so a stale result is never reused, and an unchanged one is never recomputed
 parameters are stored without their default values, so a new field whose default keeps the
 physics (and a comment or rename in the sources) keeps every key; changing a default moves the
 numbers, which bumps the version (`sim_core.model.version`). The parameters enter the key as a
-flat mapping of leaf names (`canonical_params`): however `ModelParams` groups its fields (a
+flat mapping of leaf names (`params_json`): however `ModelParams` groups its fields (a
 `body`, a `ground` ...), a parameter's key part is its own name and value, so regrouping the
 model keeps every key.
 
@@ -69,7 +69,7 @@ class Task:
         return RunSpec.model_validate_json(self.spec)
 
     def model_params(self) -> ModelParams:
-        return params_from_canonical(json.loads(self.params))
+        return ModelParams.model_validate_json(self.params)
 
     @property
     def duration_s(self) -> float:
@@ -81,20 +81,11 @@ class Task:
         return (self.params, self.physics, s.integrator, s.dt_s, s.control_dt_s)
 
 
-def canonical_params(params: ModelParams | None) -> dict[str, Any]:
-    """The parameters that differ from the defaults, flat (`leaf_values`): whatever groups the
-    model keeps its fields in, each enters the key by its own name."""
-    return leaf_values(params or ModelParams())
-
-
-def params_from_canonical(flat: dict[str, Any]) -> ModelParams:
-    """`canonical_params` read back: the model takes its fields by their leaf names."""
-    return ModelParams.model_validate(flat)
-
-
 def params_json(params: ModelParams | None) -> str:
-    """The parameters that differ from the defaults, as canonical JSON (the key's part)."""
-    return _canonical(canonical_params(params))
+    """The parameters that differ from the defaults, flat by leaf name (`leaf_values`), as
+    canonical JSON (the key's part): however the model groups its fields, each enters the key
+    by its own name, and `ModelParams` reads the flat form back."""
+    return _canonical(leaf_values(params or ModelParams()))
 
 
 def spec_json(spec: RunSpec) -> str:
