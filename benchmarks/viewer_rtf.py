@@ -5,8 +5,11 @@ view held, its checkbox off), how often the readouts refresh in the page, how mu
 page's main thread is taken by long tasks, the input latency of a typed beta (Enter
 -> applied in the simulation -> shown in the readout, and the keystroke prefixes applied), of a
 slider step (key -> applied) and of a click (Pause / Play -> applied
--> the status line says so), as percentiles. With `--api-jobs N`, the real-time factor again
-while the REST API runs N simulation jobs.
+-> the status line says so), as percentiles; per window, the 3D frames the page drew (its
+frame cap, web/frame_cap.py) and the CPU each process took (the viewer, the browser's GPU
+process that draws WebGL in software, its renderer). With `--frame-caps 15,10,20,0`, the
+stepping at "max" under each frame cap, set live in one page and alternated. With
+`--api-jobs N`, the real-time factor again while the REST API runs N simulation jobs.
 
     .venv/bin/python benchmarks/viewer_rtf.py [--seconds 10] [--trials 12] [--json out.json]
 
@@ -31,6 +34,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+import psutil
 from playwright.sync_api import Page, sync_playwright
 
 from sim_core import RunSpec
@@ -103,11 +107,30 @@ def _applied_after(app: ViewerApp, t0: float, match: Any, timeout_s: float = 30.
     return None
 
 
+def _cpu_seconds() -> dict[str, float]:
+    """CPU seconds so far of this process and of the browser's processes by role (the GPU
+    process draws WebGL in software; the renderer runs the page)."""
+    out = {"viewer": sum(psutil.Process().cpu_times()[:2])}
+    for proc in psutil.Process().children(recursive=True):
+        try:
+            cmd = " ".join(proc.cmdline())
+            if "chrom" not in cmd:
+                continue
+            role = "gpu" if "--type=gpu-process" in cmd else (
+                "renderer" if "--type=renderer" in cmd else "browser")  # fmt: skip
+            out[role] = out.get(role, 0.0) + sum(proc.cpu_times()[:2])
+        except psutil.Error:
+            continue
+    return out
+
+
 def _window(app: ViewerApp, page: Page, seconds: float) -> dict[str, Any]:
-    """Loop stats, readout refresh rate and long-task share over `seconds` of wall time."""
-    a, t0 = app.stats, time.time()
+    """Loop stats, readout refresh rate, frames the page drew, long-task share and the CPU each
+    process took (cores) over `seconds` of wall time."""
+    drawn = "() => window.__igFrameCap ? window.__igFrameCap.frames : null"
+    a, t0, cpu0, f0 = app.stats, time.time(), _cpu_seconds(), page.evaluate(drawn)
     changes = page.evaluate(COUNT_CHANGES, [READ_BY_LABEL, "sim time (s)", int(seconds * 1000)])
-    b, t1 = app.stats, time.time()
+    b, t1, cpu1, f1 = app.stats, time.time(), _cpu_seconds(), page.evaluate(drawn)
     long = page.evaluate("() => window.__long")
     busy = sum(d for s, d in long if t0 * 1000 <= s <= t1 * 1000) / 1000.0
     wall = t1 - t0
@@ -116,10 +139,26 @@ def _window(app: ViewerApp, page: Page, seconds: float) -> dict[str, Any]:
         "rtf": (b.sim_s - a.sim_s) / wall,
         "stepping": (b.sim_s - a.sim_s) / max(b.step_wall_s - a.step_wall_s, 1e-9),
         "frames_hz": (b.frames - a.frames) / wall,
+        "drawn_hz": None if f0 is None or f1 is None else (f1 - f0) / wall,
+        "cpu_cores": {k: (v - cpu0.get(k, 0.0)) / wall for k, v in cpu1.items()},
         "readout_hz": changes / wall,
         "long_task_share": busy / wall,
         "status": app.panels.shown("status"),
     }
+
+
+def _frame_caps(
+    app: ViewerApp, page: Page, caps: list[float], rounds: int, seconds: float
+) -> list[dict[str, Any]]:
+    """Stepping at "max" under each 3D frame cap, set live in the page (web/frame_cap.py),
+    the caps alternated `rounds` times so that a drift of the host falls on all of them."""
+    rows = []
+    for _ in range(rounds):
+        for cap in caps:
+            page.evaluate(f"() => {{ window.__igFrameCap.fps = {cap}; }}")
+            time.sleep(1.0)
+            rows.append({"cap": cap, **_window(app, page, seconds)})
+    return rows
 
 
 def _typed_latency(app: ViewerApp, page: Page, trials: int) -> dict[str, Any]:
@@ -220,6 +259,11 @@ def _start_api(n_jobs: int, tmp: Path) -> subprocess.Popen[bytes]:
 def _print(report: dict[str, Any]) -> None:
     b = report["bench_single_rtf"]
     print(f"host: {report['host']}")
+    cap = report.get("frame_cap") or {}
+    print(
+        f"page: {report['query'] or 'no query'}; 3D frame cap {cap.get('fps')} a second "
+        f"(0: every frame), software WebGL {cap.get('software')}"
+    )
     print(f"bench single (no browser)              {b:6.2f}x real time")
     for name in ("streaming_1x", "max_speed", "max_speed_3d_off", "api_jobs"):
         w = report.get(name)
@@ -229,7 +273,18 @@ def _print(report: dict[str, Any]) -> None:
               f"({w['stepping'] / b:4.2f} of bench)  frames {w['frames_hz']:4.1f} Hz  "
               f"readouts {w['readout_hz']:4.1f} Hz  long tasks {100 * w['long_task_share']:3.0f}%"
               f" of the page's main thread")  # fmt: skip
+        drawn = "-" if w["drawn_hz"] is None else f"{w['drawn_hz']:4.1f}"
+        cores = "  ".join(f"{k} {v:.2f}" for k, v in sorted(w["cpu_cores"].items()))
+        print(f"  3D frames drawn {drawn} a second; CPU cores: {cores}")
         print(f"  status: {w['status']}")
+    rows = report.get("frame_caps") or []
+    for cap in dict.fromkeys(r["cap"] for r in rows):
+        share = [r["stepping"] / b for r in rows if r["cap"] == cap]
+        drawn = np.mean([r["drawn_hz"] or 0.0 for r in rows if r["cap"] == cap])
+        gpu = np.mean([r["cpu_cores"].get("gpu", 0.0) for r in rows if r["cap"] == cap])
+        print(f"frame cap {cap:4g}: stepping at max {np.mean(share):4.2f} of bench "
+              f"({min(share):4.2f}-{max(share):4.2f}, {len(share)} windows), drawn "
+              f"{drawn:4.1f} a second, GPU process {gpu:4.2f} core")  # fmt: skip
     lats = (("typed beta", report["typed"]), ("click", report["click"]),
             ("slider key", report["slider"]))  # fmt: skip
     for name, lat in lats:
@@ -260,6 +315,13 @@ def main() -> None:
         help="how often the loop sends the readouts",
     )
     ap.add_argument("--query", default="", help="the page's URL query, e.g. fixedDpr=0.5")
+    ap.add_argument(
+        "--frame-caps",
+        default="",
+        help="also step at max under each of these 3D frame caps (e.g. 15,10,20,0; 0: every "
+        "frame), set live in one page, alternated --rounds times",
+    )
+    ap.add_argument("--rounds", type=int, default=2, help="rounds of --frame-caps")
     args = ap.parse_args()
     chromium = shutil.which("chromium")
     if chromium is None:
@@ -283,6 +345,7 @@ def main() -> None:
             page.goto(f"http://127.0.0.1:{app.port}" + (f"/?{args.query}" if args.query else ""))
             page.get_by_text(BETA_READOUT).wait_for(timeout=60_000)
             page.evaluate(INSTRUMENT)
+            report["frame_cap"] = page.evaluate("() => window.__igFrameCap ?? null")
             page.wait_for_function(f"({READ_BY_LABEL})('sim time (s)') > 1.0", timeout=90_000)
             report["streaming_1x"] = _window(app, page, args.seconds)
             report["typed"] = _typed_latency(app, page, args.trials)
@@ -291,6 +354,12 @@ def main() -> None:
             page.get_by_role("button", name="max", exact=True).click()
             time.sleep(1.0)
             report["max_speed"] = _window(app, page, args.seconds)
+            if args.frame_caps:
+                caps = [float(c) for c in args.frame_caps.split(",")]
+                report["frame_caps"] = _frame_caps(app, page, caps, args.rounds, args.seconds)
+                page.evaluate(
+                    f"() => {{ window.__igFrameCap.fps = {report['frame_cap']['fps']}; }}"
+                )
             # the 3D view held (its checkbox): what the browser's drawing costs the stepping
             page.get_by_text(DRAW_3D, exact=True).click()
             time.sleep(1.0)

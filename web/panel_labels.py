@@ -15,15 +15,24 @@ DRAW_3D_HINT = (
     "Off: the 3D view holds its last pose and the simulation gets the core a browser without a "
     "GPU spends drawing it; the plots and readouts stay live."
 )
-# viser reads a fixed device-pixel ratio from the page's URL (its `fixedDpr` dev setting): at
-# half resolution a browser drawing WebGL in software leaves its page's main thread free (1-7%
-# in long tasks against 93-97% at full, measured by benchmarks/viewer_rtf.py --query), so the
-# readouts refresh at 4.6 Hz instead of 3.0-3.5 Hz at 1x. A link, not a default: on a GPU the
-# full resolution costs nothing.
-LOW_RES_HTML = (
-    '<div style="font-size:0.75em;padding-left:0.5em">No GPU (software WebGL)? '
-    '<a href="?fixedDpr=0.5">the 3D view at half resolution</a> · <a href="?">full</a></div>'
-)
+
+
+def view_cost_html(software_fps: float) -> str:
+    """The line under "draw the 3D walk": what a browser without a GPU gets, and its choices.
+
+    Such a browser draws the 3D view at most `software_fps` frames a second (web/frame_cap.py);
+    `?frameCap=0` draws every frame. viser reads a fixed device-pixel ratio from the URL (its
+    `fixedDpr` dev setting): at half resolution a frame costs about half the CPU. Links, not
+    defaults: on a GPU every frame at full resolution costs nothing.
+    """
+    return (
+        '<div style="font-size:0.75em;padding-left:0.5em">No GPU (software WebGL)? The 3D view '
+        f"then draws {software_fps:g} frames a second: "
+        '<a href="?fixedDpr=0.5">the 3D view at half resolution</a> · '
+        '<a href="?frameCap=0">every frame</a> · <a href="?">default</a></div>'
+    )
+
+
 RAMP_START, RAMP_STOP = "Start ramp", "Stop ramp"
 # export buttons: label -> what (web/export.py)
 EXPORT_BUTTONS = {

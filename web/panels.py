@@ -35,7 +35,6 @@ from web.panel_labels import (
     DRAW_3D_HINT,
     EXPORT_BUTTONS,
     LOAD_SETTINGS,
-    LOW_RES_HTML,
     OPEN_JOB,
     PAUSE,
     PRESET_METACHRONAL,
@@ -44,6 +43,7 @@ from web.panel_labels import (
     STEP,
     SUBMIT_RAMP,
     SUBMIT_RUN,
+    view_cost_html,
 )
 from web.paths import DEFAULT_API_URL
 from web.readouts import Readouts, format_readouts, status_html
@@ -65,7 +65,9 @@ from web.return_map_plot import add_return_map
 class Panels(PanelCallbacks):
     """Builds the GUI once; the loop thread calls the `show_*`/`sync_*` methods."""
 
-    def __init__(self, server: viser.ViserServer, requests: RequestQueue) -> None:
+    def __init__(
+        self, server: viser.ViserServer, requests: RequestQueue, software_fps: float
+    ) -> None:
         self.server = server
         self.requests = requests
         # control key -> time.monotonic() of a person's last change (written by callbacks,
@@ -106,7 +108,7 @@ class Panels(PanelCallbacks):
             self.d31_window.on_update(self._on_d31_window)
             self.draw_3d = gui.add_checkbox(DRAW_3D, True, hint=DRAW_3D_HINT)
             self.draw_3d.on_update(self._queue(lambda: SetDraw3D(bool(self.draw_3d.value))))
-            self.low_res = gui.add_html(LOW_RES_HTML)
+            self.low_res = gui.add_html(view_cost_html(software_fps))
             self.camera = gui.add_button_group("camera", controls.CAMERA_MODES)  # as speed
             self.camera.on_click(self._queue(lambda: SetFollow(str(self.camera.value))))
             # the paper's ground keeps walking up and down a slope; today's contact turns

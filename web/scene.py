@@ -41,6 +41,17 @@ CAMERA_POSITION = (-0.06, -0.05, 0.075)
 # 8-12 mm leg, true-to-scale links read as hairlines on screen. Drawing only; physics untouched.
 LEG_DRAW_SCALE = 3.0
 CAMERA_NEAR, CAMERA_FAR = 5e-4, 20.0
+# The floor: grid lines on a 20 x 20 cm patch (1 cm cells, every 5th line darker) kept under the
+# insect, in 5 cm jumps that the grid's own period hides. viser's infinite grid shades every
+# pixel of the view (a full-screen pass, 35-45 ms a frame in software WebGL) and its tinted plane
+# more (the lit plane about 20 ms); lines cost only their own pixels (benchmarks/viewer_rtf.py;
+# docs/VIEWER.md). `--shadows` keeps viser's grid: its plane is what catches the shadows.
+FLOOR_HALF_M, FLOOR_CELL_M, FLOOR_SECTION_M = 0.10, 0.01, 0.05
+FLOOR_CELL_RGB, FLOOR_SECTION_RGB = (190, 190, 190), (120, 120, 120)
+# Light without viser's environment map: image-based lighting is a texture lookup per lit pixel
+# (~8 ms a frame in software WebGL); a hemisphere light (sky above, warm ground below) fills in
+# what the default lights leave dark.
+SKY_RGB, GROUND_RGB = (255, 255, 255), (140, 125, 110)
 # viser's default orbit limits (1 cm .. 10 km) would not let one zoom onto a 2 mm femur
 MIN_ORBIT, MAX_ORBIT = 2e-3, 5.0
 
@@ -96,23 +107,37 @@ class HexapodScene:
         # Shadows are extra render passes of every frame; a browser rendering WebGL in software
         # (no GPU) pays them on the CPU the simulation needs. Off unless asked.
         server.scene.configure_default_lights(enabled=True, cast_shadow=shadows)
+        server.scene.configure_environment_map(hdri=None)
+        server.scene.add_light_hemisphere("/fill", sky_color=SKY_RGB, ground_color=GROUND_RGB)
         self._feet = foot_geom_ids(model)
         self._torso = torso_body_id(model)
         self._follow = controls.DEFAULT_CAMERA
         self._frame = server.scene.add_frame(BODIES_NODE, show_axes=False)
         self._bodies = add_body_meshes(server, model, BODIES_NODE)
-        self._grid = server.scene.add_grid(
-            f"{BODIES_NODE}/floor",
-            infinite_grid=True,
-            cell_size=0.005,
-            section_size=0.05,
-            cell_color=(190, 190, 190),
-            section_color=(120, 120, 120),
-            fade_distance=0.6,
-            plane_color=(235, 230, 215),
-            plane_opacity=0.6,
-            shadow_opacity=0.25 if shadows else 0.0,
-        )
+        self._floor: viser.SceneNodeHandle
+        self._floor_at = np.zeros(2)
+        if shadows:
+            self._floor = server.scene.add_grid(
+                f"{BODIES_NODE}/floor",
+                infinite_grid=True,
+                cell_size=FLOOR_CELL_M,
+                section_size=FLOOR_SECTION_M,
+                cell_color=FLOOR_CELL_RGB,
+                section_color=FLOOR_SECTION_RGB,
+                fade_distance=0.6,
+                plane_color=(235, 230, 215),
+                plane_opacity=0.6,
+                shadow_opacity=0.25,
+            )
+        else:
+            points, colours = floor_lines(FLOOR_HALF_M, FLOOR_CELL_M, FLOOR_SECTION_M)
+            self._floor = server.scene.add_line_segments(
+                f"{BODIES_NODE}/floor",
+                points=points,
+                colors=colours,
+                thickness=1.0,
+                thickness_units="screen",
+            )
         r = float(model.geom_size[self._feet[0], 0]) * 2.2
         self._markers = [
             server.scene.add_icosphere(
@@ -159,6 +184,10 @@ class HexapodScene:
                 self._frame.wxyz = wxyz
             if not np.array_equal(self._frame.position, position):
                 self._frame.position = position
+            at = floor_centre(data.xpos[self._torso])
+            if not np.array_equal(at, self._floor_at):
+                self._floor.position = (float(at[0]), float(at[1]), 0.0)
+                self._floor_at = at
             for b, handle in self._bodies.items():
                 handle.position = data.xpos[b]
                 handle.wxyz = data.xquat[b]
@@ -168,6 +197,30 @@ class HexapodScene:
                 if stance[i] != self._stance[i]:
                     marker.visible = bool(stance[i])
             self._stance = stance.copy()
+
+
+def floor_centre(body_xyz: np.ndarray) -> np.ndarray:
+    """Where the floor patch sits: under the body, on the grid's own period (a jump the
+    repeating lines hide)."""
+    return np.round(np.asarray(body_xyz[:2], dtype=float) / FLOOR_SECTION_M) * FLOOR_SECTION_M
+
+
+def floor_lines(half: float, cell: float, section: float) -> tuple[np.ndarray, np.ndarray]:
+    """Grid lines on the square [-half, half]^2 at z = 0: (N, 2, 3) end points and their
+    (N, 2, 3) colours, every `section / cell`-th line (those through multiples of `section`)
+    darker."""
+    n = round(half / cell)
+    k = np.arange(-n, n + 1)
+    t = k * cell
+    along_y = np.stack(
+        [np.stack([t, np.full_like(t, -half), np.zeros_like(t)], 1),
+         np.stack([t, np.full_like(t, half), np.zeros_like(t)], 1)], 1
+    )  # fmt: skip
+    along_x = along_y[:, :, [1, 0, 2]]
+    points = np.concatenate([along_y, along_x]).astype(np.float32)
+    major = np.tile(k % round(section / cell) == 0, 2)
+    rgb = np.where(major[:, None], FLOOR_SECTION_RGB, FLOOR_CELL_RGB).astype(np.uint8)
+    return points, np.repeat(rgb[:, None, :], 2, axis=1)
 
 
 def geom_mesh(model: mujoco.MjModel, g: int) -> trimesh.Trimesh | None:

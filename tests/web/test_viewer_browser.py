@@ -22,6 +22,7 @@ import numpy as np
 import pytest
 
 from web import controls
+from web.app import LoopConfig
 from web.entry import box_label
 from web.page_probe import READ_BY_LABEL, TAG_BY_LABEL
 from web.panel_labels import LOAD_SETTINGS, PRESET_METACHRONAL, SUBMIT_RUN
@@ -334,19 +335,54 @@ def test_the_half_resolution_link_draws_the_3d_view_at_half_its_pixels(
         page.close()
 
 
+def test_a_browser_without_a_gpu_draws_the_3d_view_at_its_frame_cap(
+    viewer: str, browser: Any
+) -> None:
+    """Headless Chromium draws WebGL in software (SwiftShader): the page caps its frames at
+    LoopConfig.software_fps while poses stream at 30 Hz; `?frameCap=0` lifts the cap."""
+    cap = LoopConfig.software_fps
+    page, errors = _open(browser, viewer)
+    try:
+        chosen = page.evaluate("() => window.__igFrameCap")
+        assert chosen["software"] is True and chosen["fps"] == cap, chosen
+        seconds = 3.0
+        n0 = page.evaluate("() => window.__igFrameCap.frames")
+        page.wait_for_timeout(seconds * 1000)
+        drawn = page.evaluate("() => window.__igFrameCap.frames") - n0
+        assert 1 <= drawn <= cap * seconds + 2, f"{drawn} frames in {seconds} s"
+        assert errors == [], errors
+    finally:
+        page.close()
+    page, errors = _open(browser, viewer + "/?frameCap=0")
+    try:
+        assert page.evaluate("() => window.__igFrameCap.fps") == 0
+        assert errors == [], errors
+    finally:
+        page.close()
+
+
 def _set_box(page: Any, label: str, text: str) -> None:
     """Type a value into the number box of control `label` and leave it (Tab)."""
     field = _type_into(page, label, text)
     field.press("Tab")
-    page.wait_for_function(
-        f"({READ_BY_LABEL})({label!r}) !== null && Number(({READ_BY_LABEL})({label!r})) === "
-        f"{float(text)!r}",
-        timeout=10_000,
-    )
+    try:
+        page.wait_for_function(
+            f"({READ_BY_LABEL})({label!r}) !== null && Number(({READ_BY_LABEL})({label!r})) "
+            f"=== {float(text)!r}",
+            timeout=10_000,
+        )
+    except Exception as exc:  # say what the box shows instead
+        raise AssertionError(f"{label!r} shows {_read(page, label)!r}, typed {text!r}") from exc
 
 
 def _run_ramp(page: Any, button: str, start: str, turn: str, hold: str, ramp: str) -> None:
     page.get_by_role("button", name=button, exact=True).click()
+    # a person types once the page shows the parameter's own sweep (the click's answer); typed
+    # before, the answer lands between the selection and the keys and the box reads "33"
+    turn_default = controls.RAMP_DEFAULTS[controls.RAMP_BUTTONS[button]][1]
+    page.wait_for_function(
+        f"Number(({READ_BY_LABEL})('ramp turn')) === {turn_default!r}", timeout=30_000
+    )
     for label, text in (("ramp start", start), ("ramp turn", turn), ("hold (s)", hold),
                         ("ramp (s)", ramp)):  # fmt: skip
         _set_box(page, label, text)

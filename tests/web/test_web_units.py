@@ -214,6 +214,36 @@ def test_the_follow_camera_can_turn_the_world_so_the_body_faces_x() -> None:
     assert p == pytest.approx(np.zeros(3))
 
 
+def test_the_floor_patch_stays_under_the_insect_on_its_own_grid() -> None:
+    from web.scene import FLOOR_CELL_M, FLOOR_SECTION_M, floor_centre, floor_lines
+
+    points, colours = floor_lines(0.1, FLOOR_CELL_M, FLOOR_SECTION_M)
+    assert points.shape == colours.shape == (42, 2, 3)  # 21 lines each way, 2 end points
+    assert np.abs(points).max() == pytest.approx(0.1)
+    # lines run along x or along y, at z = 0
+    assert np.all(points[:, :, 2] == 0)
+    assert np.all((points[:, 0, 0] == points[:, 1, 0]) | (points[:, 0, 1] == points[:, 1, 1]))
+    # the darker lines are the ones through multiples of a section, and only those
+    offset = np.where(points[:, 0, 0] == points[:, 1, 0], points[:, 0, 0], points[:, 0, 1])
+    on_section = np.isclose(np.round(offset / FLOOR_SECTION_M) * FLOOR_SECTION_M, offset)
+    dark = colours[:, 0, 0] < colours.max()
+    assert np.array_equal(dark, on_section) and dark.sum() == 10
+    # the patch jumps by whole sections: the lines under the insect stay where they were
+    at = floor_centre(np.array([0.126, -0.024, 0.01]))
+    assert at == pytest.approx([0.15, 0.0])
+    assert np.allclose(np.round(at / FLOOR_SECTION_M) * FLOOR_SECTION_M, at)
+    assert np.abs(floor_centre(np.array([0.126, -0.024])) - [0.126, -0.024]).max() <= 0.025
+
+
+def test_the_frame_cap_script_is_filled_in_and_kept_to_one_wrap() -> None:
+    from web.frame_cap import QUERY_KEY, frame_cap_source
+
+    js = frame_cap_source(15)
+    assert "__AUTO__" not in js and "__KEY__" not in js
+    assert f"get('{QUERY_KEY}')" in js and "software ? 15.0 : 0" in js
+    assert js.count("w.requestAnimationFrame = ") == 1 and "if (w.__igFrameCap) return" in js
+
+
 def test_readouts_do_not_claim_keeping_up_while_paused() -> None:
     paused = Readouts(0.66, 1.0, 2.5, 0.66, "metachronal", 2.0, None, 1.2, 1.0, 30.0, "")
     paused = Readouts(**{**paused.__dict__, "playing": False})

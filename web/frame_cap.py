@@ -1,0 +1,95 @@
+"""How often a browser draws the 3D view: at most a few frames a second where it has no GPU.
+
+Why. viser's client draws on demand, but each scene change opens a 250 ms window of continuous
+frames (`RENDER_SETTLE_MS` in its App.tsx), so poses streamed at 30 Hz keep it drawing at the
+display rate. A browser without a GPU draws WebGL in software (SwiftShader, llvmpipe) on the
+CPU, 25-75 ms of a core per frame on a 2-core host (benchmarks/viewer_rtf.py): it then draws as
+many frames as one core allows and takes that core from the simulation. So a page whose WebGL
+renderer is a software one (the test viser's own warning uses) draws at most `software_fps`
+frames a second; with a GPU it draws every frame. `?frameCap=N` in the page's URL asks for N
+(0: every frame), per browser.
+
+How. viser 1.1 replays a `RunJavascriptMessage` to every browser that connects (it keeps it in
+the scene's state, as it does for plotly.js). Ours wraps `window.requestAnimationFrame`: the
+callbacks asked for between two allowed frames run together at the next one, in order.
+react-three-fiber asks for each frame through that global, so its render loop (and any other
+animation on the page) runs unchanged, only less often. `window.__igFrameCap` says what the
+page chose and counts the frames drawn (the benchmark and the browser tests read it).
+"""
+
+from __future__ import annotations
+
+import json
+import logging
+from typing import Any
+
+import viser
+
+log = logging.getLogger(__name__)
+
+QUERY_KEY = "frameCap"  # the page's URL parameter: frames a second, 0 = every frame
+
+# `__AUTO__` becomes the cap for software renderers; the rest is the page's own logic.
+_SOURCE = """(() => {
+  const w = window;
+  if (w.__igFrameCap) return;  // replayed on a reconnect: wrapped once
+  const software = /swiftshader|llvmpipe|softpipe|software/i.test((() => {
+    try {
+      const gl = document.createElement('canvas').getContext('webgl');
+      if (!gl) return '';
+      const info = gl.getExtension('WEBGL_debug_renderer_info');
+      const name = String(gl.getParameter(info ? info.UNMASKED_RENDERER_WEBGL : gl.RENDERER));
+      const lose = gl.getExtension('WEBGL_lose_context');
+      if (lose) lose.loseContext();
+      return name;
+    } catch (e) { return ''; }
+  })());
+  const asked = Number(new URLSearchParams(w.location.search).get('__KEY__') ?? NaN);
+  const fps = Number.isFinite(asked) && asked >= 0 ? asked : (software ? __AUTO__ : 0);
+  const cap = { fps: fps, software: software, frames: 0 };
+  w.__igFrameCap = cap;
+  const nativeRaf = w.requestAnimationFrame.bind(w);
+  const nativeCancel = w.cancelAnimationFrame.bind(w);
+  let queue = new Map(), nextId = 1e9, pending = false, last = -Infinity;
+  const flush = t => {
+    // a frame is due within a quarter of a 60 Hz frame; the timer wakes a frame early and
+    // the browser's own frame clock picks the moment, so frames stay evenly spaced
+    const wait = cap.fps > 0 ? 1000 / cap.fps - (t - last) : 0;
+    if (wait > 4) { setTimeout(() => nativeRaf(flush), Math.max(0, wait - 17)); return; }
+    last = t; pending = false; cap.frames++;
+    const due = queue; queue = new Map();
+    for (const cb of due.values()) cb(t);
+  };
+  w.requestAnimationFrame = cb => {
+    const id = nextId++;
+    queue.set(id, cb);
+    if (!pending) { pending = true; nativeRaf(flush); }
+    return id;
+  };
+  w.cancelAnimationFrame = id => { if (!queue.delete(id)) nativeCancel(id); };
+})();"""
+
+
+def frame_cap_source(software_fps: float) -> str:
+    """The page's script, with the cap for software renderers filled in."""
+    return _SOURCE.replace("__AUTO__", json.dumps(float(software_fps))).replace(
+        "__KEY__", QUERY_KEY
+    )
+
+
+def install_frame_cap(server: viser.ViserServer, software_fps: float) -> bool:
+    """Send the script to every browser, now and as each connects.
+
+    Returns False (and logs why) if this viser has no such message: the page then draws every
+    frame, as before, and the viewer still works.
+    """
+    try:
+        from viser import _messages as messages
+
+        interface: Any = server.gui._websock_interface  # viser 1.1: no public hook for this
+        message = messages.RunJavascriptMessage(source=frame_cap_source(software_fps))
+    except (ImportError, AttributeError) as exc:
+        log.warning("the 3D view draws every frame: this viser cannot run a script (%s)", exc)
+        return False
+    interface.queue_message(message)
+    return True
