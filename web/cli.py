@@ -9,11 +9,13 @@ from __future__ import annotations
 
 import argparse
 import logging
+import math
 import sys
 from pathlib import Path
 
 from sim_core.cli import EXIT_USAGE, port_number, port_taken
 from sim_core.contract import RESULTS_ENV
+from web.frame_cap import SOFTWARE_FPS
 from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, SURFACE_FILE
 
 
@@ -55,7 +57,26 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         help="cast shadows in the 3D view (extra render passes every frame: off by default, "
         "as a browser without a GPU pays them on the simulation's cores)",
     )
+    p.add_argument(
+        "--software-fps",
+        type=frames_a_second,
+        default=SOFTWARE_FPS,
+        help="frames a second a browser without a GPU draws the 3D view at (it draws WebGL on "
+        "the CPU the simulation needs; 0: every frame; a browser's own ?frameCap=N overrides "
+        "it; default %(default)g)",
+    )
     p.set_defaults(func=run)
+
+
+def frames_a_second(text: str) -> float:
+    """argparse type for a frame cap: a number >= 0 (0: every frame), said in one line."""
+    try:
+        fps = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"{text!r} is not a number of frames a second") from None
+    if not (math.isfinite(fps) and fps >= 0):
+        raise argparse.ArgumentTypeError(f"{fps:g} frames a second: give 0 (every frame) or more")
+    return fps
 
 
 def _refuse_busy(args: argparse.Namespace) -> int:
@@ -83,7 +104,7 @@ def run(args: argparse.Namespace) -> int:
         bifurcation_path=args.bifurcation,
         surface_path=surface,
         api_url=args.api_url,
-        config=LoopConfig(shadows=args.shadows),
+        config=LoopConfig(shadows=args.shadows, software_fps=args.software_fps),
     )
     if app.port != args.port:  # taken in the instant between the check and viser's bind
         app.server.stop()

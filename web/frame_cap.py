@@ -21,13 +21,18 @@ from __future__ import annotations
 
 import json
 import logging
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import viser
+if TYPE_CHECKING:  # `insect-gait viewer --help` reads SOFTWARE_FPS without importing viser
+    import viser
 
 log = logging.getLogger(__name__)
 
 QUERY_KEY = "frameCap"  # the page's URL parameter: frames a second, 0 = every frame
+# The cap where WebGL runs in software: every second pose of the 30 Hz stream, evenly spaced.
+# Drawn in software a frame costs 28-32 ms of a core here; at 15 a second the viewer steps at
+# 0.84-0.89 of bench single, at every frame 0.77-0.79 (docs/VIEWER.md, "Session 23").
+SOFTWARE_FPS = 15.0
 
 # `__AUTO__` becomes the cap for software renderers; the rest is the page's own logic.
 _SOURCE = """(() => {

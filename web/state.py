@@ -25,7 +25,7 @@ from sim_core.contract import (
 )
 from web import controls
 from web.bifurcation import WatchedFile
-from web.frame_cap import install_frame_cap
+from web.frame_cap import SOFTWARE_FPS, install_frame_cap
 from web.jobs import JobView, JobWatcher
 from web.pacing import SimClock
 from web.panels import Panels
@@ -49,9 +49,7 @@ class LoopConfig:
     panel_hz: float = 5.0  # diagrams, at most; less often when drawing them costs more
     draw_share: float = 0.15  # the loop's time the diagrams' drawing may take at most
     shadows: bool = False  # cast shadows in the 3D view (extra render passes every frame)
-    # frames a second a browser without a GPU draws the 3D view at (web/frame_cap.py): every
-    # second pose, evenly spaced; drawn in software each frame costs 25-75 ms of a core
-    software_fps: float = 15.0
+    software_fps: float = SOFTWARE_FPS  # the 3D view's frame cap without a GPU (frame_cap.py)
     chunk_s: float = 0.002  # stepping chunk: ramps and conditions act between chunks
     step_budget: float = 0.8  # share of a frame the stepping may use before we draw anyway
     trail_len: int = 600  # live (beta, Delta31) points kept on the bifurcation panel

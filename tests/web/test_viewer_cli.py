@@ -30,6 +30,14 @@ def test_a_bad_port_is_refused_at_once(port: str) -> None:
     assert "Traceback" not in out.stderr
 
 
+@pytest.mark.parametrize("fps", ["-1", "x", "nan"])
+def test_a_bad_frame_cap_is_refused_at_once(fps: str) -> None:
+    out = _viewer("--software-fps", fps, timeout=30)
+    assert out.returncode == 2
+    assert "--software-fps" in out.stderr and "frames a second" in out.stderr
+    assert "Traceback" not in out.stderr
+
+
 def test_a_busy_port_is_refused_not_silently_moved() -> None:
     with socket.socket() as busy:
         busy.bind(("127.0.0.1", 0))
