@@ -275,7 +275,7 @@ def _print(report: dict[str, Any]) -> None:
               f" of the page's main thread")  # fmt: skip
         drawn = "-" if w["drawn_hz"] is None else f"{w['drawn_hz']:4.1f}"
         cores = "  ".join(f"{k} {v:.2f}" for k, v in sorted(w["cpu_cores"].items()))
-        print(f"  3D frames drawn {drawn} a second; CPU cores: {cores}")
+        print(f"  animation frames (3D drawn at most) {drawn} a second; CPU cores: {cores}")
         print(f"  status: {w['status']}")
     rows = report.get("frame_caps") or []
     for cap in dict.fromkeys(r["cap"] for r in rows):

@@ -14,7 +14,9 @@ the scene's state, as it does for plotly.js). Ours wraps `window.requestAnimatio
 callbacks asked for between two allowed frames run together at the next one, in order.
 react-three-fiber asks for each frame through that global, so its render loop (and any other
 animation on the page) runs unchanged, only less often. `window.__igFrameCap` says what the
-page chose and counts the frames drawn (the benchmark and the browser tests read it).
+page chose and counts the animation frames it let through, an upper bound of the 3D view's
+(viser's one-second heartbeat and the page's own animations are frames too; the benchmark and
+the browser tests read it).
 """
 
 from __future__ import annotations
