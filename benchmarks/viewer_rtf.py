@@ -108,20 +108,33 @@ def _applied_after(app: ViewerApp, t0: float, match: Any, timeout_s: float = 30.
     return None
 
 
-def _cpu_seconds() -> dict[str, float]:
-    """CPU seconds so far of this process and of the browser's processes by role (the GPU
-    process draws WebGL in software; the renderer runs the page)."""
-    out = {"viewer": sum(psutil.Process().cpu_times()[:2])}
-    for proc in psutil.Process().children(recursive=True):
+def _cpu_seconds() -> dict[int, tuple[str, float]]:
+    """CPU seconds so far, per process: this one ("viewer": the viewer's threads and the
+    benchmark's Playwright client) and the browser's by role (the GPU process draws WebGL in
+    software; the renderer runs the page)."""
+    me = psutil.Process()
+    out = {me.pid: ("viewer", sum(me.cpu_times()[:2]))}
+    for proc in me.children(recursive=True):
         try:
             cmd = " ".join(proc.cmdline())
             if "chrom" not in cmd:
                 continue
             role = "gpu" if "--type=gpu-process" in cmd else (
                 "renderer" if "--type=renderer" in cmd else "browser")  # fmt: skip
-            out[role] = out.get(role, 0.0) + sum(proc.cpu_times()[:2])
+            out[proc.pid] = (role, sum(proc.cpu_times()[:2]))
         except psutil.Error:
             continue
+    return out
+
+
+def _cores(
+    a: dict[int, tuple[str, float]], b: dict[int, tuple[str, float]], wall: float
+) -> dict[str, float]:
+    """Cores each role took between two samples (processes alive at both)."""
+    out: dict[str, float] = {}
+    for pid, (role, seconds) in b.items():
+        if pid in a:
+            out[role] = out.get(role, 0.0) + (seconds - a[pid][1]) / wall
     return out
 
 
@@ -141,7 +154,7 @@ def _window(app: ViewerApp, page: Page, seconds: float) -> dict[str, Any]:
         "stepping": (b.sim_s - a.sim_s) / max(b.step_wall_s - a.step_wall_s, 1e-9),
         "frames_hz": (b.frames - a.frames) / wall,
         "drawn_hz": None if f0 is None or f1 is None else (f1 - f0) / wall,
-        "cpu_cores": {k: (v - cpu0.get(k, 0.0)) / wall for k, v in cpu1.items()},
+        "cpu_cores": _cores(cpu0, cpu1, wall),
         "readout_hz": changes / wall,
         "long_task_share": busy / wall,
         "status": app.panels.shown("status"),
@@ -357,6 +370,8 @@ def main() -> None:
             page.get_by_role("button", name="max", exact=True).click()
             time.sleep(1.0)
             report["max_speed"] = _window(app, page, args.seconds)
+            if args.frame_caps and report["frame_cap"] is None:
+                raise SystemExit("--frame-caps: the page has no frame cap (web/frame_cap.py)")
             if args.frame_caps:
                 caps = [float(c) for c in args.frame_caps.split(",")]
                 report["frame_caps"] = _frame_caps(app, page, caps, args.rounds, args.seconds)

@@ -15,7 +15,7 @@ from pathlib import Path
 
 from sim_core.cli import EXIT_USAGE, port_number, port_taken
 from sim_core.contract import RESULTS_ENV
-from web.frame_cap import SOFTWARE_FPS
+from web.frame_cap import MIN_FPS, SOFTWARE_FPS
 from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, SURFACE_FILE
 
 
@@ -69,13 +69,15 @@ def register(subparsers: argparse._SubParsersAction) -> None:
 
 
 def frames_a_second(text: str) -> float:
-    """argparse type for a frame cap: a number >= 0 (0: every frame), said in one line."""
+    """argparse type for a frame cap: 0 (every frame) or at least MIN_FPS, said in one line."""
     try:
         fps = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"{text!r} is not a number of frames a second") from None
-    if not (math.isfinite(fps) and fps >= 0):
-        raise argparse.ArgumentTypeError(f"{fps:g} frames a second: give 0 (every frame) or more")
+    if not (math.isfinite(fps) and (fps == 0 or fps >= MIN_FPS)):
+        raise argparse.ArgumentTypeError(
+            f"{fps:g} frames a second: give 0 (every frame) or at least {MIN_FPS:g}"
+        )
     return fps
 
 

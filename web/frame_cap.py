@@ -35,8 +35,12 @@ QUERY_KEY = "frameCap"  # the page's URL parameter: frames a second, 0 = every f
 # Drawn in software a frame costs 28-32 ms of a core here; at 15 a second the viewer steps at
 # 0.84-0.89 of bench single, at every frame 0.77-0.79 (docs/VIEWER.md, "Session 23").
 SOFTWARE_FPS = 15.0
+# The least cap but 0 (every frame): viser applies its messages in the render loop, so below one
+# frame a second the readouts and the status line would stall with the 3D view.
+MIN_FPS = 1.0
 
-# `__AUTO__` becomes the cap for software renderers; the rest is the page's own logic.
+# `__AUTO__` becomes the cap for software renderers, `__MIN__` the least one; the rest is
+# the page's own logic.
 _SOURCE = """(() => {
   const w = window;
   if (w.__igFrameCap) return;  // replayed on a reconnect: wrapped once
@@ -51,8 +55,10 @@ _SOURCE = """(() => {
       return name;
     } catch (e) { return ''; }
   })());
-  const asked = Number(new URLSearchParams(w.location.search).get('__KEY__') ?? NaN);
-  const fps = Number.isFinite(asked) && asked >= 0 ? asked : (software ? __AUTO__ : 0);
+  const text = (new URLSearchParams(w.location.search).get('__KEY__') ?? '').trim();
+  const asked = text === '' ? NaN : Number(text);  // absent or blank: the default
+  const fps = !(Number.isFinite(asked) && asked >= 0) ? (software ? __AUTO__ : 0)
+            : asked > 0 ? Math.max(__MIN__, asked) : 0;
   const cap = { fps: fps, software: software, frames: 0 };
   w.__igFrameCap = cap;
   const nativeRaf = w.requestAnimationFrame.bind(w);
@@ -63,9 +69,15 @@ _SOURCE = """(() => {
     // the browser's own frame clock picks the moment, so frames stay evenly spaced
     const wait = cap.fps > 0 ? 1000 / cap.fps - (t - last) : 0;
     if (wait > 4) { setTimeout(() => nativeRaf(flush), Math.max(0, wait - 17)); return; }
-    last = t; pending = false; cap.frames++;
+    pending = false;
     const due = queue; queue = new Map();
-    for (const cb of due.values()) cb(t);
+    if (due.size === 0) return;  // every callback was cancelled: no frame
+    last = t; cap.frames++;
+    // one callback that throws does not stop the others (as with the browser's own frames):
+    // react-three-fiber's loop, and with it viser's message queue, must keep running
+    for (const cb of due.values()) {
+      try { cb(t); } catch (e) { setTimeout(() => { throw e; }); }
+    }
   };
   w.requestAnimationFrame = cb => {
     const id = nextId++;
@@ -79,9 +91,12 @@ _SOURCE = """(() => {
 
 def frame_cap_source(software_fps: float) -> str:
     """The page's script, with the cap for software renderers filled in."""
-    return _SOURCE.replace("__AUTO__", json.dumps(float(software_fps))).replace(
-        "__KEY__", QUERY_KEY
-    )
+    fill = {"__AUTO__": json.dumps(float(software_fps)), "__MIN__": json.dumps(MIN_FPS),
+            "__KEY__": QUERY_KEY}  # fmt: skip
+    source = _SOURCE
+    for key, value in fill.items():
+        source = source.replace(key, value)
+    return source
 
 
 def install_frame_cap(server: viser.ViserServer, software_fps: float) -> bool:

@@ -26,9 +26,12 @@ def view_cost_html(software_fps: float) -> str:
     ms here), so the capped page takes less and the uncapped one draws more. Links, not
     defaults: on a GPU every frame at full resolution costs nothing.
     """
+    then = (
+        f"then draws {software_fps:g} frames a second" if software_fps > 0 else "draws every frame"
+    )
     return (
         '<div style="font-size:0.75em;padding-left:0.5em">No GPU (software WebGL)? The 3D view '
-        f"then draws {software_fps:g} frames a second: "
+        f"{then}: "
         '<a href="?fixedDpr=0.5">the 3D view at half resolution</a> · '
         '<a href="?frameCap=0">every frame</a> · <a href="?">default</a></div>'
     )

@@ -42,11 +42,15 @@ CAMERA_POSITION = (-0.06, -0.05, 0.075)
 LEG_DRAW_SCALE = 3.0
 CAMERA_NEAR, CAMERA_FAR = 5e-4, 20.0
 # The floor: grid lines on a 20 x 20 cm patch (1 cm cells, every 5th line darker) kept under the
-# insect, in 5 cm jumps that the grid's own period hides. viser's infinite grid shades every
+# insect: once the body is 3.5 cm from the patch's centre (so at least 6.5 cm of floor shows on
+# every side, and a walk along a section line does not make it flicker) the patch jumps to the
+# section nearest the body, a jump its repeating lines hide. viser's infinite grid shades every
 # pixel of the view (a full-screen pass, 35-45 ms a frame in software WebGL) and its tinted plane
 # more (the lit plane about 20 ms); lines cost only their own pixels (benchmarks/viewer_rtf.py;
-# docs/VIEWER.md). `--shadows` keeps viser's grid: its plane is what catches the shadows.
+# docs/VIEWER.md). `--shadows` keeps viser's infinite grid (1 cm cells, still): its plane is what
+# catches the shadows.
 FLOOR_HALF_M, FLOOR_CELL_M, FLOOR_SECTION_M = 0.10, 0.01, 0.05
+FLOOR_SHIFT_M = 0.035
 FLOOR_CELL_RGB, FLOOR_SECTION_RGB = (190, 190, 190), (120, 120, 120)
 # Light without viser's environment map: image-based lighting is a texture lookup per lit pixel
 # (~8 ms a frame in software WebGL); a hemisphere light (sky above, warm ground below) fills in
@@ -115,7 +119,7 @@ class HexapodScene:
         self._frame = server.scene.add_frame(BODIES_NODE, show_axes=False)
         self._bodies = add_body_meshes(server, model, BODIES_NODE)
         self._floor: viser.SceneNodeHandle
-        self._floor_at = np.zeros(2)
+        self._floor_at: np.ndarray | None = None if shadows else np.zeros(2)  # None: it stays
         if shadows:
             self._floor = server.scene.add_grid(
                 f"{BODIES_NODE}/floor",
@@ -184,10 +188,11 @@ class HexapodScene:
                 self._frame.wxyz = wxyz
             if not np.array_equal(self._frame.position, position):
                 self._frame.position = position
-            at = floor_centre(data.xpos[self._torso])
-            if not np.array_equal(at, self._floor_at):
-                self._floor.position = (float(at[0]), float(at[1]), 0.0)
-                self._floor_at = at
+            if self._floor_at is not None:
+                at = floor_centre(data.xpos[self._torso], self._floor_at)
+                if at is not self._floor_at:
+                    self._floor.position = (float(at[0]), float(at[1]), 0.0)
+                    self._floor_at = at
             for b, handle in self._bodies.items():
                 handle.position = data.xpos[b]
                 handle.wxyz = data.xquat[b]
@@ -199,10 +204,14 @@ class HexapodScene:
             self._stance = stance.copy()
 
 
-def floor_centre(body_xyz: np.ndarray) -> np.ndarray:
-    """Where the floor patch sits: under the body, on the grid's own period (a jump the
+def floor_centre(body_xyz: np.ndarray, centre: np.ndarray) -> np.ndarray:
+    """Where the floor patch sits: `centre` (the same object) while the body is within
+    FLOOR_SHIFT_M of it along x and y, else the section point nearest the body (a jump the
     repeating lines hide)."""
-    return np.round(np.asarray(body_xyz[:2], dtype=float) / FLOOR_SECTION_M) * FLOOR_SECTION_M
+    xy = np.asarray(body_xyz[:2], dtype=float)
+    if np.max(np.abs(xy - centre)) <= FLOOR_SHIFT_M:
+        return centre
+    return np.round(xy / FLOOR_SECTION_M) * FLOOR_SECTION_M
 
 
 def floor_lines(half: float, cell: float, section: float) -> tuple[np.ndarray, np.ndarray]:

@@ -22,8 +22,8 @@ import numpy as np
 import pytest
 
 from web import controls
-from web.app import LoopConfig
 from web.entry import box_label
+from web.frame_cap import MIN_FPS, SOFTWARE_FPS, frame_cap_source
 from web.page_probe import READ_BY_LABEL, TAG_BY_LABEL
 from web.panel_labels import LOAD_SETTINGS, PRESET_METACHRONAL, SUBMIT_RUN
 
@@ -335,21 +335,25 @@ def test_the_half_resolution_link_draws_the_3d_view_at_half_its_pixels(
         page.close()
 
 
+# Frames the page lets through over `ms` of its own clock (performance.now), so that a loaded
+# host cannot stretch the window between two calls from Python.
+FRAMES_OVER = """ms => new Promise(done => {
+  const n0 = window.__igFrameCap.frames, t0 = performance.now();
+  setTimeout(() => done([window.__igFrameCap.frames - n0, performance.now() - t0]), ms);
+})"""
+
+
 def test_a_browser_without_a_gpu_draws_the_3d_view_at_its_frame_cap(
     viewer: str, browser: Any
 ) -> None:
     """Headless Chromium draws WebGL in software (SwiftShader): the page caps its frames at
-    LoopConfig.software_fps while poses stream at 30 Hz; `?frameCap=0` lifts the cap."""
-    cap = LoopConfig.software_fps
+    SOFTWARE_FPS while poses stream at 30 Hz; `?frameCap=0` lifts the cap."""
     page, errors = _open(browser, viewer)
     try:
         chosen = page.evaluate("() => window.__igFrameCap")
-        assert chosen["software"] is True and chosen["fps"] == cap, chosen
-        seconds = 3.0
-        n0 = page.evaluate("() => window.__igFrameCap.frames")
-        page.wait_for_timeout(seconds * 1000)
-        drawn = page.evaluate("() => window.__igFrameCap.frames") - n0
-        assert 1 <= drawn <= cap * seconds + 2, f"{drawn} frames in {seconds} s"
+        assert chosen["software"] is True and chosen["fps"] == SOFTWARE_FPS, chosen
+        drawn, ms = page.evaluate(FRAMES_OVER, 3000)
+        assert 1 <= drawn <= SOFTWARE_FPS * ms / 1000 + 1, f"{drawn} frames in {ms:.0f} ms"
         assert errors == [], errors
     finally:
         page.close()
@@ -357,6 +361,57 @@ def test_a_browser_without_a_gpu_draws_the_3d_view_at_its_frame_cap(
     try:
         assert page.evaluate("() => window.__igFrameCap.fps") == 0
         assert errors == [], errors
+    finally:
+        page.close()
+
+
+# An animation loop on the wrapped requestAnimationFrame: its frames over `ms` of the page's
+# clock, one callback beside it that throws once, and one asked for and cancelled.
+WRAPPED_LOOP = """ms => new Promise(done => {
+  let frames = 0, cancelledRan = false, thrown = false;
+  const loop = () => { frames++; requestAnimationFrame(loop); };
+  // the one that throws first: had it stopped the frame, the loop would never run
+  requestAnimationFrame(() => { if (!thrown) { thrown = true; throw new Error('cb failed'); } });
+  requestAnimationFrame(loop);
+  cancelAnimationFrame(requestAnimationFrame(() => { cancelledRan = true; }));
+  const t0 = performance.now();
+  setTimeout(() => done({frames, ms: performance.now() - t0, cancelledRan}), ms);
+})"""
+
+
+@pytest.mark.parametrize(
+    ("query", "fps"),
+    [("", SOFTWARE_FPS), ("?frameCap=", SOFTWARE_FPS), ("?frameCap=%20", SOFTWARE_FPS),
+     ("?frameCap=abc", SOFTWARE_FPS), ("?frameCap=-3", SOFTWARE_FPS), ("?frameCap=0", 0),
+     ("?frameCap=0.2", MIN_FPS), ("?frameCap=10", 10)],
+)  # fmt: skip
+def test_the_frame_cap_reads_the_url_and_keeps_an_animation_loop_running(
+    browser: Any, query: str, fps: float
+) -> None:
+    """The page's script alone, on a blank page of its own origin (no viewer): the cap it reads
+    from the URL, frames at most at the cap, a callback that throws stops no other, a
+    cancelled one never runs, and a second install (viser's replay) wraps nothing again."""
+    page = browser.new_page()
+    errors: list[str] = []
+    page.on("pageerror", lambda e: errors.append(str(e)))
+    page.route(
+        "http://frame-cap.test/**",
+        lambda r: r.fulfill(body="<html></html>", content_type="text/html"),
+    )
+    try:
+        page.goto("http://frame-cap.test/" + query)
+        source = frame_cap_source(SOFTWARE_FPS)
+        page.evaluate(f"() => {{ {source} }}")
+        wrapped = page.evaluate("() => window.requestAnimationFrame")
+        page.evaluate(f"() => {{ {source} }}")  # viser replays it on a reconnect
+        assert page.evaluate("() => window.requestAnimationFrame") == wrapped
+        cap = page.evaluate("() => window.__igFrameCap")
+        assert cap["software"] is True and cap["fps"] == fps, cap
+        run = page.evaluate(WRAPPED_LOOP, 1000)
+        assert run["frames"] >= 1 and not run["cancelledRan"], run
+        if fps > 0:
+            assert run["frames"] <= fps * run["ms"] / 1000 + 1, run
+        assert errors == ["cb failed"], errors  # reported, as the browser reports its own
     finally:
         page.close()
 
