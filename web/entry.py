@@ -17,8 +17,8 @@ So the two are separate controls and need no telling apart:
 - both show the value in force: a drag writes the box, Enter writes the slider.
 
 "Any other control" and the box's forced echo need one hook past viser's public API
-(`watch_controls`), which is why pyproject pins viser to 1.1; without it the box still applies
-on Enter.
+(`watch_controls`, through web/viser_private.py), which is why pyproject pins viser to 1.1;
+without it the box still applies on Enter.
 """
 
 from __future__ import annotations
@@ -33,6 +33,7 @@ from typing import Any
 import viser
 
 from web.controls import SliderRange
+from web.viser_private import NoHook, private_channel
 
 log = logging.getLogger(__name__)
 
@@ -201,11 +202,8 @@ def watch_controls(server: viser.ViserServer, live: list[LiveSlider]) -> bool:
     for Enter alone, and the viewer still works.
     """
     try:
-        from viser import _messages as messages
-
-        interface: Any = server.gui._websock_interface  # viser 1.1: no public hook for this
-        update = messages.GuiUpdateMessage
-    except (ImportError, AttributeError) as exc:
+        interface, (update,) = private_channel(server, "GuiUpdateMessage")
+    except NoHook as exc:
         log.warning("a typed value waits for Enter alone: this viser has no hook (%s)", exc)
         return False
     owner = {}

@@ -23,10 +23,12 @@ from __future__ import annotations
 
 import json
 import logging
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:  # `insect-gait viewer --help` reads SOFTWARE_FPS without importing viser
     import viser
+
+from web.viser_private import NoHook, private_channel
 
 log = logging.getLogger(__name__)
 
@@ -106,12 +108,9 @@ def install_frame_cap(server: viser.ViserServer, software_fps: float) -> bool:
     frame, as before, and the viewer still works.
     """
     try:
-        from viser import _messages as messages
-
-        interface: Any = server.gui._websock_interface  # viser 1.1: no public hook for this
-        message = messages.RunJavascriptMessage(source=frame_cap_source(software_fps))
-    except (ImportError, AttributeError) as exc:
+        interface, (run_script,) = private_channel(server, "RunJavascriptMessage")
+    except NoHook as exc:
         log.warning("the 3D view draws every frame: this viser cannot run a script (%s)", exc)
         return False
-    interface.queue_message(message)
+    interface.queue_message(run_script(source=frame_cap_source(software_fps)))
     return True

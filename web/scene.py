@@ -220,11 +220,9 @@ def floor_lines(half: float, cell: float, section: float) -> tuple[np.ndarray, n
     darker."""
     n = round(half / cell)
     k = np.arange(-n, n + 1)
-    t = k * cell
-    along_y = np.stack(
-        [np.stack([t, np.full_like(t, -half), np.zeros_like(t)], 1),
-         np.stack([t, np.full_like(t, half), np.zeros_like(t)], 1)], 1
-    )  # fmt: skip
+    along_y = np.zeros((k.size, 2, 3))  # line k: x = k cell, from y = -half to y = half
+    along_y[:, :, 0] = (k * cell)[:, None]
+    along_y[:, :, 1] = (-half, half)
     along_x = along_y[:, :, [1, 0, 2]]
     points = np.concatenate([along_y, along_x]).astype(np.float32)
     major = np.tile(k % round(section / cell) == 0, 2)
