@@ -137,12 +137,33 @@ def _read(page: Any, label: str) -> str | None:
     return page.evaluate(READ_BY_LABEL, label)
 
 
+def _poll(page: Any, probe: str, test: str, arg: Any = None, timeout_ms: int = 60_000) -> Any:
+    """Wait until `test` (a JavaScript expression in `v`) holds for `probe(arg)`, evaluated in
+    the page at every animation frame, and return the value that passed. A page that reloads or
+    redraws under load is read again instead of once: on timeout the message names the last
+    value read, so a failure says what the page showed."""
+    try:
+        handle = page.wait_for_function(
+            f"arg => {{ const v = ({probe})(arg); return ({test}) ? [v] : false; }}",
+            arg=arg,
+            timeout=timeout_ms,
+        )
+    except Exception as exc:
+        raise AssertionError(f"{test} never held; last read {page.evaluate(probe, arg)!r}") from exc
+    return handle.json_value()[0]
+
+
 def _wait_read(page: Any, label: str, expected: str, timeout_ms: int = 60_000) -> None:
     try:
         page.wait_for_function(f"({READ_BY_LABEL})({label!r}) === {expected!r}", timeout=timeout_ms)
     except Exception as exc:  # say what was there instead
         found = _read(page, label)
         raise AssertionError(f"{label}: expected {expected!r}, read {found!r}") from exc
+
+
+# Stance bars per leg in the footfall panel's window.
+STANCE_BARS = """() => Object.fromEntries(['R1', 'L1', 'R2', 'L2', 'R3', 'L3'].map(leg => [leg,
+  document.querySelectorAll(`svg[data-plot=footfall] rect.stance[data-leg=${leg}]`).length]))"""
 
 
 def test_page_renders_a_readable_gait_and_the_slider_drives_the_simulation(
@@ -154,7 +175,12 @@ def test_page_renders_a_readable_gait_and_the_slider_drives_the_simulation(
     try:
         # the 3D canvas is not blank
         canvas = page.locator("canvas").first
-        img = np.asarray(Image.open(io.BytesIO(canvas.screenshot())).convert("L"), float)
+        deadline = time.monotonic() + 60
+        while True:  # the first frames may still be empty on a loaded host
+            img = np.asarray(Image.open(io.BytesIO(canvas.screenshot())).convert("L"), float)
+            if img.std() > 5.0 or time.monotonic() > deadline:
+                break
+            page.wait_for_timeout(500)
         assert img.std() > 5.0, f"canvas looks blank (pixel std {img.std():.2f})"
 
         # the footfall diagram and Delta31 are on screen at 1280x800 without scrolling
@@ -181,9 +207,8 @@ def test_page_renders_a_readable_gait_and_the_slider_drives_the_simulation(
             f"({READ_BY_LABEL})('sim time (s)') > 1.0", timeout=60_000
         )  # a full window of steps
         assert footfall.get_attribute("data-window-s") == "0.5"
-        for leg in ("R1", "L1", "R2", "L2", "R3", "L3"):
-            n = page.locator(f"svg[data-plot=footfall] rect.stance[data-leg={leg}]").count()
-            assert 2 <= n <= 12, f"{leg}: {n} stance bars in the 0.5 s window, not a few cycles"
+        # the panel is redrawn a few times a second, after the readout: poll the bars
+        _poll(page, STANCE_BARS, "Object.values(v).every(n => n >= 2 && n <= 12)")
 
         # move the beta slider with the keyboard: the running simulation's beta follows
         assert _read(page, "β (simulation)") == "0.6600"
@@ -315,6 +340,16 @@ def test_a_typed_value_applies_when_another_control_is_used_and_enter_clamps(
         page.close()
 
 
+# Pixels drawn per CSS pixel by the 3D view: the widest canvas (viser also keeps small 2D
+# overlay canvases), or null before it is laid out.
+CANVAS_PIXEL_RATIO = """() => {
+  const wide = [...document.querySelectorAll('canvas')]
+    .filter(c => c.getBoundingClientRect().width > 300);
+  return wide.length ? Math.max(...wide.map(c => c.width / c.getBoundingClientRect().width))
+                     : null;
+}"""
+
+
 def test_the_half_resolution_link_draws_the_3d_view_at_half_its_pixels(
     viewer: str, browser: Any
 ) -> None:
@@ -322,14 +357,9 @@ def test_the_half_resolution_link_draws_the_3d_view_at_half_its_pixels(
     try:
         page.get_by_role("link", name="the 3D view at half resolution").click()
         page.wait_for_url("**fixedDpr=0.5**")
-        page.wait_for_function(f"({READ_BY_LABEL})('sim time (s)') > 0.5", timeout=90_000)
-        # the 3D view: the widest canvas (viser also keeps small 2D overlay canvases)
-        ratio = page.evaluate(
-            """() => Math.max(...[...document.querySelectorAll('canvas')]
-                 .filter(c => c.getBoundingClientRect().width > 300)
-                 .map(c => c.width / c.getBoundingClientRect().width))"""
-        )
-        assert 0.45 <= ratio <= 0.55, f"the 3D canvas draws {ratio:.2f} pixels per CSS pixel"
+        # the reloaded page applies its resolution when its renderer starts: wait for the
+        # canvas itself, not for a readout that may come first under load
+        _poll(page, CANVAS_PIXEL_RATIO, "v !== null && v >= 0.45 && v <= 0.55", timeout_ms=90_000)
         assert errors == [], errors
     finally:
         page.close()
@@ -488,17 +518,26 @@ def test_the_delta31_export_holds_the_whole_beta_ramp(viewer: str, browser: Any)
         assert min(betas) == pytest.approx(0.62, abs=0.005) and betas[0] == pytest.approx(0.66)
         assert rows[0]["time_s"] and float(rows[0]["time_s"]) < t[0]  # the run before it, too
         # the slider was never written during the ramp; it shows the value the ramp ended at
-        assert float(_read(page, "β (duty factor)") or "nan") == pytest.approx(0.66)
+        _poll(page, READ_BY_LABEL, "Math.abs(Number(v) - 0.66) < 1e-9", "β (duty factor)")
         assert errors == [], errors
     finally:
         page.close()
+
+
+# The directions drawn in the body-mass ramp's panel, and the labels of the Delta31 marks.
+RAMP_DIRECTIONS = """() => [...document.querySelectorAll(
+  'svg[data-plot=ramp-path][data-param=body_mass_g] polyline[data-direction]')]
+  .map(p => p.getAttribute('data-direction'))"""
+D31_MARKS = """() => [...document.querySelectorAll('svg[data-plot=d31] line.mark')]
+  .map(l => l.getAttribute('data-label'))"""
 
 
 def test_a_body_mass_ramp_follows_hold_ramp_ramp_hold(viewer: str, browser: Any) -> None:
     page, errors = _open(browser, viewer, draw_3d=False)
     try:
         _run_ramp(page, "ramp mass", "3", "5", "0.25", "1")
-        disabled = page.evaluate(
+        _poll(
+            page,
             """label => {
               const l = [...document.querySelectorAll('label')]
                 .find(e => e.textContent.trim() === label);
@@ -508,9 +547,10 @@ def test_a_body_mass_ramp_follows_hold_ramp_ramp_hold(viewer: str, browser: Any)
               // ignores values for the ramped parameter)
               return n.querySelector('[data-disabled], [aria-disabled=true]') !== null;
             }""",
+            "v === true",
             "body mass (g)",
-        )
-        assert disabled, "the ramped parameter's slider is not disabled during the ramp"
+            timeout_ms=30_000,
+        )  # the ramped parameter's slider is disabled during the ramp
         _wait_ramp_done(page)
         rows = _download(page, "ramp path (CSV)")
         assert rows and {r["ramp"] for r in rows} == {
@@ -528,11 +568,8 @@ def test_a_body_mass_ramp_follows_hold_ramp_ramp_hold(viewer: str, browser: Any)
         # marked at each phase; the button group names the parameter it drives
         plot = page.locator("svg[data-plot=ramp-path][data-param=body_mass_g]")
         plot.wait_for(timeout=30_000)
-        assert plot.locator("polyline[data-direction=up]").count() >= 1
-        assert plot.locator("polyline[data-direction=down]").count() >= 1
-        lines = page.locator("svg[data-plot=d31] line.mark")
-        marks = [lines.nth(k).get_attribute("data-label") for k in range(lines.count())]
-        assert "ramp mass up" in marks and "ramp over" in marks, marks
+        _poll(page, RAMP_DIRECTIONS, "v.includes('up') && v.includes('down')")
+        _poll(page, D31_MARKS, "v.includes('ramp mass up') && v.includes('ramp over')")
         page.get_by_text("ramp drives — body mass (g)").wait_for(timeout=10_000)
         assert errors == [], errors
     finally:
