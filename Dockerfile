@@ -1,7 +1,8 @@
 # insect-gait: the REST API (default command) and, with another command, the viewer.
-# Same install steps as the Makefile (`python -m venv .venv && .venv/bin/pip install -e ...`,
-# then `python -m sim_core.model.ground_build`, the penalty ground's MuJoCo plugin), without the
-# dev extras. They run in a build stage with a C compiler; the image gets /app without it.
+# Same install steps as the Makefile's `make install` (`python -m venv .venv && .venv/bin/pip
+# install -e .` with the same warning filter, then `python -m sim_core.model.ground_build`, the
+# penalty ground's MuJoCo plugin), without the dev, cluster and lab extras (no optuna). They run
+# in a build stage with a C compiler; the image gets /app without it.
 FROM python:3.11-slim AS build
 
 ENV PIP_NO_CACHE_DIR=1 \
@@ -17,7 +18,8 @@ COPY pyproject.toml README.md ./
 COPY sim_core ./sim_core
 COPY server ./server
 COPY web ./web
-RUN python -m venv .venv && .venv/bin/pip install --quiet -e . \
+RUN python -m venv .venv \
+    && PYTHONWARNINGS="ignore:Editable installation" .venv/bin/pip install --quiet -e . \
     && .venv/bin/python -m sim_core.model.ground_build
 
 FROM python:3.11-slim
@@ -42,6 +44,9 @@ USER 10001:10001
 
 # the same base image as the build stage, so the venv's interpreter paths and libc match
 COPY --from=build --chown=10001:10001 /app /app
+# the results the viewer's panels read (the core's results folder: the checkout's docs/figures,
+# here /app/docs/figures); only the JSON files reach the build context (.dockerignore)
+COPY --chown=10001:10001 docs/figures ./docs/figures
 
 VOLUME ["/data"]
 EXPOSE 8000 8080

@@ -3,7 +3,8 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 STAMP := $(VENV)/.installed
-# the tests' and the cluster's extras (pytest, mypy, playwright, dask ...): `make test` only
+# the tests', the cluster's and the lab's extras (pytest, mypy, playwright, dask, optuna ...):
+# `make test` and `make install-dev` only
 DEV_STAMP := $(VENV)/.installed-dev
 # the penalty ground's MuJoCo engine plugin (sim_core/model/ground.py), compiled against the
 # installed mujoco wheel's headers and library
@@ -16,21 +17,26 @@ SHELL := /bin/bash
 
 .PHONY: install install-dev plugin run test lint typecheck bench screenshot clean
 
-# What running needs, and no more (the image installs the same: Dockerfile). pip's notices
-# about setuptools are kept out of the way; a failed install still says so and stops make.
+# setuptools' editable build tells, as a Python warning, that a folder named like a package
+# may shadow it ("Editable installation." and a box of `!!`, then the line that warned): the
+# build backend inherits this filter, which matches that message only. pip's other notices
+# about setuptools are grepped out; a failed install still says so and stops make.
+QUIET_BUILD := PYTHONWARNINGS="ignore:Editable installation"
+
+# What running needs, and no more (the image installs the same: Dockerfile).
 $(STAMP): pyproject.toml
 	@echo "insect-gait: installing into $(VENV) (first time ~1-3 min: MuJoCo, numba, viser) ..."
 	@$(PYTHON) -m venv $(VENV)
 	@$(BIN)/pip install --quiet --disable-pip-version-check --upgrade pip
-	@$(BIN)/pip install --quiet --disable-pip-version-check -e . 2>&1 | grep -v -i setuptools || true
+	@$(QUIET_BUILD) $(BIN)/pip install --quiet --disable-pip-version-check -e . 2>&1 | grep -v -i setuptools || true
 	@$(BIN)/python -c "import sim_core, server, web" || { echo "insect-gait: install failed" >&2; exit 1; }
 	@touch $(STAMP)
 	@echo "insect-gait: installed."
 
 $(DEV_STAMP): $(STAMP)
-	@echo "insect-gait: installing the test and cluster extras (pytest, mypy, playwright, dask) ..."
-	@$(BIN)/pip install --quiet --disable-pip-version-check -e '.[dev,cluster]' 2>&1 | grep -v -i setuptools || true
-	@$(BIN)/python -c "import pytest, mypy, playwright" || { echo "insect-gait: install failed" >&2; exit 1; }
+	@echo "insect-gait: installing the test, cluster and lab extras (pytest, mypy, playwright, dask, optuna) ..."
+	@$(QUIET_BUILD) $(BIN)/pip install --quiet --disable-pip-version-check -e '.[dev,cluster,lab]' 2>&1 | grep -v -i setuptools || true
+	@$(BIN)/python -c "import pytest, mypy, playwright, optuna" || { echo "insect-gait: install failed" >&2; exit 1; }
 	@touch $(DEV_STAMP)
 
 $(PLUGIN): sim_core/model/penalty_ground.c sim_core/model/ground_build.py $(STAMP)

@@ -8,6 +8,7 @@ Start the service first (`make run`, or `insect-gait api`), then:
 import argparse
 import json
 import time
+import urllib.error
 import urllib.request
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -18,11 +19,17 @@ args = parser.parse_args()
 
 def call(method: str, path: str, body: dict | None = None) -> bytes:
     data = None if body is None else json.dumps(body).encode()
-    req = urllib.request.Request(
-        args.url + path, data=data, method=method, headers={"Content-Type": "application/json"}
-    )
-    with urllib.request.urlopen(req, timeout=30) as resp:
-        return resp.read()
+    headers = {"Content-Type": "application/json"}
+    try:
+        req = urllib.request.Request(args.url + path, data, headers, method=method)
+        with urllib.request.urlopen(req, timeout=30) as resp:
+            return resp.read()
+    except urllib.error.HTTPError as exc:  # the service refused: its reason, in one line
+        raise SystemExit(f"{method} {path}: {exc.code} {exc.read().decode()[:300]}") from None
+    except (OSError, ValueError) as exc:  # nothing listens there, or no URL at all
+        why = getattr(exc, "reason", exc)
+        raise SystemExit(f"no insect-gait API at {args.url} ({why}): start it with `make run` "
+                         "or `insect-gait api`, or pass --url") from None  # fmt: skip
 
 
 spec = {"kind": "run", "beta": 0.66, "d31_init": [2.0, 3.0], "duration_s": args.duration_s}

@@ -34,6 +34,7 @@ def remaining_s(
     progress: float,
     sim_seconds: float,
     wall_per_sim_s: float | None,
+    moving_s: float | None = None,
 ) -> float:
     """Seconds a running job still needs.
 
@@ -43,15 +44,22 @@ def remaining_s(
         sim_seconds: simulated seconds it asks for (all runs), weighted by its step
             (`step_weight`: a second at 5e-6 s counts 10).
         wall_per_sim_s: recent jobs' wall seconds per (weighted) simulated second, or None.
+        moving_s: wall seconds since it first reported progress above 0 (None: not yet, or
+            a row from an older server: then `elapsed_s`).
 
     Returns:
-        From its own rate once it has reported `MIN_PROGRESS` (elapsed x (1 - p) / p);
-        before that, from recent jobs' rate x its size, less the time already spent.
+        From its own rate once it has reported `MIN_PROGRESS` (moving x (1 - p) / p: the
+        rate since its progress began to move, so that the seconds before its first run
+        reports (loading the engine, building the model), which do not scale with the job, are
+        not extrapolated over the rest: a 7.6 s surface job, the first on its worker, spent
+        2.5 s so and was told 52 s left at 5.6 %); before that,
+        from recent jobs' rate x its size, less the time already spent.
     """
     if progress >= 1.0:
         return 0.0
-    if progress >= MIN_PROGRESS and elapsed_s > 0:
-        return elapsed_s * (1.0 - progress) / progress
+    rated = elapsed_s if moving_s is None else moving_s
+    if progress >= MIN_PROGRESS and rated > 0:
+        return rated * (1.0 - progress) / progress
     rate = wall_per_sim_s if wall_per_sim_s is not None else FALLBACK_WALL_PER_SIM_S
     return max(0.0, sim_seconds * rate - elapsed_s)
 
@@ -78,10 +86,15 @@ def weighted_sim_seconds(sim_seconds: float, spec: dict[str, Any] | None) -> flo
 
 
 def wall_per_sim_second(done: Sequence[tuple[float, float, dict[str, Any]]]) -> float | None:
-    """Median wall seconds per (weighted) simulated second of done jobs, given as (wall
-    seconds, simulated seconds, spec) (`JobStore.recent_done`); None without any."""
-    xs = sorted(wall / w for wall, sim, spec in done if (w := weighted_sim_seconds(sim, spec)) > 0)
-    return xs[len(xs) // 2] if xs else None
+    """Wall seconds per (weighted) simulated second of done jobs, given as (wall seconds,
+    simulated seconds, spec) (`JobStore.recent_done`), pooled: their wall time over their
+    simulated time, so each simulated second weighs once. A small job's fixed cost (a worker
+    loading the engine, a model built: seconds against a fraction of a simulated second) then
+    cannot set the rate of a long one, as the median of per-job rates let it (a 0.3 s job that
+    took 5 s said 17 wall s per simulated s). None without any."""
+    pairs = [(wall, w) for wall, sim, spec in done if (w := weighted_sim_seconds(sim, spec)) > 0]
+    total = sum(w for _, w in pairs)
+    return sum(wall for wall, _ in pairs) / total if pairs else None
 
 
 def eta_of(job: JobRow, now: datetime, wall_per_sim_s: float | None) -> float | None:
@@ -100,6 +113,7 @@ def eta_of(job: JobRow, now: datetime, wall_per_sim_s: float | None) -> float | 
             progress=job.progress,
             sim_seconds=sim,
             wall_per_sim_s=wall_per_sim_s,
+            moving_s=seconds_since(job.moving_since, now),
         ),
         1,
     )

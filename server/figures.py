@@ -10,9 +10,12 @@ from __future__ import annotations
 import csv
 import io
 from collections.abc import Sequence
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from server.kinds import KINDS
+
+if TYPE_CHECKING:
+    from matplotlib.figure import Figure
 
 
 def records_csv(records: list[dict[str, Any]], columns: Sequence[str] = ()) -> str:
@@ -35,9 +38,10 @@ def _cell(v: Any) -> Any:
     return "" if v is None else v
 
 
-def figure_png(kind: str, spec: dict[str, Any], result: dict[str, Any]) -> bytes:
+def figure(kind: str, spec: dict[str, Any], result: dict[str, Any]) -> Figure:
     """The figure of a done job of `kind` from its stored spec and result, drawn by the kind
-    (`Kind.draw`) on a 6.4 x 4.8 in, 100 dpi canvas it may resize."""
+    (`Kind.draw`) on a 6.4 x 4.8 in, 100 dpi canvas it may resize; apart from its PNG so that
+    a test reads its titles and axis labels."""
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -45,6 +49,11 @@ def figure_png(kind: str, spec: dict[str, Any], result: dict[str, Any]) -> bytes
     FigureCanvasAgg(fig)
     KINDS[kind].draw(fig, spec, result)
     fig.tight_layout()
+    return fig
+
+
+def figure_png(kind: str, spec: dict[str, Any], result: dict[str, Any]) -> bytes:
+    """`figure` as PNG bytes."""
     buf = io.BytesIO()
-    fig.savefig(buf, format="png")
+    figure(kind, spec, result).savefig(buf, format="png")
     return buf.getvalue()

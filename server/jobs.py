@@ -26,9 +26,13 @@ from typing import Any, Literal
 
 from server.status import ACTIVE, FINISHED, JobStatus, sql_list
 
-# 2: jobs.worker_deaths (a job whose worker died from outside runs again once); a version-1
-# file gains the column on open
-SCHEMA_VERSION = 2
+# 2: jobs.worker_deaths (a job whose worker died from outside runs again once); 3: jobs.restarts
+# (the server stopped while it ran), so that `requeues` counts every re-queue after a crash
+# (the server's or the worker's) while each kind of crash keeps its own limit, and
+# jobs.moving_since (when the attempt first reported progress: its rate is measured from there,
+# not from a start-up the job's size does not scale). An older file gains the columns on open
+# (`_MIGRATIONS`).
+SCHEMA_VERSION = 3
 # how many times a job may lose its worker to an outside kill and still be run again
 MAX_WORKER_DEATHS = 1
 
@@ -43,6 +47,8 @@ CREATE TABLE IF NOT EXISTS jobs (
     attempts    INTEGER NOT NULL DEFAULT 0,
     requeues    INTEGER NOT NULL DEFAULT 0,
     worker_deaths INTEGER NOT NULL DEFAULT 0,
+    restarts    INTEGER NOT NULL DEFAULT 0,
+    moving_since TEXT,
     sim_seconds REAL NOT NULL,
     created_at  TEXT NOT NULL,
     started_at  TEXT,
@@ -57,9 +63,20 @@ CREATE TABLE IF NOT EXISTS results (
 );
 """
 
+# From version k to k + 1, each in one transaction. Version 2's `requeues` counted server
+# restarts only, and a worker death re-queued a job at most once (MAX_WORKER_DEATHS was 1 then).
+_MIGRATIONS = {
+    1: ("ALTER TABLE jobs ADD COLUMN worker_deaths INTEGER NOT NULL DEFAULT 0",),
+    2: (
+        "ALTER TABLE jobs ADD COLUMN restarts INTEGER NOT NULL DEFAULT 0",
+        "ALTER TABLE jobs ADD COLUMN moving_since TEXT",
+        "UPDATE jobs SET restarts = requeues, requeues = requeues + min(worker_deaths, 1)",
+    ),
+}
+
 _COLUMNS = (
     "id, kind, spec, status, progress, attempts, requeues, sim_seconds, created_at, started_at,"
-    " finished_at, error, note"
+    " finished_at, error, note, moving_since"
 )
 _FINISHED_SQL = sql_list(FINISHED)
 Missing = Literal["missing"]  # what cancel and delete_finished report for an unknown id
@@ -86,6 +103,7 @@ class JobRow:
     finished_at: str | None
     error: str | None
     note: str | None
+    moving_since: str | None = None  # when this attempt first reported progress above 0
 
     @classmethod
     def from_sql(cls, row: sqlite3.Row) -> JobRow:
@@ -104,6 +122,7 @@ class JobRow:
             finished_at=row["finished_at"],
             error=row["error"],
             note=row["note"],
+            moving_since=row["moving_since"],
         )
 
 
@@ -178,16 +197,18 @@ class JobStore:
             raise RuntimeError(f"could not switch {self.path} to WAL mode (got {mode!r})")
         conn.executescript(_SCHEMA)
         version = conn.execute("PRAGMA user_version").fetchone()[0]
-        if version == 1:  # the one change since: a column with a default, added in place
-            with self._write() as w:
-                w.execute("ALTER TABLE jobs ADD COLUMN worker_deaths INTEGER NOT NULL DEFAULT 0")
-                w.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
-        elif version == 0:
+        if version == 0:  # a new file: the schema above is the current one
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
-        elif version != SCHEMA_VERSION:
+            return
+        if version > SCHEMA_VERSION:
             raise RuntimeError(
                 f"{self.path} has schema version {version}; this server reads {SCHEMA_VERSION}"
             )
+        for step in range(version, SCHEMA_VERSION):  # columns with defaults, added in place
+            with self._write() as w:
+                for sql in _MIGRATIONS[step]:
+                    w.execute(sql)
+                w.execute(f"PRAGMA user_version = {step + 1}")
 
     # ---- API side ------------------------------------------------------------------------
 
@@ -355,7 +376,7 @@ class JobStore:
         with self._write() as conn:
             row = conn.execute(
                 "UPDATE jobs SET status = ?, attempts = attempts + 1, progress = 0,"
-                " started_at = ?, finished_at = NULL"
+                " started_at = ?, finished_at = NULL, moving_since = NULL"
                 " WHERE seq = (SELECT seq FROM jobs WHERE status = ? ORDER BY seq LIMIT 1)"
                 " RETURNING id, attempts",
                 (JobStatus.RUNNING, now_iso(), JobStatus.QUEUED),
@@ -367,21 +388,23 @@ class JobStore:
 
         Called only while holding the instance lock, so no live worker owns them. A job that
         was running when the server died may itself be the reason it died (memory, a crash),
-        so it is re-queued at most `max_requeues` times.
+        so it is re-queued at most `max_requeues` times (counted in `restarts`; `requeues`
+        counts these and the re-queues after a worker died).
         """
         requeued: list[str] = []
         failed: list[str] = []
         with self._write() as conn:
             rows = conn.execute(
-                "SELECT id, requeues, attempts FROM jobs WHERE status = ? ORDER BY seq",
+                "SELECT id, restarts, attempts FROM jobs WHERE status = ? ORDER BY seq",
                 (JobStatus.RUNNING,),
             ).fetchall()
             stamp = now_iso()
-            for job_id, requeues, attempts in rows:
-                if requeues < max_requeues:
+            for job_id, restarts, attempts in rows:
+                if restarts < max_requeues:
                     conn.execute(
                         "UPDATE jobs SET status = ?, progress = 0, started_at = NULL,"
-                        " requeues = requeues + 1, note = coalesce(note || ' ', '') || ?"
+                        " restarts = restarts + 1, requeues = requeues + 1,"
+                        " note = coalesce(note || ' ', '') || ?"
                         " WHERE id = ?",
                         (
                             JobStatus.QUEUED,
@@ -397,7 +420,7 @@ class JobStore:
                         (
                             JobStatus.FAILED,
                             stamp,
-                            f"the server stopped while this job was running, {requeues + 1} "
+                            f"the server stopped while this job was running, {restarts + 1} "
                             f"time(s); not re-queued again (limit max_requeues = "
                             f"{max_requeues}), the job may be what brings the server down",
                             job_id,
@@ -435,9 +458,13 @@ class JobStore:
         return json.loads(row[0]) if row is not None else None
 
     def set_progress(self, claim: Claim, fraction: float) -> bool:
+        """The attempt's progress; the first above 0 also stamps `moving_since`."""
+        x = min(max(float(fraction), 0.0), 1.0)
         cur = self._conn().execute(
-            f"UPDATE jobs SET progress = ? WHERE {_FENCE}",
-            (min(max(float(fraction), 0.0), 1.0), *_fence(claim)),
+            "UPDATE jobs SET progress = ?,"
+            " moving_since = coalesce(moving_since, CASE WHEN ? > 0 THEN ? END)"
+            f" WHERE {_FENCE}",
+            (x, x, now_iso(), *_fence(claim)),
         )
         return cur.rowcount == 1
 
@@ -461,7 +488,8 @@ class JobStore:
         """The worker running `claim` died from outside (a kill, the OOM killer): the job goes
         back to the queue to run on a fresh worker, its reason kept in the note, unless it has
         lost `MAX_WORKER_DEATHS` workers already: then it fails with every reason (a job that
-        kills its worker each time must not take the pool down with it). Returns "requeued",
+        kills its worker each time must not take the pool down with it). A re-queue counts in
+        `requeues`, as a restart's does. Returns "requeued",
         "failed", or "gone" when the claim no longer holds (cancelled, already finished)."""
         with self._write() as conn:
             row = conn.execute(
@@ -474,7 +502,8 @@ class JobStore:
             if deaths <= MAX_WORKER_DEATHS:
                 conn.execute(
                     "UPDATE jobs SET status = ?, progress = 0, started_at = NULL,"
-                    " worker_deaths = ?, note = coalesce(note || ' ', '') || ?"
+                    " worker_deaths = ?, requeues = requeues + 1,"
+                    " note = coalesce(note || ' ', '') || ?"
                     f" WHERE {_FENCE}",
                     (JobStatus.QUEUED, deaths,
                      f"re-queued at {now_iso()} to run on a fresh worker ({said}).",

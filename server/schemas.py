@@ -29,7 +29,11 @@ class Job(BaseModel):
     error: str | None
     note: str | None
     attempts: int = Field(description="times a worker started this job")
-    requeues: int = Field(description="times a server crash interrupted it and it was re-queued")
+    requeues: int = Field(
+        description="times a crash interrupted it and it went back to the queue: the server "
+        "stopped while it ran (counted against max_requeues) or its worker process died "
+        "(at most once); a clean shutdown's re-queue is not counted"
+    )
     sim_seconds: float = Field(description="simulated seconds the job asks for, all runs")
     eta_s: float | None = Field(
         None,

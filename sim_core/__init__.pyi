@@ -163,6 +163,7 @@ from .runs.cache import (
 from .runs.tasks import (
     Task as Task,  # research: a run or a ramp as a cached task
 )
+from .runs.tasks import execute_chunk as execute_chunk
 from .runs.tasks import (
     ramp_task as ramp_task,  # research: a ramped run (a sweep) as a cached task
 )

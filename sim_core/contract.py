@@ -78,6 +78,7 @@ from sim_core.model.spec import (
     pin_problem,
     resolve_numerics,
 )
+from sim_core.model.version import PHYSICS_VERSION
 from sim_core.paper.fixedpoints import (
     AXIS_LABEL,
     AXIS_PARAM,
@@ -111,11 +112,21 @@ from sim_core.paper.returnmap import (
 )
 from sim_core.paper.surface_types import REGION_COLOURS, DriftSurface, SurfaceAtlas, SurfaceConfig
 from sim_core.paper.surface_types import grid as surface_grid
+from sim_core.paper.values import PAPER, PaperValues  # what the paper states: panels beside ours
+from sim_core.runs.keys import params_hash, provenance  # a file's physics, as the cache names it
 
 _DEFAULTS = ModelParams()
 DEFAULT_INTEGRATOR: Integrator = _DEFAULTS.numerics.integrator
 DEFAULT_DT_S: float = _DEFAULTS.numerics.dt
 DEFAULT_CONTROL_DT_S: float = _DEFAULTS.numerics.control_dt
+# The grounds go by one name everywhere: `ModelParams.ground`'s, which the API's `ground`
+# field, the CLI's `--ground`, the result files' names and the viewer's buttons all say; what
+# each is, in words, follows the name where a person chooses one (help texts, the viewer).
+GROUND_WORDS: dict[str, str] = {
+    "constraint": "MuJoCo's soft contact, the default",
+    "penalty": "the paper's viscoelastic feet, which keep the heading on slopes",
+}
+GROUND_HELP = "; ".join(f"{g}: {w}" for g, w in GROUND_WORDS.items())
 
 __all__ = [
     "ATLAS_AXES",
@@ -128,7 +139,9 @@ __all__ = [
     "FAILURE_KINDS",
     "GROUNDS",
     "GROUND_DEFAULT",
+    "GROUND_HELP",
     "GROUND_ONLY",
+    "GROUND_WORDS",
     "HEADING_KEPT_DEG",
     "INSECT_WORDS",
     "INTEGRATORS",
@@ -143,7 +156,9 @@ __all__ = [
     "MIN_DT_S",
     "NOT_SETTLED",
     "NO_FOOTHOLD_S",
+    "PAPER",
     "PARAMETER_NAMES",
+    "PHYSICS_VERSION",
     "RAMP_PARAMS",
     "RECORD_DT_S",
     "REGIONS",
@@ -168,6 +183,7 @@ __all__ = [
     "FinderOutput",
     "Integrator",
     "ModelParams",
+    "PaperValues",
     "Probe",
     "Ramp",
     "RampParam",
@@ -194,8 +210,10 @@ __all__ = [
     "mean_after",
     "numerics_problem",
     "parameter_table",
+    "params_hash",
     "phase_jumps",
     "pin_problem",
+    "provenance",
     "region_of",
     "resolve_numerics",
     "return_map_from_series",

@@ -14,15 +14,14 @@ from collections.abc import Sequence
 
 from sim_core.contract import TWO_PI
 from web.bifurcation import FinderPoints
+from web.legend_svg import Entry, legend, legend_lines, rows_height
+from web.paper_svg import RANGES_ENTRY, paper_ranges, paper_transitions, transitions_entry
 from web.record import D31Event
 from web.svg import (
-    BIF_H,
-    LEGEND_H,
     Frame,
-    H,
     dots,
-    legend,
     open_svg,
+    panel_frame,
     plot_note,
     reference_lines,
     x_ticks,
@@ -72,21 +71,27 @@ def bifurcation_svg(
     live: tuple[float, float | None],
     beta_range: tuple[float, float],
     ramp_path: Sequence[D31Event] = (),
+    *,
+    conditions: str = "",  # the ground, mass and slope of what is drawn: ends the title
 ) -> str:
     """The finder's states over beta (stable filled by gait, unstable open, one-sided grey,
     ghosts x, unsettled finals grey triangles), this session's trail, the path of a beta ramp
     (a line per direction, drawn as it goes) and the live point (red ring)."""
     lo, hi = beta_range
-    f = Frame(lo, hi, 0.0, TWO_PI, h=BIF_H, legend_h=LEGEND_H)
     pts = finder or FinderPoints()
-    out = open_svg(
-        "bifurcation",
-        "Bifurcation: Δ31 vs β (finder's states; this run)",
-        h=BIF_H,
-        legend_h=LEGEND_H,
-        n_cached=str(len(pts)),
-    )
+    states: list[Entry] = [(f"● {g}", c) for g, c in GAIT_COLOURS.items()]
+    states += [("○ unstable", "#333"), ("● one-sided", "#999"), ("× ghost", "#555"),
+               ("▲ not settled", "#999"), ("○ now", "#e00"), ("· this run", "#666")]  # fmt: skip
+    rows = [states]  # one row, wrapped where the width ends; the ramp's and the paper's apart
+    if any(e.at.ramp for e in ramp_path):
+        rows.append([(f"— ramp β {d}", RAMP_COLOURS[d]) for d in ("down", "up")])
+    rows.append([RANGES_ENTRY, transitions_entry()])
+    lines = legend_lines(rows)
+    title = "Bifurcation: Δ31 vs β (finder; this run)" + (f" — {conditions}" if conditions else "")
+    f = panel_frame(title, lo, hi, 0.0, TWO_PI, below=rows_height(len(lines)))
+    out = open_svg("bifurcation", title, f, n_cached=str(len(pts)))
     out += y_angle_axis(f) + reference_lines(f)
+    out += paper_ranges(f, GAIT_COLOURS) + paper_transitions(f, label=True)
     kinds = (("unsettled", pts.unsettled), ("ghost", pts.ghosts), ("unstable", pts.unstable),
              ("one-sided", pts.one_sided))  # fmt: skip
     for kind, points in kinds:  # drawn in this order: the stable points go on top
@@ -97,8 +102,7 @@ def bifurcation_svg(
             out.append(_marker("stable", f.x(b), f.y(d), colour))
     trail_xy = [(f.x(e.at.beta), f.y(e.d31)) for e in trail if lo <= e.at.beta <= hi]
     out.append(dots(trail_xy, 1.0, "#000", 0.35, "trail"))
-    ramp = _ramp_lines(f, ramp_path, lo, hi)
-    out += ramp
+    out += _ramp_lines(f, ramp_path, lo, hi)
     beta, d31 = live
     if d31 is not None:
         out.append(
@@ -109,13 +113,7 @@ def bifurcation_svg(
         out.append(plot_note(f, note))
     ticks = [0.55, 0.60, 0.65, 0.70, 0.75, 0.80]
     out += x_ticks(f, [t for t in ticks if lo <= t <= hi], "{:.2f}")
-    row2 = [("◯ unstable", "#333"), ("● one-sided", "#999"), ("× ghost", "#555"),
-            ("▲ not settled", "#999")]  # fmt: skip
-    row2 += [("◯ now", "#e00"), ("· this run", "#666")]
-    rows = [[(f"● {g}", c) for g, c in GAIT_COLOURS.items()], row2]
-    if ramp:
-        rows.append([(f"— ramp β {d}", RAMP_COLOURS[d]) for d in ("down", "up")])
-    out += legend(f, rows)
+    out += legend(f, lines)
     out.append("</svg>")
     return "\n".join(out)
 
@@ -167,21 +165,21 @@ def ramp_path_svg(
     """Delta31 against the ramped parameter during the latest ramp (Fig. 6a's own axes for a
     beta ramp; the same for body mass or slope), a line per direction as it goes."""
     lo, hi = value_range
-    f = Frame(lo, hi, 0.0, TWO_PI, h=H + 11.0, legend_h=11.0)
-    out = open_svg(
-        "ramp-path",
-        f"Ramp: Δ31 vs {axis_label}",
-        h=H + 11.0,
-        legend_h=11.0,
-        param=param,
-        n_events=str(len(path)),
-    )
+    rows: list[list[Entry]] = [[(f"— {d}", RAMP_COLOURS[d]) for d in ("down", "up")]]
+    if param == "beta":  # Fig. 6a's own axes: the paper's transitions, in the ramp's colours
+        rows[0].append(transitions_entry("paper, Fig. 6a"))
+    lines = legend_lines(rows)
+    title = f"Ramp: Δ31 vs {axis_label}"
+    f = panel_frame(title, lo, hi, 0.0, TWO_PI, below=rows_height(len(lines)))
+    out = open_svg("ramp-path", title, f, param=param, n_events=str(len(path)))
     out += y_angle_axis(f) + reference_lines(f)
+    if param == "beta":
+        out += paper_transitions(f, RAMP_COLOURS)
     out += _ramp_lines(f, path, lo, hi, param)
     span = hi - lo
     step = next(s for s in (0.01, 0.02, 0.05, 0.1, 0.5, 1.0, 2.0, 5.0, 10.0, 20.0) if span / s <= 6)
     ticks = [step * k for k in range(math.ceil(lo / step), math.floor(hi / step) + 1)]
     out += x_ticks(f, ticks, "{:.2f}" if step < 0.1 else "{:g}")
-    out += legend(f, [[(f"— {d}", RAMP_COLOURS[d]) for d in ("down", "up")]])
+    out += legend(f, lines)
     out.append("</svg>")
     return "\n".join(out)

@@ -17,6 +17,6 @@ CAPTION = (
     "every β. Raise β past ~0.65 and the tripod is lost: Δ31 lingers 15-25 s near 2.95, then "
     "slides to the metachronal gait. The jump back to the tripod at high speed does not appear "
     "(the metachronal gait lives down to β 0.60), so there is no hysteresis loop yet. On a "
-    "slope, walk on the paper's ground (buttons 'ground'): today's contact turns the body "
-    "downhill. See docs/REPRODUCTION.md."
+    "slope, walk on the penalty ground, the paper's (buttons 'ground'): the constraint ground "
+    "turns the body downhill. See docs/REPRODUCTION.md."
 )

@@ -10,6 +10,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from sim_core.contract import GROUNDS as CORE_GROUNDS
 from sim_core.contract import METACHRONAL, TWO_PI, Ramp
 
 
@@ -82,10 +83,12 @@ CAMERA_FIXED = "fixed"
 CAMERA_POSITION = "follow"
 CAMERA_HEADING = "follow + turn"
 CAMERA_MODES = (CAMERA_POSITION, CAMERA_HEADING, CAMERA_FIXED)
-# The grounds a person may walk on (`ModelParams.ground`), by button label: today's contact is
-# the default; the paper's ground keeps the heading on slopes (docs/MODEL.md, "Slopes").
-GROUNDS = {"today's contact": "constraint", "paper's ground": "penalty"}
-GROUND_LABEL = {v: k for k, v in GROUNDS.items()}
+# The grounds a person may walk on (`ModelParams.ground`), by button label. The buttons say the
+# ground's own name, the one the exported files, the API's `ground` field, the CLI's `--ground`
+# and the result files' names say (one name: the core's; a label of our own, as the old "today's
+# contact", was a second name for one thing); what each is follows in words (`GROUND_HELP`).
+GROUNDS: dict[str, str] = {g: g for g in CORE_GROUNDS}
+GROUND_LABEL: dict[str, str] = {v: k for k, v in GROUNDS.items()}
 DEFAULT_CAMERA = CAMERA_POSITION
 
 
@@ -158,3 +161,12 @@ def make_ramp(param: str, start: float, turn: float, hold_s: float, ramp_s: floa
         hold_s=RAMP_HOLD_S.clamp(hold_s),
         ramp_s=RAMP_RAMP_S.clamp(ramp_s),
     )
+
+
+def ramp_range(ramp: Ramp) -> tuple[float, float]:
+    """The ramp-path panel's axis for `ramp`: its sweep with a tenth of it either side (a
+    slider step when it sweeps nothing), within the ramped slider's range."""
+    rng = RAMP_SLIDERS[ramp.param]
+    a, b = sorted((ramp.start, ramp.turn))
+    pad = 0.1 * (b - a) or rng.step
+    return (max(rng.lo, a - pad), min(rng.hi, b + pad))

@@ -13,17 +13,20 @@ import math
 from collections.abc import Sequence
 
 from sim_core.contract import TWO_PI
+from web.legend_svg import label_width
 from web.record import CoreEvents, Mark
 from web.svg import (
+    CHAR_W,
     FONT,
     LEFT,
+    LINE,
     MAX_DRAWN,
-    TOP,
     Frame,
     dots,
     open_svg,
+    panel_frame,
     reference_lines,
-    time_axis_label,
+    time_axis_word,
     time_ticks,
     time_window,
     x_ticks,
@@ -33,7 +36,8 @@ from web.svg import (
 MARK_COLOUR = "#9467bd"
 JOB_COLOUR = "#e377c2"  # a finished job's Delta31 beside the live walk's
 MARK_ROWS = 3  # label heights in turn
-CHAR_W = 5.0  # px per character of a 9 px sans-serif label (an upper estimate for layout)
+FOLD_ROOM = " +99"  # room kept after each label for the count of marks folded into it
+__all__ = ["CHAR_W", "JOB_COLOUR", "MARK_COLOUR", "d31_svg"]
 
 
 def d31_svg(
@@ -50,16 +54,18 @@ def d31_svg(
     whole = window_s is None
     span = max(t_now, 1.0) if window_s is None else window_s
     t0, t1 = time_window(t_now, span)
-    f = Frame(t0, t1, 0.0, TWO_PI)
     shown = [(t, d) for t, d in events if t0 <= t <= t1 and math.isfinite(d)]
     k = max(1, math.ceil(len(shown) / MAX_DRAWN))
     if k > 1:
         shown = shown[::k]
     what = "whole run" if whole else f"last {span:g} s"
-    thin = f", 1 in {k} drawn" if k > 1 else ""
+    thin = f" (1 in {k} drawn)" if k > 1 else ""
+    title = f"Δ31, {what}{thin} — gait: {gait}"
+    f = panel_frame(title, t0, t1, 0.0, TWO_PI, below=LINE)  # a row for the axis word
     out = open_svg(
         "d31",
-        f"Δ31 over time ({what}{thin}) — gait: {gait}",
+        title,
+        f,
         gait=gait,
         n_events=str(len(events)),
         t0=f"{t0:.3f}",
@@ -88,18 +94,33 @@ def d31_svg(
     out += _marks(f, [m for m in marks if t0 <= m.time_s <= t1])
     fmt = "{:.0f}" if span >= 4 else "{:.1f}"
     out += x_ticks(f, time_ticks(t0, t1), fmt)
-    out.append(time_axis_label(f))
+    out.append(time_axis_word(f))
     out.append("</svg>")
     return "\n".join(out)
+
+
+def _placed(f: Frame, x: float, label: str) -> tuple[float, str, str]:
+    """Where a mark's label goes: (its left edge, anchor, the words): right of its line, or
+    left of it at the plot's right edge, with room for a "+n" that later marks may add; a
+    label too long for either side is cut to the wider one ("…"; the line keeps the whole)."""
+    width = label_width(label + FOLD_ROOM)
+    room_right, room_left = f.right - x - 2, x - 4
+    if width > max(room_right, room_left):
+        keep = int(max(room_right, room_left) / CHAR_W) - len(FOLD_ROOM) - 1
+        label = label[: max(0, keep)] + "…"
+        width = label_width(label + FOLD_ROOM)
+    if width <= room_right:
+        return x + 2, "start", label
+    return x - 2 - width, "end", label
 
 
 def _marks(f: Frame, marks: Sequence[Mark]) -> list[str]:
     """A thin vertical line where the conditions changed, with what changed beside it.
 
     Each label takes the first of three rows where it does not print over the previous label
-    there (right of its line, or left of it at the plot's right edge); where none is free (a
-    short ramp's phases on a long history) the line keeps its words as a tooltip and in
-    `data-label`, and the last label printed counts the marks it stands for ("+2").
+    there (`_placed`); where none is free (a short ramp's phases on a long history) the line
+    keeps its words as a tooltip and in `data-label`, and the last label printed counts the
+    marks it stands for ("+2").
     """
     out: list[str] = []
     row_end = [-math.inf] * MARK_ROWS
@@ -109,12 +130,11 @@ def _marks(f: Frame, marks: Sequence[Mark]) -> list[str]:
         x = f.x(m.time_s)
         label = html.escape(m.label)
         out.append(
-            f'<line class="mark" data-label="{label}" x1="{x:.1f}" y1="{TOP}" x2="{x:.1f}" '
-            f'y2="{f.bottom}" stroke="{MARK_COLOUR}" stroke-width="0.6" stroke-dasharray="2 2">'
-            f"<title>{label}</title></line>"
+            f'<line class="mark" data-label="{label}" x1="{x:.1f}" y1="{f.top:g}" '
+            f'x2="{x:.1f}" y2="{f.bottom}" stroke="{MARK_COLOUR}" stroke-width="0.6" '
+            f'stroke-dasharray="2 2"><title>{label}</title></line>'
         )
-        width = CHAR_W * len(m.label)
-        left = x + 2 if x + 2 + width <= f.right else x - 2 - width
+        left, anchor, words = _placed(f, x, m.label)
         row = next((r for r in range(MARK_ROWS) if left >= row_end[r]), None)
         if row is None:
             extra += 1
@@ -122,12 +142,11 @@ def _marks(f: Frame, marks: Sequence[Mark]) -> list[str]:
         if last_text is not None and extra:
             out[last_text] = out[last_text].replace("</text>", f" +{extra}</text>")
         extra = 0
-        row_end[row] = left + width + 4
-        anchor = "start" if left > x else "end"
+        row_end[row] = left + label_width(words + FOLD_ROOM) + 4
         tx = x + 2 if anchor == "start" else x - 2
         out.append(
-            f'<text class="mark" x="{tx:.1f}" y="{TOP + 9 + 9 * row}" text-anchor="{anchor}" '
-            f'{FONT} fill="{MARK_COLOUR}">{label}</text>'
+            f'<text class="mark" x="{tx:.1f}" y="{f.top + 9 + 9 * row:g}" '
+            f'text-anchor="{anchor}" {FONT} fill="{MARK_COLOUR}">{html.escape(words)}</text>'
         )
         last_text = len(out) - 1
     if last_text is not None and extra:

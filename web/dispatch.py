@@ -6,13 +6,18 @@ from __future__ import annotations
 import time
 
 from sim_core import ModelParams, RunSpec, Simulation
+from sim_core.contract import EventConditions, provenance
 from web import controls, export
+from web.job_replay import Replay
+from web.panel_labels import RAMP_PLOT_EMPTY
 from web.paths import DEFAULT_API_URL
 from web.requests import (
     PARAMS,
+    CancelJob,
     Export,
     LoadSettings,
     OpenJob,
+    ReplayJob,
     Request,
     Reset,
     SetD31Window,
@@ -26,13 +31,17 @@ from web.requests import (
     StartRamp,
     StepCycle,
     StopRamp,
+    StopReplay,
     SubmitJob,
+    SubmitSurface,
 )
 from web.state import ViewerState
 
 
 class Dispatch(ViewerState):
     """The requests' effects, and the settings and exports they read."""
+
+    replaying: Replay | None = None  # a done job's run the panels show instead of the walk's
 
     def apply(self, req: Request) -> None:
         sim = self.sim
@@ -65,6 +74,7 @@ class Dispatch(ViewerState):
                 self.d31_init = controls.d31_init_value(d)
                 sim.reset(d31_init=self.d31_init)
                 self._restarted()
+                self.panels.show_d31_init(self.d31_init)  # a preset moves its slider
             case SetGround(ground=g):
                 if g not in controls.GROUND_LABEL:
                     raise ValueError(
@@ -97,12 +107,31 @@ class Dispatch(ViewerState):
                 if kind not in bodies:
                     raise ValueError("set up a ramp first: the hysteresis job runs that ramp")
                 self.jobs.submit(s.api_url, bodies[kind])
+            case SubmitSurface():
+                self.surface_jobs.submit(self.settings().api_url, self.walk_conditions())
             case OpenJob(job_id=job_id):
                 if not job_id.strip():
                     raise ValueError("type a job's id into 'job id' first")
                 self.jobs.open(self.settings().api_url, job_id)
+            case CancelJob(key=key):
+                self.jobs.cancel(key)
+            case ReplayJob(key=key):
+                view = self.jobs.get(key)
+                if view is None or view.replay is None:
+                    raise ValueError("that job has no run to replay (a done run or hysteresis job)")
+                self._replay(view.replay)
+            case StopReplay():
+                self._replay(None)
             case LoadSettings(settings=s):
                 self._load(s)
+
+    def _replay(self, replay: Replay | None) -> None:
+        """Show a job's run in the panels it fills (None: the live walk again); every panel
+        is drawn afresh, the ramp path back to its placeholder until a live ramp draws it."""
+        if self.replaying is not None and self.replaying.ramp is not None:
+            self.panels.show_html(self.panels.ramp_plot, RAMP_PLOT_EMPTY)
+        self.replaying = replay
+        self._drawn.clear()
 
     def _load(self, s: export.Settings) -> None:
         """A loaded settings file: its ground, parameters and speed, then a restart from its
@@ -120,6 +149,7 @@ class Dispatch(ViewerState):
         self.d31_init = controls.d31_init_value(s.d31_init)
         self.sim.reset(d31_init=self.d31_init)
         self._restarted()
+        self.panels.show_d31_init(self.d31_init)
         self.panels.load_inputs(s)
 
     def _restarted(self) -> None:
@@ -167,20 +197,29 @@ class Dispatch(ViewerState):
             api_url=str(self.panels.api_url.value).strip() or DEFAULT_API_URL,
         )
 
+    def provenance(self) -> export.Provenance:
+        """What makes the walk's numbers (the core's `provenance`: physics version, the
+        parameter hash the cache uses, ground, dt), for every export."""
+        return provenance(ModelParams.of(ground=self.ground))
+
     def export(self, what: str) -> tuple[str, bytes]:
         """(file name, content) of one export (web/export.py); loop thread only."""
-        stamp = f"t{self.sim.time_s:.0f}s"
+        stamp, made = f"t{self.sim.time_s:.0f}s", self.provenance()
         if what == "d31":
-            return f"insect-gait_d31_{stamp}.csv", export.d31_csv(
-                self.d31_conditions.events(self.sim)
-            )
+            events = self.d31_conditions.events(self.sim)
+            return f"insect-gait_d31_{stamp}.csv", export.d31_csv(events, made=made)
         if what == "footfall":
             intervals = self.sim.stance_intervals()  # the whole walk since its (re)start
-            return f"insect-gait_footfall_{stamp}.csv", export.footfall_csv(intervals)
+            sim = self.sim
+            now = EventConditions(sim.beta, sim.body_mass_g, sim.slope_deg, self.ground)
+            events = self.d31_conditions.events(sim)
+            data = export.footfall_csv(intervals, events, now, made=made)
+            return f"insect-gait_footfall_{stamp}.csv", data
         if what == "ramp":
             path, ramp = self.d31_conditions.ramp_path(self.sim), self._last_ramp
-            data = export.ramp_csv(path, ramp, self._ramp_t0 if ramp is not None else None)
-            return f"insect-gait_ramp_{stamp}.csv", data
+            t0 = self._ramp_t0 if ramp is not None else None
+            return f"insect-gait_ramp_{stamp}.csv", export.ramp_csv(path, ramp, t0, made=made)
         if what == "settings":
-            return f"insect-gait_settings_{stamp}.json", export.settings_json(self.settings())
+            data = export.settings_json(self.settings(), made=made)
+            return f"insect-gait_settings_{stamp}.json", data
         raise ValueError(f"unknown export {what!r}; choose from {export.EXPORTS}")

@@ -21,17 +21,19 @@ from web import controls, export
 from web.atlas_svg import atlas_svg
 from web.bifurcation import finder_points
 from web.bifurcation_svg import bifurcation_svg, ramp_path_svg
+from web.conditions import Conditions, atlas_conditions, atlas_holds, atlas_label, events_of
 from web.d31_svg import d31_svg
-from web.dispatch import Dispatch
 from web.footfall_svg import footfall_svg
 from web.jobs import job_status_html
 from web.readouts import Readouts
 from web.record import d31_since, footfall_bars
+from web.replaying import Replaying
 from web.return_map_plot import return_map_data
 from web.surface_svg import surface_svg
+from web.surfaces import pick_finder, pick_surface
 
 
-class Drawing(Dispatch):
+class Drawing(Replaying):
     """The panels and readouts, drawn from the simulation's own record."""
 
     def _draw_readouts(
@@ -93,10 +95,12 @@ class Drawing(Dispatch):
         if view is not self._job_shown:
             self._job_shown = view
             self.panels.show_html(self.panels.job_status, job_status_html(view))
+        self._show_jobs()  # the job list's rows (web/replaying.py)
 
     def _draw_panels(self) -> None:
         """The footfall diagram, Delta31 and the return map, each rebuilt only when its inputs
-        changed."""
+        changed; a replayed job's run first, in the panels it fills (web/replaying.py)."""
+        self._draw_replay()
         sim = self.sim
         gait = sim.gait
         t_now, window = sim.time_s, self.footfall_window_s
@@ -130,7 +134,10 @@ class Drawing(Dispatch):
         return True
 
     def _redraw(self, handle: viser.GuiHtmlHandle, key: Hashable, build: Callable[[], str]) -> None:
-        """Rebuild an SVG panel only when its inputs changed (`_changed`)."""
+        """Rebuild an SVG panel only when its inputs changed (`_changed`), unless a replayed
+        job's run fills it."""
+        if self.replayed(handle):
+            return
         if self._changed(handle, key):
             self.panels.show_html(handle, build())
 
@@ -146,24 +153,45 @@ class Drawing(Dispatch):
         return list(zip(rm.x.tolist(), rm.y.tolist(), strict=True))
 
     def _draw_bifurcation(self) -> None:
+        """The bifurcation, atlas and drift-surface panels, each of the walk's own conditions
+        (web/conditions.py): data of other conditions is not drawn, the live point and this
+        run's trail only where they were taken under the conditions the panel names."""
         self._draw_ramp_path()
-        finder, note = self.bifurcation.get()
-        events = self.sim.d31_events
-        trail = self.d31_conditions.events(self.sim, -self.cfg.trail_len)
-        live = (self.sim.beta, events[-1][1] if events else None)
-        self.panels.show_html(
-            self.panels.bifurcation,
-            bifurcation_svg(
-                None if finder is None else finder_points(finder),
-                note,
-                trail,
-                live,
-                (controls.BETA.lo, controls.BETA.hi),
-                self.d31_conditions.ramp_path(self.sim) if self._ramp_draws_on_beta() else [],
+        want = self.walk_conditions()
+        label = want.label()
+        finder, note = pick_finder(self.bifurcation, want)
+        trail = events_of(self.d31_conditions.events(self.sim, -self.cfg.trail_len), want)
+        last = self.d31_conditions.events(self.sim, -1)
+        live = (self.sim.beta, last[0].d31 if events_of(last, want) else None)
+        beta_range = (controls.BETA.lo, controls.BETA.hi)
+        ramp = self.d31_conditions.ramp_path(self.sim) if self._ramp_draws_on_beta() else []
+        points = None if finder is None else finder_points(finder)
+        self.panels.show_html(self.panels.bifurcation, bifurcation_svg(
+            points, note, trail, live, beta_range, events_of(ramp, want), conditions=label
+        ))  # fmt: skip
+        self._draw_atlas(want)
+        pick = pick_surface(self.surfaces, self.surface_jobs, want)
+        if self.panels.surface_compute.visible != pick.offer:
+            self.panels.surface_compute.visible = pick.offer
+        # the map (~80 kB of SVG) is rebuilt only when what it shows changes or the live point
+        # enters another cell of the surface's grid (0.005 in beta, 0.05 rad): a walk that
+        # drifts slowly costs the browser a redraw every few seconds, not every 0.4 s
+        d31 = live[1] if pick.surface is not None else None
+        cell = (round(self.sim.beta / 0.005), None if d31 is None else round(d31 / 0.05))
+        self._redraw(
+            self.panels.surface,
+            (pick.key, pick.note, cell, beta_range),
+            lambda: surface_svg(
+                pick.surface, pick.note, (live[0], d31), beta_range, conditions=label
             ),
         )
+
+    def _draw_atlas(self, want: Conditions) -> None:
+        """The atlas of the walk's ground over mass or slope; the live point only when the
+        walk is at the value the atlas holds the other parameter at."""
         axis = self.panels.atlas_axis if self.panels.atlas_axis in ATLAS_AXES else "mass"
         atlas, anote = self.atlases[(axis, self.ground)].get()
+        held = atlas_conditions(self.ground)
         value = self.sim.body_mass_g if axis == "mass" else self.sim.slope_deg
         self.panels.show_html(
             self.panels.atlas,
@@ -172,21 +200,10 @@ class Drawing(Dispatch):
                 anote,
                 axis,
                 AXIS_LABEL.get(axis, axis),
-                (self.sim.beta, value),
+                (self.sim.beta, value) if atlas_holds(axis, held, want) else None,
                 (controls.BETA.lo, controls.BETA.hi),
+                conditions=atlas_label(axis, held),
             ),
-        )
-        surface, snote = self.surface.get()
-        # the map (~80 kB of SVG) is rebuilt only when the file changes or the live point
-        # enters another cell of the surface's grid (0.005 in beta, 0.05 rad): a walk that
-        # drifts slowly costs the browser a redraw every few seconds, not every 0.4 s
-        d31 = live[1]
-        cell = (round(self.sim.beta / 0.005), None if d31 is None else round(d31 / 0.05))
-        beta_range = (controls.BETA.lo, controls.BETA.hi)
-        self._redraw(
-            self.panels.surface,
-            (self.surface.version, cell, beta_range),
-            lambda: surface_svg(surface, snote, live, beta_range),
         )
 
     def _draw_ramp_path(self) -> None:
@@ -195,10 +212,7 @@ class Drawing(Dispatch):
         if ramp is None:
             return
         path = self.d31_conditions.ramp_path(self.sim)
-        rng = controls.RAMP_SLIDERS[ramp.param]
-        a, b = sorted((ramp.start, ramp.turn))
-        pad = 0.1 * (b - a) or rng.step
-        value_range = (max(rng.lo, a - pad), min(rng.hi, b + pad))
+        value_range = controls.ramp_range(ramp)
         self._redraw(
             self.panels.ramp_plot,
             (self._walk, ramp, len(path)),

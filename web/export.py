@@ -9,39 +9,32 @@ queues an `Export` request) and hands the bytes to that browser (viser's
 
 from __future__ import annotations
 
+import bisect
 import csv
 import io
 import json
 import math
 from collections.abc import Iterable, Sequence
-from dataclasses import asdict, dataclass
+from dataclasses import asdict
 from typing import Any
 
-from sim_core.contract import LEG_NAMES, Ramp, RunSpec
+from sim_core.contract import LEG_NAMES, EventConditions, Ramp, RunSpec
 from web import controls
-from web.paths import DEFAULT_API_URL
 from web.record import D31Event, Interval
+from web.settings_file import Settings, load_settings
 
+# `Settings` and `load_settings` live in web/settings_file.py (the file read back); the
+# export names them too, as the writer of that file
+__all__ = ["D31_COLUMNS", "EXPORTS", "PROVENANCE_COLUMNS", "Settings", "d31_csv", "footfall_csv",
+           "jobs", "load_settings", "ramp_csv", "run_job", "settings_json"]  # fmt: skip
 EXPORTS = ("d31", "footfall", "ramp", "settings")
-D31_COLUMNS = ("time_s", "d31_rad", "beta", "body_mass_g", "slope_deg", "ramp")
-
-
-@dataclass(frozen=True)
-class Settings:
-    """The viewer's state a person set, as the export and the job bodies say it."""
-
-    beta: float
-    body_mass_g: float
-    slope_deg: float
-    d31_init: float  # of the last (re)start
-    speed: float | None  # multiple of real time; None = as fast as possible
-    time_s: float  # simulated time now
-    ramp: Ramp | None  # the ramp running now, or the one set up in the ramp inputs
-    ramp_running: bool
-    ramp_started_at_s: float | None
-    job_duration_s: float = 30.0
-    api_url: str = DEFAULT_API_URL
-    ground: str = "constraint"  # `ModelParams.ground` of the walk (the jobs' `ground` too)
+CONDITION_COLUMNS = ("beta", "body_mass_g", "slope_deg")
+# What made the numbers, on every row (the core's `provenance`: the physics' version, the
+# parameter hash the result cache uses, the ground and the physics step): columns, not a
+# commented header, so that every CSV reader keeps them with each row.
+PROVENANCE_COLUMNS = ("ground", "dt_s", "physics_version", "params_hash")
+D31_COLUMNS = ("time_s", "d31_rad", *CONDITION_COLUMNS, "ramp", *PROVENANCE_COLUMNS)
+Provenance = dict[str, Any]  # `sim_core.contract.provenance` of the walk
 
 
 def _csv(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> bytes:
@@ -53,37 +46,57 @@ def _csv(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> bytes:
     return buf.getvalue().encode()
 
 
-def _event_row(e: D31Event) -> tuple[Any, ...]:
-    """One touchdown: times and angles to 1 us / 1 urad, the parameters to 1e-6 of their
-    unit (a ramp's value is continuous: 3.0149999999999864 g is written 3.015), and the ramp
-    as 'beta up' (its parameter and phase) while one ran."""
+def _stamp(made: Provenance) -> tuple[Any, ...]:
+    return tuple(made[c] for c in PROVENANCE_COLUMNS)
+
+
+def _at(at: EventConditions) -> tuple[float, ...]:
+    """The parameters in force to 1e-6 of their unit (a ramp's value is continuous:
+    3.0149999999999864 g is written 3.015)."""
+    return tuple(round(getattr(at, c), 6) for c in CONDITION_COLUMNS)
+
+
+def _event_row(e: D31Event, made: Provenance) -> tuple[Any, ...]:
+    """One touchdown: times and angles to 1 us / 1 urad, the parameters then, the ramp as
+    'beta up' (its parameter and phase) while one ran, and what made the numbers."""
     ramp = f"{e.at.ramp_param} {e.at.ramp}".strip() if e.at.ramp else ""
-    return (
-        round(e.time_s, 6),
-        round(e.d31, 6),
-        round(e.at.beta, 6),
-        round(e.at.body_mass_g, 6),
-        round(e.at.slope_deg, 6),
-        ramp,
-    )
+    return (round(e.time_s, 6), round(e.d31, 6), *_at(e.at), ramp, *_stamp(made))
 
 
-def d31_csv(events: Iterable[D31Event]) -> bytes:
+def d31_csv(events: Iterable[D31Event], *, made: Provenance) -> bytes:
     """Delta31 at every leg-1 touchdown kept (the whole run), with the parameters then."""
-    return _csv(D31_COLUMNS, (_event_row(e) for e in events))
+    return _csv(D31_COLUMNS, (_event_row(e, made) for e in events))
 
 
-def footfall_csv(intervals: Sequence[Sequence[Interval]]) -> bytes:
+def footfall_csv(
+    intervals: Sequence[Sequence[Interval]],
+    events: Sequence[D31Event],
+    now: EventConditions,
+    *,
+    made: Provenance,
+) -> bytes:
     """Stance intervals, per leg in paper order (`record.stance_intervals`), as rows (leg
-    R1..L3, start, end in s) in order of their start."""
+    R1..L3, start, end in s) in order of their start, each with the parameters in force at
+    the latest leg-1 touchdown up to its start (the core records them at touchdowns; before
+    the first one, the first one's; with none yet, `now`'s)."""
+    times = [e.time_s for e in events]
+
+    def at(t: float) -> EventConditions:
+        if not events:
+            return now
+        return events[max(0, bisect.bisect_right(times, t) - 1)].at
+
     rows = sorted((a, leg, b) for leg, legs in enumerate(intervals) for a, b in legs)
     return _csv(
-        ("leg", "start_s", "end_s"),
-        ((LEG_NAMES[leg], round(a, 6), round(b, 6)) for a, leg, b in rows),
-    )
+        ("leg", "start_s", "end_s", *CONDITION_COLUMNS, *PROVENANCE_COLUMNS),
+        ((LEG_NAMES[leg], round(a, 6), round(b, 6), *_at(at(a)), *_stamp(made))
+         for a, leg, b in rows),
+    )  # fmt: skip
 
 
-def ramp_csv(path: Iterable[D31Event], ramp: Ramp | None, started_at_s: float | None) -> bytes:
+def ramp_csv(
+    path: Iterable[D31Event], ramp: Ramp | None, started_at_s: float | None, *, made: Provenance
+) -> bytes:
     """The ramp's path: each touchdown during the ramp with the scheduled value of the ramped
     parameter (`Ramp.value` at that time) next to the parameters in force."""
     rows = []
@@ -93,7 +106,7 @@ def ramp_csv(path: Iterable[D31Event], ramp: Ramp | None, started_at_s: float | 
             if ramp is not None and started_at_s is not None
             else math.nan
         )
-        rows.append((*_event_row(e), scheduled))
+        rows.append((*_event_row(e, made), scheduled))
     return _csv((*D31_COLUMNS, "scheduled"), rows)
 
 
@@ -161,71 +174,14 @@ def curl(api_url: str, body: dict[str, Any]) -> str:
     )
 
 
-def settings_json(s: Settings) -> bytes:
+def settings_json(s: Settings, *, made: Provenance) -> bytes:
     """The settings in force, as a person reads them: "speed" is a multiple of real time or
-    "max" (as fast as the machine steps), never null."""
+    "max" (as fast as the machine steps), never null; "provenance": what made the walk's
+    numbers (read back by nobody: a loaded file walks on today's physics)."""
     out = asdict(s)
+    out["provenance"] = dict(made)
     out["speed"] = "max" if s.speed is None else s.speed
     out["ramp"] = None if s.ramp is None else asdict(s.ramp)
     out["jobs"] = jobs(s)
     out["jobs_url"] = f"{s.api_url.rstrip('/')}/v1/jobs"
     return json.dumps(out, indent=2).encode()
-
-
-def load_settings(data: bytes) -> Settings:
-    """The settings a person exported (`settings_json`), read back: every value checked against
-    the range the viewer's controls take, so a hand-edited file is refused with the field and
-    its range named instead of walking at a value the sliders cannot show."""
-
-    try:
-        raw = json.loads(data)
-    except (ValueError, UnicodeDecodeError) as exc:
-        raise ValueError(f"not a settings file (not JSON: {exc})") from None
-    if not isinstance(raw, dict):
-        raise ValueError("not a settings file (a JSON object is expected)")
-
-    def number(key: str, rng: controls.SliderRange | None = None, default: float | None = None,
-               lo: float | None = None, hi: float | None = None) -> float:  # fmt: skip
-        v = raw.get(key, default)
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-            raise ValueError(f"{key}: a number is expected, the file has {v!r}")
-        lo, hi = (rng.lo, rng.hi) if rng is not None else (lo, hi)
-        if (lo is not None and v < lo) or (hi is not None and v > hi):
-            raise ValueError(f"{key}: {v} is outside {lo}..{hi}")
-        return float(v)
-
-    speed = raw.get("speed", 1.0)
-    if speed != "max" and (isinstance(speed, bool) or not isinstance(speed, (int, float))
-                           or speed not in [s for s in controls.SPEEDS.values() if s]):  # fmt: skip
-        raise ValueError(f"speed: one of {list(controls.SPEEDS)} is expected, the file has "
-                         f"{speed!r}")  # fmt: skip
-    ground = raw.get("ground", "constraint")
-    if ground not in controls.GROUND_LABEL:
-        raise ValueError(f"ground: one of {list(controls.GROUND_LABEL)}, the file has {ground!r}")
-    ramp = None
-    r = raw.get("ramp")
-    if r is not None:
-        try:
-            ramp = Ramp(r["param"], float(r["start"]), float(r["turn"]), float(r["hold_s"]),
-                        float(r["ramp_s"]))  # fmt: skip
-        except (KeyError, TypeError, ValueError) as exc:
-            raise ValueError(
-                f"ramp: param, start, turn, hold_s and ramp_s expected ({exc})"
-            ) from None
-        if ramp.param not in controls.RAMP_SLIDERS:
-            raise ValueError(f"ramp.param: one of {list(controls.RAMP_SLIDERS)}, the file has "
-                             f"{ramp.param!r}")  # fmt: skip
-    return Settings(
-        beta=number("beta", controls.BETA),
-        body_mass_g=number("body_mass_g", controls.BODY_MASS_G),
-        slope_deg=number("slope_deg", controls.SLOPE_DEG),
-        d31_init=number("d31_init", lo=0.0, hi=2 * math.pi),
-        speed=None if speed == "max" else float(speed),
-        time_s=0.0,
-        ramp=ramp,
-        ramp_running=False,
-        ramp_started_at_s=None,
-        job_duration_s=number("job_duration_s", default=30.0, lo=1.0, hi=600.0),
-        api_url=str(raw.get("api_url") or DEFAULT_API_URL),
-        ground=ground,
-    )

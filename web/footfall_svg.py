@@ -10,16 +10,12 @@ from collections.abc import Sequence
 
 from sim_core.contract import LEG_NAMES
 from web.svg import (
-    BOTTOM,
     FONT,
     LEFT,
-    RIGHT,
-    TOP,
-    Frame,
-    H,
-    W,
+    LINE,
     open_svg,
-    time_axis_label,
+    panel_frame,
+    time_axis_word,
     time_ticks,
     time_window,
     x_ticks,
@@ -41,23 +37,19 @@ def footfall_svg(
 ) -> str:
     """Six rows (legs 1-6: R1 L1 R2 L2 R3 L3), one rect per stance interval, scrolling."""
     t0, t1 = time_window(t_now, window_s)
-    f = Frame(t0, t1, 0.0, 6.0)
-    out = open_svg(
-        "footfall",
-        f"Footfall, last {window_s:g} s (bar = stance; right dark, left light)",
-        t_now=f"{t_now:.4f}",
-        window_s=f"{window_s:g}",
-    )
-    row_h = (H - TOP - BOTTOM) / 6.0
+    title = f"Footfall, last {window_s:g} s (stance; right legs dark)"
+    f = panel_frame(title, t0, t1, 0.0, 6.0, below=LINE)  # a row for the axis word
+    out = open_svg("footfall", title, f, t_now=f"{t_now:.4f}", window_s=f"{window_s:g}")
+    row_h = (f.bottom - f.top) / 6.0
     n_bars = 0
     for pair in (1, 2):  # thin lines between fore, middle and hind
-        y = TOP + 2 * pair * row_h
+        y = f.top + 2 * pair * row_h
         out.append(
-            f'<line x1="{LEFT}" y1="{y:.1f}" x2="{W - RIGHT}" y2="{y:.1f}" stroke="#ccc" '
+            f'<line x1="{LEFT}" y1="{y:.1f}" x2="{f.right}" y2="{y:.1f}" stroke="#ccc" '
             'stroke-width="0.5"/>'
         )
     for leg, legbars in enumerate(bars):
-        y = TOP + leg * row_h
+        y = f.top + leg * row_h
         out.append(
             f'<text x="{LEFT - 3}" y="{y + row_h * 0.7:.1f}" {FONT} text-anchor="end" '
             f'fill="{PAIR_COLOURS[leg // 2]}">{leg + 1} {LEG_ORDER[leg]}</text>'
@@ -74,6 +66,6 @@ def footfall_svg(
             )
     fmt = "{:.2f}" if window_s < 1.5 else "{:.1f}"
     out += x_ticks(f, time_ticks(t0, t1), fmt)
-    out.append(time_axis_label(f))
+    out.append(time_axis_word(f))
     out.append(f"<!-- {n_bars} bars --></svg>")
     return "\n".join(out)

@@ -21,7 +21,6 @@ import viser
 
 from sim_core.contract import Ramp
 from web import controls
-from web.export import load_settings
 from web.panel_display import PanelDisplay
 from web.readouts import note_html
 from web.requests import (
@@ -35,6 +34,7 @@ from web.requests import (
     StartRamp,
     StopRamp,
 )
+from web.settings_file import load_settings
 
 
 class PanelCallbacks(PanelDisplay):

@@ -48,6 +48,7 @@ class PanelDisplay:
     ramp_hold: viser.GuiNumberHandle[float]
     ramp_ramp: viser.GuiNumberHandle[float]
     job_duration: viser.GuiNumberHandle[float]
+    d31_init: viser.GuiSliderHandle[float]
     api_url: viser.GuiTextHandle
     status: viser.GuiHtmlHandle
     readouts: dict[str, viser.GuiTextHandle]
@@ -100,6 +101,13 @@ class PanelDisplay:
         if is_ramping != self._ramping:
             self._ramping = is_ramping
             self.ramp.label = RAMP_STOP if is_ramping else RAMP_START
+
+    def show_d31_init(self, value: float) -> None:
+        """Loop thread: a restart's initial Delta31 into its slider ("Start as tripod" puts
+        pi there), so that "Reset with this initial Δ31" then restarts from the same value."""
+        shown = round(value, 2)
+        if abs(float(self.d31_init.value) - shown) > 1e-9:
+            self.d31_init.value = shown  # type: ignore[misc]  # viser types the setter on a subclass
 
     def load_inputs(self, s: Settings) -> None:
         """Loop thread: the loaded file's ramp and job inputs into their boxes."""

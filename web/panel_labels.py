@@ -9,6 +9,20 @@ PLAY, PAUSE = "Play", "Pause"
 STEP = "Step one cycle"
 SUBMIT_RUN, SUBMIT_RAMP = "Submit as a run job", "Submit the ramp as a hysteresis job"
 OPEN_JOB = "Open job by id"
+LIVE_AGAIN = "Back to the live walk"  # ends a job's replay in the panels (web/job_panel.py)
+RAMP_PLOT_EMPTY = "<em>a ramp's path: Δ31 against what it ramps</em>"
+
+
+def cancel_label(job_id: str) -> str:
+    """A job row's cancel button: the job's short id tells the rows apart."""
+    return f"Cancel job {job_id[:8]}".strip()
+
+
+def replay_label(job_id: str) -> str:
+    """A job row's replay button (a done run or hysteresis job)."""
+    return f"Replay job {job_id[:8]} in the panels".replace("  ", " ")
+
+
 LOAD_SETTINGS = "Load settings (JSON)"
 DRAW_3D = "draw the 3D walk"
 DRAW_3D_HINT = (
@@ -47,3 +61,5 @@ EXPORT_BUTTONS = {
 }
 D31_WINDOW_LABEL = "Δ31 window (s, 0 = whole run)"
 PRESET_TRIPOD, PRESET_METACHRONAL = "Start as tripod (Δ31 = π)", "Start as metachronal (2π/3)"
+# the drift-surface panel's offer when no surface of the walk's conditions exists (web/surfaces.py)
+COMPUTE_SURFACE = "Compute the drift surface for these conditions"

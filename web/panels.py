@@ -23,13 +23,15 @@ from __future__ import annotations
 
 import viser
 
-from sim_core.contract import METACHRONAL, TRIPOD
+from sim_core.contract import GROUND_HELP, METACHRONAL, TRIPOD
 from web import controls
 from web.caption import CAPTION
 from web.entry import LiveSlider, watch_controls
+from web.job_panel import JobRows
 from web.jobs import JobView, job_status_html
 from web.panel_callbacks import PanelCallbacks
 from web.panel_labels import (
+    COMPUTE_SURFACE,
     D31_WINDOW_LABEL,
     DRAW_3D,
     DRAW_3D_HINT,
@@ -39,6 +41,7 @@ from web.panel_labels import (
     PAUSE,
     PRESET_METACHRONAL,
     PRESET_TRIPOD,
+    RAMP_PLOT_EMPTY,
     RAMP_START,
     STEP,
     SUBMIT_RAMP,
@@ -46,7 +49,7 @@ from web.panel_labels import (
     view_cost_html,
 )
 from web.paths import DEFAULT_API_URL
-from web.readouts import Readouts, format_readouts, status_html
+from web.readouts import Readouts, format_readouts, note_html, status_html
 from web.requests import (
     OpenJob,
     RequestQueue,
@@ -58,6 +61,7 @@ from web.requests import (
     SetSpeed,
     StepCycle,
     SubmitJob,
+    SubmitSurface,
 )
 from web.return_map_plot import add_return_map
 
@@ -111,11 +115,12 @@ class Panels(PanelCallbacks):
             self.low_res = gui.add_html(view_cost_html(software_fps))
             self.camera = gui.add_button_group("camera", controls.CAMERA_MODES)  # as speed
             self.camera.on_click(self._queue(lambda: SetFollow(str(self.camera.value))))
-            # the paper's ground keeps walking up and down a slope; today's contact turns
-            self.ground = gui.add_button_group("ground", tuple(controls.GROUNDS))
+            # the grounds by the core's names (controls.GROUNDS); what each is, under them
+            self.ground = gui.add_button_group("ground", tuple(controls.GROUNDS), hint=GROUND_HELP)
             self.ground.on_click(
                 self._queue(lambda: SetGround(controls.GROUNDS[str(self.ground.value)]))
             )
+            self.ground_words = gui.add_html(note_html(GROUND_HELP))
             self.d31_init = self._slider("d31_init", controls.D31_INIT, None)
             self.reset = gui.add_button("Reset with this initial Δ31")
             self.reset.on_click(
@@ -135,13 +140,16 @@ class Panels(PanelCallbacks):
             self.ramp_ramp = gui.add_number("ramp (s)", r.initial, min=r.lo, max=r.hi, step=r.step)
             self.ramp = gui.add_button(RAMP_START)
             self.ramp.on_click(self._on_ramp)
-            self.ramp_plot = gui.add_html("<em>a ramp's path: Δ31 against what it ramps</em>")
+            self.ramp_plot = gui.add_html(RAMP_PLOT_EMPTY)
             self._ramping = False
             self._disabled: str | None = None  # the slider a running ramp has disabled
         with gui.add_folder("Bifurcation"):
             self.bifurcation = gui.add_html("<em>bifurcation diagram</em>")
         with gui.add_folder("Drift surface"):
             self.surface = gui.add_html("<em>drift surface</em>")
+            # shown only while no surface of the walk's conditions exists (web/surfaces.py)
+            self.surface_compute = gui.add_button(COMPUTE_SURFACE, visible=False)
+            self.surface_compute.on_click(self._queue(SubmitSurface))
         with gui.add_folder("Atlas"):
             self.atlas_axis_buttons = gui.add_button_group("atlas over", ("mass", "slope"))
             self.atlas_axis = "mass"  # read by the loop; a str store is atomic
@@ -168,6 +176,8 @@ class Panels(PanelCallbacks):
             self.open_job = gui.add_button(OPEN_JOB)
             self.open_job.on_click(self._queue(lambda: OpenJob(str(self.job_id.value))))
             self.job_status = gui.add_html(job_status_html(JobView()))
+            # every job this viewer submitted or opened: cancel, replay (web/job_panel.py)
+            self.job_rows = JobRows(gui, gui.add_folder("Jobs from this viewer"), requests)
             self.job = gui.add_html("<em>the current settings as a REST job</em>")
         with gui.add_folder("Readouts"):
             blank = format_readouts(

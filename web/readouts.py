@@ -58,7 +58,7 @@ def heading_note(heading_deg: float | None) -> str:
     return (
         f"turned {round(off)}° from the slope's +x: the model has no steering (nor has the "
         "paper's), so it keeps walking the way a slope yawed it; Reset faces it uphill again, "
-        "and the paper's ground (button 'ground') keeps its heading on slopes"
+        "and the penalty ground, the paper's (button 'ground'), keeps its heading on slopes"
     )
 
 

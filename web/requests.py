@@ -112,10 +112,36 @@ class SubmitJob:
 
 
 @dataclass(frozen=True)
+class SubmitSurface:
+    """POST a `surface` job for the walk's ground, mass and slope and draw its result on the
+    drift-surface panel when it is done (web/surface_jobs.py)."""
+
+
+@dataclass(frozen=True)
 class OpenJob:
     """Follow an existing job of any kind by its id: its progress, then its figure."""
 
     job_id: str
+
+
+@dataclass(frozen=True)
+class CancelJob:
+    """Ask the API to cancel job `key` of this viewer's list (web/jobs.py)."""
+
+    key: int
+
+
+@dataclass(frozen=True)
+class ReplayJob:
+    """Draw done job `key`'s run in the Delta31, footfall and ramp-path panels instead of the
+    live walk's, until `StopReplay` (web/job_replay.py)."""
+
+    key: int
+
+
+@dataclass(frozen=True)
+class StopReplay:
+    """The panels draw the live walk again."""
 
 
 @dataclass(frozen=True)
@@ -141,7 +167,11 @@ Request = (
     | StopRamp
     | Export
     | SubmitJob
+    | SubmitSurface
     | OpenJob
+    | CancelJob
+    | ReplayJob
+    | StopReplay
     | LoadSettings
 )
 

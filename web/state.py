@@ -17,7 +17,6 @@ import viser
 from sim_core import RunSpec, Simulation
 from sim_core.contract import (
     ATLAS_AXES,
-    DriftSurface,
     FinderOutput,
     Ramp,
     SurfaceAtlas,
@@ -25,6 +24,7 @@ from sim_core.contract import (
 )
 from web import controls
 from web.bifurcation import WatchedFile
+from web.conditions import Conditions
 from web.frame_cap import SOFTWARE_FPS, install_frame_cap
 from web.jobs import JobView, JobWatcher
 from web.pacing import SimClock
@@ -36,6 +36,8 @@ from web.requests import (
     RequestQueue,
 )
 from web.scene import HexapodScene
+from web.surface_jobs import SurfaceJobs
+from web.surfaces import SurfaceFiles
 
 
 @dataclass(frozen=True)
@@ -118,14 +120,16 @@ class ViewerState:
         self.d31_window_s: float | None = None  # None: the whole run
         self.bifurcation_path = bifurcation_path
         self.bifurcation = WatchedFile(bifurcation_path, FinderOutput, "finder results")
-        self.atlases = {
+        self.atlases: dict[tuple[str, str], WatchedFile[SurfaceAtlas]] = {
             (axis, g): WatchedFile(
                 surface_atlas_file(bifurcation_path.parent, axis, g), SurfaceAtlas, "atlas"
             )
             for axis in ATLAS_AXES
             for g in controls.GROUND_LABEL
         }
-        self.surface = WatchedFile(surface_path, DriftSurface, "drift surface")
+        # the results folder's drift surfaces and this session's surface jobs (web/surfaces.py)
+        self.surfaces = SurfaceFiles(bifurcation_path.parent, surface_path)
+        self.surface_jobs = SurfaceJobs()
         self.playing = True
         self.draw_3d = True  # stream poses (SetDraw3D)
         self.speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
@@ -146,6 +150,10 @@ class ViewerState:
         self._thread: threading.Thread | None = None
         self.server.on_client_connect(self._on_connect)
         self.server.on_client_disconnect(self._on_connect)
+
+    def walk_conditions(self) -> Conditions:
+        """The ground, mass and slope the walk is under now: the panels draw data of these."""
+        return Conditions(self.ground, self.sim.body_mass_g, self.sim.slope_deg)
 
     def _on_connect(self, client: viser.ClientHandle) -> None:
         """viser's connect/disconnect hook (its thread pool): only wakes the loop."""

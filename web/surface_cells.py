@@ -12,7 +12,8 @@ from __future__ import annotations
 import math
 
 from sim_core.contract import DriftSurface
-from web.svg import FONT, LEFT, Frame, cell_edges
+from web.legend_svg import LEGEND_X, label_width, row_y
+from web.svg import FONT, Frame, cell_edges
 
 D31_RANGE = (1.3, 3.5)  # rad: the surface's grid, not 0-2 pi
 GROWS_RGB = (178, 24, 43)  # red: Delta31 grows
@@ -102,17 +103,19 @@ def drift_cells(
 
 
 def scale_row(f: Frame, top: float, row: int) -> list[str]:
-    """The colour scale under the legend: 'drift per cycle, mrad' and a swatch per value."""
-    y = f.bottom + 22 + 11 * row
-    out = [f'<text x="{LEFT}" y="{y:.0f}" {FONT} fill="#666">drift per cycle, mrad:</text>']
-    x = LEFT + 104.0
+    """The colour scale on line `row` under the ticks (after the legend's lines, as laid out):
+    'drift per cycle, mrad' and a swatch per value."""
+    y = row_y(f, row)
+    words = "drift per cycle, mrad:"
+    out = [f'<text x="{LEGEND_X:g}" y="{y:.0f}" {FONT} fill="#666">{words}</text>']
+    x = LEGEND_X + label_width(words) + 4
     for v in SCALE_MRAD:
         colour = drift_colour(drift_level(v * 1e-3), top)
-        label = f"{v:+g}".replace("-", "−") if v else "0"
+        label = f"{v:g}".replace("-", "−")  # red (growing) needs no "+": the width does
         out.append(
             f'<rect class="swatch" x="{x:.1f}" y="{y - 6:.0f}" width="7" height="7" '
             f'fill="{colour}" stroke="#999" stroke-width="0.3"/>'
         )
         out.append(f'<text x="{x + 9:.1f}" y="{y:.0f}" {FONT} fill="#333">{label}</text>')
-        x += 9 + 5.0 * len(label) + 8
+        x += 9 + label_width(label) + 4
     return out

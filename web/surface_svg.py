@@ -20,15 +20,14 @@ from collections.abc import Sequence
 from typing import Protocol
 
 from sim_core.contract import DriftSurface
+from web.legend_svg import Entry, legend, legend_lines, rows_height
+from web.paper_svg import paper_transitions, transitions_entry
 from web.surface_cells import D31_RANGE, drift_cells, grid_key, scale_row
 from web.svg import (
-    BIF_H,
     FONT,
     LEFT,
-    LEGEND_H,
-    Frame,
-    legend,
     open_svg,
+    panel_frame,
     plot_note,
     reference_lines,
     x_ticks,
@@ -37,6 +36,11 @@ from web.svg import (
 D31_TICKS = (1.5, 2.0, 2.5, 3.0, 3.5)
 BETA_TICKS = (0.55, 0.60, 0.65, 0.70, 0.75, 0.80)
 LINK_TOL_RAD = 0.12  # the core's SurfaceConfig.link_tol_rad, if the file's config lacks it
+LEGEND: list[list[Entry]] = [  # one row, wrapped where the width ends
+    [("● stable zero", "#000"), ("○ unstable zero", "#000"), ("faint: not resolved", "#888"),
+     ("| near zero", "#777"), ("× fold", "#333"), ("■ not usable", "#bbb"), ("○ now", "#e00"),
+     transitions_entry()],
+]  # fmt: skip
 
 
 class Zero(Protocol):
@@ -89,14 +93,19 @@ def surface_svg(
     note: str,
     live: tuple[float, float | None],
     beta_range: tuple[float, float],
+    *,
+    conditions: str = "",
 ) -> str:
     """The drift surface over (beta, Delta31) with its zeros, bands, folds and the live point;
-    `note` (an absent or invalid surface.json) when there is no surface."""
+    `note` (an absent or invalid surface.json) when there is no surface; `conditions` (the
+    ground, mass and slope it is of) ends the title."""
     lo, hi = beta_range
-    f = Frame(lo, hi, *D31_RANGE, h=BIF_H, legend_h=LEGEND_H)
-    title = "Drift surface: Δ31 drift per cycle over (β, Δ31)"
+    lines = legend_lines(LEGEND)
+    title = "Drift surface: drift of Δ31 per cycle" + (f" — {conditions}" if conditions else "")
+    # the legend's lines as laid out (a long row wraps), then the colour scale's line
+    f = panel_frame(title, lo, hi, *D31_RANGE, below=rows_height(len(lines) + 1))
     if surface is None or not surface.betas or not surface.points:
-        out = open_svg("surface", title, h=BIF_H, legend_h=LEGEND_H, n_cells="0", n_zeros="0")
+        out = open_svg("surface", title, f, n_cells="0", n_zeros="0")
         out.append(plot_note(f, note or "the drift surface is empty"))
         out.append("</svg>")
         return "\n".join(out)
@@ -110,8 +119,7 @@ def surface_svg(
     out = open_svg(
         "surface",
         title,
-        h=BIF_H,
-        legend_h=LEGEND_H,
+        f,
         n_cells=str(n_cells),
         n_zeros=str(len(zeros)),
         top_mrad=f"{10**top - 1:.0f}",
@@ -121,7 +129,7 @@ def surface_svg(
         out.append(
             f'<text x="{LEFT - 3}" y="{f.y(v) + 3:.1f}" {FONT} text-anchor="end">{v:g}</text>'
         )
-    out += reference_lines(f)
+    out += reference_lines(f) + paper_transitions(f)
     tol = float(surface.config.get("link_tol_rad", LINK_TOL_RAD))
     for a, b in _links(zeros, surface.betas, tol):
         dash = "" if a.stable else ' stroke-dasharray="2 1.5"'
@@ -168,11 +176,7 @@ def surface_svg(
     if note:
         out.append(plot_note(f, note))
     out += x_ticks(f, [t for t in BETA_TICKS if lo <= t <= hi], "{:.2f}")
-    rows = [
-        [("● stable zero", "#000"), ("◯ unstable zero", "#000"), ("faint: not resolved", "#888")],
-        [("| near zero", "#777"), ("× fold", "#333"), ("■ not usable", "#bbb"), ("◯ now", "#e00")],
-    ]
-    out += legend(f, rows)
-    out += scale_row(f, top, len(rows))
+    out += legend(f, lines)
+    out += scale_row(f, top, len(lines))
     out.append("</svg>")
     return "\n".join(out)

@@ -5,12 +5,14 @@ SVG rather than a plotting widget because the footfall diagram is bars, not line
 interval is one <rect>, coloured per leg pair, and nothing has to be encoded as gaps in a series.
 The functions are pure (numbers in, markup out), so a test can check what a browser will draw.
 
-Here: the viewBox and its margins (`Frame`), a panel's opening (`open_svg`), the axes and
-ticks, the gaits' reference lines, many dots as one path, the legend under the ticks and a note
-across the plot; one definition of each, so that every panel reads alike. The charts are one
-module per family, built from these: web/footfall_svg.py, web/d31_svg.py (the Delta31 history
-and its marks), web/bifurcation_svg.py (the finder's states and a ramp's path),
-web/atlas_svg.py, web/surface_svg.py; the return map is uPlot's (web/return_map_plot.py).
+Here: the viewBox and its margins (`Frame`, `panel_frame`), a panel's opening and title
+(`open_svg`, two lines where one would be cut), the axes, ticks and axis words, the gaits'
+reference lines, many dots as one path and a note across the plot; one definition of each, so
+that every panel reads alike, with the widths the layout counts text at (`CHAR_W`). The legend
+is web/legend_svg.py's, the paper's numbers web/paper_svg.py's. The charts are one module per
+family, built from these: web/footfall_svg.py, web/d31_svg.py (the Delta31 history and its
+marks), web/bifurcation_svg.py (the finder's states and a ramp's path), web/atlas_svg.py,
+web/surface_svg.py; the return map is uPlot's (web/return_map_plot.py).
 """
 
 from __future__ import annotations
@@ -28,6 +30,17 @@ from sim_core.contract import TWO_PI
 W, H = 300, 150  # viewBox; the panel scales it to its width
 LEFT, RIGHT, TOP, BOTTOM = 34, 14, 16, 20
 FONT = 'font-family="sans-serif" font-size="9"'
+LINE = 11.0  # px from one line of 9 px text to the next (a line's glyphs are ~8.6 px tall)
+TICK_Y = 12.0  # the x ticks' baseline under the plot: clear of a y tick at the plot's foot
+TITLE_X = 4.0  # the title starts at the panel's left edge: the whole width is its line
+# The widths the layout counts with, per character of the 9 px font. Measured in headless
+# Chromium (DejaVu Sans, the "sans-serif" of the browser tests): a short label reaches 0.69 em
+# a character ("π"; "○ now" 0.60), a sentence averages less (0.61 em at most, bold titles
+# 0.54), so a label counts 0.7 em, a note wraps at 0.62 em and a bold title at 0.62 x 1.1.
+CHAR_W = 6.3
+LONG_CHAR_W = 5.6
+TITLE_CHAR_W = 6.2
+TITLE_Y = 10.0  # the title's baseline: its line clears the top y tick's (at TOP + 3)
 
 
 @dataclass(frozen=True)
@@ -41,6 +54,7 @@ class Frame:
     w: float = W
     h: float = H
     legend_h: float = 0.0  # room under the ticks for a legend
+    top: float = TOP  # the plot area's upper edge (lower when the title takes two lines)
 
     def x(self, v: float) -> float:
         span = self.x1 - self.x0 or 1.0
@@ -48,7 +62,7 @@ class Frame:
 
     def y(self, v: float) -> float:
         span = self.y1 - self.y0 or 1.0
-        return self.bottom - (v - self.y0) / span * (self.bottom - TOP)
+        return self.bottom - (v - self.y0) / span * (self.bottom - self.top)
 
     @property
     def bottom(self) -> float:
@@ -84,20 +98,39 @@ def n_dots(svg: str, cls: str = "dots") -> int:
     return sum(int(n) for n in re.findall(f'class="{cls}" data-n="(\\d+)"', svg))
 
 
-def open_svg(
-    kind: str, title: str, *, w: float = W, h: float = H, legend_h: float = 0.0, **attrs: str
-) -> list[str]:
-    """The panel's frame. Its width on the page is w / W of the panel's, so that every panel
-    draws its text at one size whatever its viewBox (a narrower one is not blown up)."""
+def title_lines(title: str, w: float = W) -> list[str]:
+    """The title on as few lines as the panel's width allows (two at most: a title that names
+    the conditions in force is long, and a clipped one hides them)."""
+    lines = textwrap.wrap(title, int((w - 2 * TITLE_X) / TITLE_CHAR_W)) or [""]
+    return [lines[0], " ".join(lines[1:])] if len(lines) > 2 else lines
+
+
+def panel_frame(
+    title: str, x0: float, x1: float, y0: float, y1: float, *, below: float = 0.0, w: float = W
+) -> Frame:
+    """The frame of a panel titled `title` with `below` px of rows under the x ticks (a legend,
+    an axis word): the plot area keeps its height, the viewBox grows by what the title's second
+    line and the rows take."""
+    extra = LINE * (len(title_lines(title, w)) - 1)
+    return Frame(x0, x1, y0, y1, w=w, h=H + below + extra, legend_h=below, top=TOP + extra)
+
+
+def open_svg(kind: str, title: str, f: Frame, **attrs: str) -> list[str]:
+    """The panel's opening, title and plot box, in the frame `panel_frame` made for `title`.
+    Its width on the page is w / W of the panel's, so that every panel draws its text at one
+    size whatever its viewBox (a narrower one is not blown up)."""
     extra = "".join(f' data-{k.replace("_", "-")}="{html.escape(v)}"' for k, v in attrs.items())
-    bottom = h - BOTTOM - legend_h
+    heading = "".join(
+        f'<tspan x="{TITLE_X:g}" y="{TITLE_Y + LINE * k:g}">{html.escape(line)}</tspan>'
+        for k, line in enumerate(title_lines(title, f.w))
+    )
     return [
-        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {w} {h}" '
-        f'width="{100 * min(1.0, w / W):.0f}%" '
+        f'<svg xmlns="http://www.w3.org/2000/svg" viewBox="0 0 {f.w:g} {f.h:g}" '
+        f'width="{100 * min(1.0, f.w / W):.0f}%" '
         f'data-plot="{kind}"{extra} style="background:#fff">',
-        f'<text x="{LEFT}" y="11" {FONT} font-weight="bold">{html.escape(title)}</text>',
-        f'<rect x="{LEFT}" y="{TOP}" width="{w - LEFT - RIGHT}" height="{bottom - TOP}" '
-        'fill="none" stroke="#999" stroke-width="0.5"/>',
+        f'<text class="title" {FONT} font-weight="bold">{heading}</text>',
+        f'<rect x="{LEFT}" y="{f.top:g}" width="{f.w - LEFT - RIGHT:g}" '
+        f'height="{f.bottom - f.top:g}" fill="none" stroke="#999" stroke-width="0.5"/>',
     ]
 
 
@@ -108,16 +141,17 @@ def time_window(t_now: float, window_s: float) -> tuple[float, float]:
     return t1 - window_s, t1
 
 
-def _axis_label(f: Frame, text: str) -> str:
-    """What the x ticks count, in the free corner left of the axis."""
+def axis_word(f: Frame, text: str) -> str:
+    """What the x ticks count, centred under them on a row of its own (`below=LINE`): beside
+    the first tick it printed over it."""
     return (
-        f'<text x="{LEFT - 3}" y="{f.bottom + 11}" {FONT} text-anchor="end" '
-        f'fill="#666">{html.escape(text)}</text>'
+        f'<text class="axis-word" x="{(LEFT + f.right) / 2:.1f}" y="{f.bottom + TICK_Y + LINE:g}" '
+        f'{FONT} text-anchor="middle" fill="#666">{html.escape(text)}</text>'
     )
 
 
-def time_axis_label(f: Frame) -> str:
-    return _axis_label(f, "t (s)")
+def time_axis_word(f: Frame) -> str:
+    return axis_word(f, "t (s)")
 
 
 def x_ticks(f: Frame, ticks: Sequence[float], fmt: str) -> list[str]:
@@ -129,7 +163,7 @@ def x_ticks(f: Frame, ticks: Sequence[float], fmt: str) -> list[str]:
             'stroke="#999" stroke-width="0.5"/>'
         )
         out.append(
-            f'<text x="{x:.1f}" y="{f.bottom + 11}" {FONT} text-anchor="middle">'
+            f'<text x="{x:.1f}" y="{f.bottom + TICK_Y}" {FONT} text-anchor="middle">'
             f"{fmt.format(v)}</text>"
         )
     return out
@@ -173,37 +207,23 @@ def time_ticks(t0: float, t1: float) -> list[float]:
 # 10-minute run has ~6000 touchdowns and the panel is redrawn 5 times a second for every browser.
 MAX_DRAWN = 1200
 
-LEGEND_H = 48.0  # up to four legend rows under the ticks (a long row wraps: `legend`)
-BIF_H = H + LEGEND_H
+NOTE_LINES = 5
+REF_LABEL_W = 56.0  # the gait lines' labels at the plot's right edge ("metachr.")
 
 
-def legend(f: Frame, rows: Sequence[Sequence[tuple[str, str]]]) -> list[str]:
-    """Legend rows under the x ticks: (markup of a symbol + words, colour) each, left to right.
-    Below the plot so it never covers data or the gait lines' labels."""
-    out = []
-    r = -1
-    for row in rows:
-        r, x = r + 1, float(LEFT)
-        for text, colour in row:
-            width = 5.2 * len(html.unescape(text))
-            if x > LEFT and x + width > f.w - 2:  # the row would leave the panel: wrap
-                r, x = r + 1, float(LEFT)
-            y = f.bottom + 22 + 11 * r
-            out.append(f'<text x="{x:.0f}" y="{y:.0f}" {FONT} fill="{colour}">{text}</text>')
-            x += width + 10
-    return out
-
-
-def plot_note(f: Frame, note: str, width: int = 52) -> str:
-    """A note across the plot area (a missing or invalid file), wrapped to the plot's width;
-    the whole text is also the element's tooltip."""
-    lines = textwrap.wrap(note, width)[:3] or [""]
-    if len(lines) == 3 and len(" ".join(lines)) < len(note):
-        lines[2] = lines[2][: width - 3] + "..."
-    x = (LEFT + f.w - RIGHT) / 2
-    y0 = f.bottom - 6 - 11 * (len(lines) - 1)
+def plot_note(f: Frame, note: str) -> str:
+    """A note across the plot area (a missing or invalid file), wrapped to the plot's width
+    left of the gait lines' labels, at most NOTE_LINES lines (cut with "..."); the whole
+    text is also the element's tooltip."""
+    right = f.right - REF_LABEL_W
+    width = int((right - LEFT - 4) / LONG_CHAR_W)
+    lines = textwrap.wrap(note, width)[:NOTE_LINES] or [""]
+    if len(lines) == NOTE_LINES and len(" ".join(lines)) < len(note):
+        lines[-1] = lines[-1][: width - 3] + "..."
+    x = (LEFT + right) / 2
+    y0 = f.bottom - 6 - LINE * (len(lines) - 1)
     spans = "".join(
-        f'<tspan x="{x:.0f}" y="{y0 + 11 * k:.0f}">{html.escape(line)}</tspan>'
+        f'<tspan x="{x:.0f}" y="{y0 + LINE * k:.0f}">{html.escape(line)}</tspan>'
         for k, line in enumerate(lines)
     )
     return (

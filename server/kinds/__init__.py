@@ -20,6 +20,7 @@ from pydantic import Field, TypeAdapter
 
 from server.kinds.base import JobFailed, Kind, Physics, Progress, Result
 from server.kinds.bounds import tidy
+from server.kinds.provenance import job_provenance
 
 # The registry: one line per kind, in the order the request union (and so OpenAPI) lists them.
 NAMES = (
@@ -76,9 +77,11 @@ __all__ = [
 
 
 def execute(job: AnyJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    """Run `job` by its kind's runner (in a worker process); the result (its kind's `Result`)
-    as JSON-able data, a top-level null left out, checked finite and its floats tidied."""
+    """Run `job` by its kind's runner (in a worker process); the result (its kind's `Result`,
+    stamped with the job's provenance: every kind's, one function) as JSON-able data, a
+    top-level null left out, checked finite and its floats tidied."""
     outcome = KINDS[job.kind_name()].run(job, progress, nthread)
+    outcome = outcome.model_copy(update={"provenance": job_provenance(job)})
     data = outcome.model_dump(mode="json")  # keeps NaN and inf as floats: checked below
     result = {k: v for k, v in data.items() if v is not None}
     _check_finite(result)

@@ -12,6 +12,8 @@ from pydantic import Field, ValidationInfo, field_validator
 import sim_core
 from server.kinds.base import Kind, Progress, Result
 from server.kinds.bounds import SWEEP_RANGES, in_range, range_text
+from server.kinds.common import paper_transitions
+from server.kinds.progress import ChunkProgress
 from server.kinds.surface import Held
 from sim_core.contract import AXIS_PARAM, AtlasAxis, SurfaceAtlas, SurfaceConfig
 
@@ -68,6 +70,10 @@ class AtlasJob(Held):
     def run_count(self) -> int:
         return len(self.betas) * len(self.values) * len(self.config().d31_grid)
 
+    def varied_conditions(self) -> tuple[str, ...]:
+        """The axis's field is each row's `value`, not the job's."""
+        return (AXIS_PARAM[self.axis],)
+
 
 class AtlasJobResult(Result):
     """An atlas job's result: the core's typed atlas and one row per (beta, value)."""
@@ -81,10 +87,11 @@ def run(job: AtlasJob, progress: Progress, nthread: int) -> AtlasJobResult:
     row per (beta, value)."""
     sim = sim_core
     at = sim.Condition(job.body_mass_g, job.slope_deg)
+    moving = ChunkProgress(progress, job.run_count())  # moves inside each chunk of probes
     atlas = sim.surface_atlas(
         job.axis, sorted(set(job.betas)), sorted(set(job.values)), config=job.config(),
         params=job.model_params(), at=at, numerics=job.spec_numerics(), refine=job.refine,
-        progress=False, on_progress=lambda x: progress(min(0.99, x)),
+        progress=False, on_progress=moving.on_progress, executor=moving.executor,
     )  # fmt: skip
     rows = [
         {"beta": p.beta, "axis": job.axis, "value": p.value, "region": p.region,
@@ -106,6 +113,7 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
                    color=REGION_COLOURS.get(r["region"], "0.8"))  # fmt: skip
     for name, colour in REGION_COLOURS.items():
         ax.scatter([], [], marker="s", color=colour, label=name)
+    paper_transitions(ax)
     ax.set_xlabel("duty factor β")
     ax.set_ylabel(AXIS_LABEL.get(spec.get("axis", "mass"), ""))
     ax.set_title("gait atlas from the drift surface")

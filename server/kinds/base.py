@@ -28,6 +28,7 @@ from server.kinds.bounds import (
     core_field,
     tidy,
 )
+from server.kinds.provenance import Provenance
 from sim_core.contract import (
     DEFAULT_DT_S,
     DEFAULT_INTEGRATOR,
@@ -168,6 +169,11 @@ class Physics(Strict):
         runs, a finer step than the default counted as that many more (a coarser one as 1)."""
         return self.total_sim_seconds() * max(1.0, self.step_weight())
 
+    def varied_conditions(self) -> tuple[str, ...]:
+        """The conditions (body_mass_g, slope_deg) this job varies row by row, which its
+        provenance leaves to the rows (`server.kinds.provenance`); none for most kinds."""
+        return ()
+
     def physics_fields(self) -> dict[str, Any]:
         return {
             "body_mass_g": self.body_mass_g,
@@ -257,6 +263,11 @@ class Result(BaseModel):
     records: list[Record] = Field(
         description="one flat row per run, grid point or sample (the kind's columns; the CSV "
         "export with table=records)"
+    )
+    provenance: Provenance | None = Field(
+        None,
+        description="the physics and conditions the job ran under (also the columns every CSV "
+        "table of the job ends with); null for results stored before it was recorded",
     )
 
 

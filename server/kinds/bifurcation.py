@@ -11,6 +11,7 @@ from pydantic import Field
 
 from server.kinds.base import BetaRange, Kind, Progress, Result
 from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
+from server.kinds.common import conditions, d31_axis, paper_ranges, paper_transitions
 from server.kinds.finder import (
     FINDER_COLUMNS,
     FINDER_DEFAULTS,
@@ -108,8 +109,17 @@ def run(job: BifurcationJob, progress: Progress, nthread: int) -> BifurcationJob
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
+    """The finder's states over beta (the paper's Fig. 8), with the paper's stable ranges and
+    transition betas beside them."""
     ax = fig.add_subplot()
+    paper_ranges(ax)
+    paper_transitions(ax)
     draw_finder_points(ax, result.get("records", []))
+    ax.set_xlabel("duty factor β")
+    ax.set_ylabel("Δ31 at leg-1 touchdown (rad)")
+    d31_axis(ax)
+    ax.set_title(f"bifurcation: settled states over β{conditions(spec)}", fontsize="medium")
+    ax.legend(fontsize="x-small", loc="upper left")
     ax.grid(alpha=0.3)
 
 

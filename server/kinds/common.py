@@ -1,5 +1,5 @@
 """What the kinds' runners and figures share: the failure message and its advice, a run's
-summary row, and the Delta31 axis.
+summary row, the Delta31 axis and the paper's numbers beside ours.
 
 Runs only inside worker processes (runners) or request threads (figures); importing it loads
 neither MuJoCo nor matplotlib.
@@ -18,6 +18,7 @@ from sim_core.contract import (
     DEFAULT_INTEGRATOR,
     INSECT_WORDS,
     MAX_STABLE_DT_S,
+    PAPER,
     Integrator,
     RunFailure,
     RunMeasures,
@@ -95,3 +96,39 @@ def d31_axis(ax: Axes, axis: str = "y") -> None:
     else:
         ax.set_xlim(0, TWO_PI)
         ax.set_xticks(ticks, labels)
+
+
+PAPER_COLOURS = {"tripod": "tab:orange", "metachronal": "tab:green"}
+
+
+def conditions(spec: dict[str, Any]) -> str:
+    """The walk's conditions a job ran under, for a figure's title: " (3 g, slope 0°, ground
+    constraint)", or "" when the spec names none."""
+    words = [
+        fmt.format(spec[key])
+        for key, fmt in (("body_mass_g", "{:g} g"), ("slope_deg", "slope {:g}°"),
+                         ("ground", "ground {}"))
+        if spec.get(key) is not None
+    ]  # fmt: skip
+    return f" ({', '.join(words)})" if words else ""
+
+
+def paper_transitions(ax: Axes) -> None:
+    """The paper's transition betas (Fig. 6a: metachronal -> tripod at 0.645 as beta falls,
+    back at 0.67 as it rises) as dashed verticals, one legend entry naming them the paper's;
+    the values are the core's `PAPER`, never retyped."""
+    down, up = PAPER.transition_down, PAPER.transition_up
+    label = f"paper: transitions β {down:g} ↓, {up:g} ↑"
+    for beta in (down, up):
+        ax.axvline(beta, ls=(0, (2, 2)), color="0.35", lw=0.9, label=label if beta == down else "")
+
+
+def paper_ranges(ax: Axes) -> None:
+    """The paper's Fig. 8: each gait's stable range of beta as a pale band at its branch value
+    (Fig. 5), beside the finder's states."""
+    for gait, (lo, hi), d31 in (
+        ("tripod", PAPER.tripod_stable, PAPER.branch_tripod_rad),
+        ("metachronal", PAPER.metachronal_stable, PAPER.branch_metachronal_rad),
+    ):
+        ax.hlines(d31, lo, hi, lw=7, alpha=0.3, color=PAPER_COLOURS[gait],
+                  label=f"paper, Fig. 8: {gait} stable")  # fmt: skip

@@ -9,6 +9,7 @@ from typing import TYPE_CHECKING, Any
 import sim_core
 from server.kinds.base import Physics, Progress
 from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
+from server.kinds.progress import ChunkProgress
 from sim_core.contract import Cell, CellResult, FinderConfig, Probe
 
 if TYPE_CHECKING:
@@ -63,9 +64,11 @@ FinderRun = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
 
 def finder_runner(job: Finder, progress: Progress, nthread: int) -> FinderRun:
     """The finder's `run`: each round as one `simulate_batch` (this worker's threads), with
-    the job's numerics; progress as the share of the job's estimated simulated time done."""
+    the job's numerics; progress as the share of the job's estimated simulated time done,
+    moving inside a round too (the batch's own progress), never back, at most `CAP`."""
     budget = max(job.total_sim_seconds(), 1e-9)
     done = 0.0
+    shown = ChunkProgress(progress, runs=1)  # only its monotone, capped `show`
 
     def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
         nonlocal done
@@ -73,12 +76,16 @@ def finder_runner(job: Finder, progress: Progress, nthread: int) -> FinderRun:
             sim_core.RunSpec(**p.spec_fields(), **c.spec_fields(), **job.numerics_fields())
             for c, p in batch
         ]
-        results = sim_core.simulate_batch(specs, job.model_params(), nthread=nthread)
+        asked, before = sum(p.duration_s for _, p in batch), done
+        results = sim_core.simulate_batch(
+            specs, job.model_params(), nthread=nthread,
+            progress=lambda f: shown.show((before + f * asked) / budget),
+        )  # fmt: skip
         ran = [
             r.measures.duration_s or p.duration_s for (_, p), r in zip(batch, results, strict=True)
         ]
         done += sum(ran)
-        progress(min(0.99, done / budget))
+        shown.show(done / budget)
         return [{"d31": r.events.d31.tolist(), "error": r.error, "duration_s": s}
                 for r, s in zip(results, ran, strict=True)]  # fmt: skip
 
@@ -124,4 +131,3 @@ def draw_finder_points(ax: Axes, records: list[dict[str, Any]]) -> None:
             edge = "k" if marker == "o" else face
             xs, ys = [p[0] for p in pts], [p[1] for p in pts]
             ax.scatter(xs, ys, s=22, marker=marker, facecolors=face, edgecolors=edge, label=label)
-    ax.legend(fontsize="small")

@@ -19,7 +19,7 @@ from server.kinds.bounds import (
     in_range,
     range_text,
 )
-from server.kinds.common import d31_axis, failed
+from server.kinds.common import d31_axis, failed, paper_transitions
 from sim_core.contract import RampParam
 
 if TYPE_CHECKING:
@@ -108,6 +108,10 @@ class HysteresisJob(Physics):
     def run_count(self) -> int:
         return 1
 
+    def varied_conditions(self) -> tuple[str, ...]:
+        """A ramped mass or slope is the rows' `value`, not the job's field."""
+        return (self.parameter,)
+
     def sim_seconds_per_run(self) -> float:
         return 2.0 * self.hold_s + 2.0 * self.ramp_s
 
@@ -174,7 +178,10 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
         for tr in summary.get(leg) or []:
             if isinstance(tr, dict) and tr.get("value") is not None:
                 ax.axvline(tr["value"], ls=style, color="grey", lw=0.8)
-    ax.set_xlabel(str(result.get("parameter", spec.get("parameter"))))
+    parameter = str(result.get("parameter", spec.get("parameter")))
+    if parameter == "beta":  # the paper's Fig. 6a: its transitions beside the ramp's
+        paper_transitions(ax)
+    ax.set_xlabel(parameter)
     ax.set_ylabel("Δ31 (rad)")
     d31_axis(ax)
     ax.set_title(f"hysteresis sweep: {spec.get('start')} → {spec.get('turn')} → back")

@@ -144,25 +144,33 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.grid(alpha=0.3)
 
 
+STANCE_WINDOW_S = 1.0  # the stance panel's span: ~6 gait cycles, each bar still a bar
+
+
 def _footfall(ax: Axes, run: dict[str, Any]) -> None:
-    """Stance bars per leg (first run), paper legs 1..6 from the top."""
+    """Stance bars per leg (first run), paper legs 1..6 from the top, over the run's last
+    STANCE_WINDOW_S: a whole 10 s run's ~60 cycles drew solid bars."""
     times = run.get("times_s") or []
     stance = run.get("stance") or []
+    span = f"last {STANCE_WINDOW_S:g} s" if times and times[-1] - times[0] > STANCE_WINDOW_S else ""
+    ax.set_title(f"stance (first run{', ' + span if span else ''})")
+    ax.set_xlabel("time (s)")
+    ax.set_ylabel("leg")
     if len(times) < 2:
         return
     dt = times[1] - times[0]
+    since = times[-1] - STANCE_WINDOW_S
     for leg in range(6):
         spans: list[tuple[float, float]] = []
         for t, row in zip(times, stance, strict=False):
-            if row[leg]:
+            if row[leg] and t >= since:
                 if spans and abs(spans[-1][0] + spans[-1][1] - t) < 1.5 * dt:
                     spans[-1] = (spans[-1][0], spans[-1][1] + dt)
                 else:
                     spans.append((t, dt))
         ax.broken_barh(spans, (5 - leg - 0.4, 0.8), color="black")
     ax.set_yticks(range(6), list(LEG_NAMES)[::-1])
-    ax.set_xlabel("time (s)")
-    ax.set_title("stance (first run)")
+    ax.set_xlim(max(times[0], since), times[-1])
 
 
 def _body_path(ax: Axes, runs: list[dict[str, Any]]) -> None:

@@ -11,6 +11,7 @@ from pydantic import Field, ValidationInfo, field_validator
 import sim_core
 from server.kinds.base import BetaRange, Kind, Physics, Progress, Result
 from server.kinds.bounds import bounded, core_bounds, core_default
+from server.kinds.progress import ChunkProgress
 from sim_core.contract import DriftSurface, SurfaceConfig, pin_problem, surface_grid
 
 if TYPE_CHECKING:
@@ -96,11 +97,14 @@ class SurfaceJobResult(Result):
 def run(job: SurfaceJob, progress: Progress, nthread: int) -> SurfaceJobResult:
     """The surface by the core's `drift_surface`, in this worker (a private cache: the job's
     probes are its own), refined (`refine`) as `insect-gait surface` refines it, with flat
-    rows: one per probe, zero and near-zero band."""
+    rows: one per probe, zero and near-zero band. Progress moves inside each chunk of probes
+    (`ChunkProgress`), not only when one ends."""
+    moving = ChunkProgress(progress, job.run_count())
     s = sim_core.drift_surface(
         job.beta_range.values(), config=job.config(), params=job.model_params(),
         body_mass_g=job.body_mass_g, slope_deg=job.slope_deg, numerics=job.spec_numerics(),
-        refine=job.refine, progress=False, on_progress=lambda x: progress(min(0.99, x)),
+        refine=job.refine, progress=False, on_progress=moving.on_progress,
+        executor=moving.executor,
     )  # fmt: skip
     rows: list[dict[str, Any]] = [
         {

@@ -12,8 +12,10 @@ from server.kinds.base import BetaRange, Kind, Progress, Result, Timed
 from server.kinds.bounds import D31, core_default, d31_list
 from server.kinds.common import (
     SUMMARY_COLUMNS,
+    conditions,
     d31_axis,
     failed,
+    paper_transitions,
     summary_row,
     warnings_of,
 )
@@ -74,10 +76,12 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     records = result.get("records", [])
     pts = [(r["beta"], r["d31_final"]) for r in records if r.get("d31_final") is not None]
     ax.scatter([p[0] for p in pts], [p[1] for p in pts], s=6)
-    ax.set_xlabel("β")
-    ax.set_ylabel("Δ31 (rad)")
+    paper_transitions(ax)
+    ax.set_xlabel("duty factor β")
+    ax.set_ylabel("final Δ31 (rad)")
     d31_axis(ax)
-    ax.set_title("sweep")
+    ax.set_title(f"sweep: final Δ31 over β{conditions(spec)}", fontsize="medium")
+    ax.legend(fontsize="small")
     ax.grid(alpha=0.3)
 
 

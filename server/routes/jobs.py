@@ -31,6 +31,7 @@ from server.errors import limit_error, sanitize
 from server.estimates import eta_of, retry_after_s, wall_per_sim_second
 from server.jobs import JobRow, JobStore, QueueFull
 from server.kinds import KINDS, RECORD_COLUMNS, JobSpec
+from server.kinds.provenance import stamped
 from server.schemas import Job, JobLinks, JobPage, JobResult, Problem
 from server.settings import Settings
 from server.status import FINISHED, JobStatus, StatusValue
@@ -224,6 +225,7 @@ def get_result(
                 "submitted with include_series: true)",
             )
         name = job_id if table == "records" else f"{job_id}-{table}"
+        rows, columns = stamped(rows, columns, result.get("provenance"))
         return Response(
             figures.records_csv(rows, columns),
             media_type="text/csv",

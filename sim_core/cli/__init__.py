@@ -1,16 +1,18 @@
 """The `insect-gait` command line. Plug-ins (the REST service, the viewer) and the lab's
 `python -m lab` may use its helpers, so that every command checks and words its arguments
-alike: `port_number`, `port_taken`, `EXIT_USAGE`; `Parser` (one-line errors, exit 2); and
+alike: `port_number`, `port_taken`, `EXIT_USAGE`; `Parser` (one-line errors, exit 2); `UsageError`
+(raise it from a command: `main` prints its words in one line and exits 2); and
 `add_backend_args` / `backend_from_args` (--cache, --backend, --address, --workers: where runs
 go and where they are kept)."""
 
-from sim_core.cli.common import EXIT_USAGE, Parser, port_number, port_taken
+from sim_core.cli.common import EXIT_USAGE, Parser, UsageError, port_number, port_taken
 from sim_core.cli.main import build_parser, main
 from sim_core.cli.paper import add_backend_args, backend_from_args
 
 __all__ = [
     "EXIT_USAGE",
     "Parser",
+    "UsageError",
     "add_backend_args",
     "backend_from_args",
     "build_parser",

@@ -12,8 +12,17 @@ import sys
 from collections.abc import Sequence
 from importlib.metadata import entry_points
 
+from pydantic import ValidationError
+
 from sim_core.cli import numerics, paper, surface, walk
-from sim_core.cli.common import EXIT_USAGE, Parser
+from sim_core.cli.common import (
+    EXIT_USAGE,
+    TRACEBACK_ENV,
+    Parser,
+    UsageError,
+    one_line,
+    traceback_wanted,
+)
 
 __all__ = ["EXIT_USAGE", "build_parser", "main"]
 
@@ -23,7 +32,8 @@ def build_parser() -> argparse.ArgumentParser:
         prog="insect-gait",
         description=__doc__.splitlines()[0] if __doc__ else "",
         epilog="The studies behind docs/REPRODUCTION.md (calibration, sensitivity, the "
-        "finder's checks, the campaigns' screens) are `python -m lab --help`.",
+        "finder's checks, the campaigns' screens) are `python -m lab --help`. Errors are "
+        f"one line; {TRACEBACK_ENV}=1 shows a traceback instead.",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
     for family in (walk, numerics, paper, surface):
@@ -39,12 +49,25 @@ def build_parser() -> argparse.ArgumentParser:
 
 
 def main(argv: Sequence[str] | None = None) -> int:
+    """Run one command; every error it meets ends as one line on stderr, never a traceback:
+    argparse's and a command's own refusals (UsageError, exit 2), and, as the net under
+    them, a model's validation error or a file error from inside a command (exit 1)."""
     parser = build_parser()
     args = parser.parse_args(argv)
     func = getattr(args, "func", None)
     if func is None:
         parser.error(f"command {args.command!r} is not available")
-    return int(func(args))
+    prog = f"{parser.prog} {args.command}"
+    try:
+        return int(func(args))
+    except UsageError as exc:
+        code, words = EXIT_USAGE, str(exc)
+    except (ValidationError, OSError) as exc:
+        if traceback_wanted():
+            raise
+        code, words = 1, one_line(exc)
+    print(f"{prog}: error: {words}", file=sys.stderr)
+    return code
 
 
 if __name__ == "__main__":

@@ -4,19 +4,34 @@ from __future__ import annotations
 
 import argparse
 import json
-import sys
+import math
 from pathlib import Path
 from typing import Any
 
-from sim_core.cli.common import EXIT_USAGE, doc_to_update
+from pydantic import ValidationError
+
+from sim_core.cli.common import UsageError, doc_to_update, one_line, out_folder
 from sim_core.model.params import INTEGRATORS
+from sim_core.model.spec import RunSpec
 from sim_core.paper.results import RESULTS_DIR, RESULTS_ENV
+
+
+def _runs_valid(flags: dict[str, str] | None = None, **fields: Any) -> None:
+    """The runs a command will make, checked by RunSpec's rules before anything runs: a
+    UsageError in RunSpec's words, each field named by its flag (as `run` words them; `flags`
+    names those the command calls otherwise)."""
+    from sim_core.cli.walk import validation_message
+
+    try:
+        RunSpec(beta=0.62, **fields)
+    except ValidationError as exc:
+        raise UsageError(validation_message(exc, flags)) from None
 
 
 def _add_bench(sub: Any) -> None:
     p = sub.add_parser("bench", help="speed of one and many simulations, side by side")
     p.add_argument("--json", action="store_true")
-    p.add_argument("--sim-seconds", type=float, default=2.0, help="per measurement")
+    p.add_argument("--sim-seconds", type=float, default=2.0, help="simulated s per measurement")
     p.add_argument("--nsim", type=int, default=32, help="batch size")
     p.set_defaults(func=_cmd_bench)
 
@@ -24,9 +39,9 @@ def _add_bench(sub: Any) -> None:
 def _cmd_bench(args: argparse.Namespace) -> int:
     from sim_core.numerics.bench import run_bench
 
-    if args.sim_seconds <= 0 or args.nsim < 1:
-        print("insect-gait bench: error: --sim-seconds > 0 and --nsim >= 1", file=sys.stderr)
-        return EXIT_USAGE
+    if args.nsim < 1:
+        raise UsageError(f"--nsim: must be >= 1 (simulations in the batch), got {args.nsim}")
+    _runs_valid({"duration_s": "--sim-seconds"}, duration_s=args.sim_seconds)
     report = run_bench(sim_seconds=args.sim_seconds, nsim=args.nsim, verbose=not args.json)
     if args.json:
         print(json.dumps(report))
@@ -35,19 +50,21 @@ def _cmd_bench(args: argparse.Namespace) -> int:
 
 def _add_converge(sub: Any) -> None:
     p = sub.add_parser("converge", help="same gait outcomes at dt and dt/2? (default numerics)")
-    p.add_argument("--dt-s", type=float, default=None)
+    p.add_argument("--dt-s", type=float, default=None, help="the coarse step, s (default: the "
+                   "model's); the check also runs at half of it")  # fmt: skip
     p.add_argument("--integrator", choices=INTEGRATORS, default=None)
-    p.add_argument("--duration-s", type=float, default=6.0)
-    p.add_argument("--tolerance", type=float, default=0.05, help="rad")
+    p.add_argument("--duration-s", type=float, default=6.0, help="simulated s per run")
+    p.add_argument("--tolerance", type=float, default=0.05,
+                   help="largest final Delta31 difference that agrees, rad (> 0)")  # fmt: skip
     p.set_defaults(func=_cmd_converge)
 
 
 def _cmd_converge(args: argparse.Namespace) -> int:
     from sim_core.numerics.convergence import convergence_check
 
-    if (args.dt_s is not None and args.dt_s <= 0) or args.duration_s <= 0:
-        print("insect-gait converge: error: --dt-s and --duration-s must be > 0", file=sys.stderr)
-        return EXIT_USAGE
+    if not (math.isfinite(args.tolerance) and args.tolerance > 0):
+        raise UsageError(f"--tolerance: must be a finite number > 0 (rad), got {args.tolerance}")
+    _runs_valid(duration_s=args.duration_s, dt_s=args.dt_s, integrator=args.integrator)
     report = convergence_check(
         dt_s=args.dt_s, integrator=args.integrator, duration_s=args.duration_s
     )
@@ -88,25 +105,27 @@ def _cmd_solver_options() -> int:
 
 def _cmd_numerics(args: argparse.Namespace) -> int:
     from sim_core.numerics.convergence import grid_study
-    from sim_core.numerics.report import load_grid, plot_grid, save_grid, update_numerics_doc
+    from sim_core.numerics.report import (
+        SECTION,
+        load_grid,
+        plot_grid,
+        save_grid,
+        update_numerics_doc,
+    )
 
-    prog = "insect-gait numerics"
     if args.solver_options:
         return _cmd_solver_options()
+    doc = doc_to_update(args, "docs/NUMERICS.md", SECTION)
     # a quick grid never overwrites the committed full one
-    out = Path(args.out or ("out/numerics-quick" if args.quick else RESULTS_DIR))
-    try:
-        doc = doc_to_update(args, "docs/NUMERICS.md")
-    except FileNotFoundError as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
-    out.mkdir(parents=True, exist_ok=True)
+    out = out_folder(args.out or ("out/numerics-quick" if args.quick else RESULTS_DIR), "--out")
     if args.from_json:
         try:
             points, info = load_grid(Path(args.from_json))
-        except (OSError, ValueError, KeyError, TypeError) as exc:
-            print(f"{prog}: error: --from-json {args.from_json}: {exc}", file=sys.stderr)
-            return EXIT_USAGE
+        except KeyError as exc:
+            raise UsageError(f"--from-json {args.from_json}: not a numerics.json (no {exc} "
+                             "entry)") from None  # fmt: skip
+        except (OSError, ValueError, TypeError) as exc:
+            raise UsageError(f"--from-json {args.from_json}: {one_line(exc)}") from None
     elif args.quick:
         points, info = grid_study(dts=(1e-3, 2e-4, 1e-4, 5e-5), inits=(1.0,), duration_s=2.0,
                                   progress=print, with_batch=False, check_reference=False,

@@ -10,14 +10,17 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from sim_core.cli.common import EXIT_USAGE, doc_to_update
+from sim_core.cli.common import EXIT_USAGE, doc_to_update, out_folder
 from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR, RESULTS_ENV
 
 
 def add_backend_args(p: Any, backends: Sequence[str]) -> None:
     """Where the runs go and where they are kept: shared by `reproduce`, `finder`, `atlas` and
     the lab's commands."""
-    p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
+    p.add_argument("--cache", default="out/cache",
+                   help="folder that keeps every finished simulation, so that the same command "
+                   "run again resumes and reads them back (default %(default)s, under the "
+                   "current folder)")  # fmt: skip
     p.add_argument("--backend", choices=list(backends), default="local",
                    help="local: process pool on this machine; dask: dask.distributed")  # fmt: skip
     p.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
@@ -26,17 +29,28 @@ def add_backend_args(p: Any, backends: Sequence[str]) -> None:
 
 def backend_from_args(args: argparse.Namespace, prog: str) -> Any:
     """The backend `add_backend_args`' options name, or None after printing why not (a bad
-    --workers, or a backend that cannot run here) in one line."""
+    --workers, a --cache that cannot be made, or a backend that cannot run here) in one line.
+    The last check before a command computes: with progress on, it says once, on stderr,
+    where the runs are cached (a rerun reads them back)."""
     from sim_core.runs.backends import BackendUnavailable, get_backend
 
     if args.workers is not None and args.workers < 1:
         print(f"{prog}: error: --workers must be >= 1", file=sys.stderr)
         return None
     try:
-        return get_backend(args.backend, args.workers, args.address)
+        Path(args.cache).mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        print(f"{prog}: error: --cache {args.cache}: {exc.strerror or exc}", file=sys.stderr)
+        return None
+    try:
+        backend = get_backend(args.backend, args.workers, args.address)
     except BackendUnavailable as exc:
         print(f"{prog}: error: {exc}", file=sys.stderr)
         return None
+    if not getattr(args, "no_progress", False):
+        print(f"{prog}: finished runs are cached in {args.cache} (--cache): the same command "
+              "again reads them back", file=sys.stderr)  # fmt: skip
+    return backend
 
 
 def _add_reproduce(sub: Any) -> None:
@@ -70,12 +84,8 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
 
     prog = "insect-gait reproduce"
     cfg = ReproduceConfig.quick() if args.quick else ReproduceConfig()
-    out = Path(args.out or ("out/reproduce-quick" if args.quick else RESULTS_DIR))
-    try:
-        doc = doc_to_update(args, "docs/REPRODUCTION.md")
-    except FileNotFoundError as exc:
-        print(f"{prog}: error: {exc}", file=sys.stderr)
-        return EXIT_USAGE
+    doc = doc_to_update(args, "docs/REPRODUCTION.md", "reproduce")
+    out = out_folder(args.out or ("out/reproduce-quick" if args.quick else RESULTS_DIR), "--out")
     backend = backend_from_args(args, prog)
     if backend is None:
         return EXIT_USAGE
@@ -130,28 +140,33 @@ def _cmd_finder(args: argparse.Namespace) -> int:
     if bad:
         print(f"{prog}: error: --beta {bad[0]:g} is outside (0.5, 1)", file=sys.stderr)
         return EXIT_USAGE
+    folder = out_folder(args.out, "--out")
     backend = backend_from_args(args, prog)
     if backend is None:
         return EXIT_USAGE
     stats = RunStats()
     t0 = time.perf_counter()
     try:
+        bar = False if args.no_progress else "finder"
         run = task_runner(ResultCache(args.cache), backend, None, chunk_size=cfg.chunk_size,
-                          progress=not args.no_progress, stats=stats)  # fmt: skip
+                          progress=bar, stats=stats)  # fmt: skip
         cells = find([Cell(b) for b in betas], cfg.finder, run)
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted; finished runs are cached in {args.cache}: run the same "
+              "command again to resume", file=sys.stderr)  # fmt: skip
+        return 130
     finally:
         backend.close()
     out = FinderOutput(source="insect-gait finder: the settled fixed-point finder",
                        config=asdict(cfg.finder), cells=cells)  # fmt: skip
-    args.out.mkdir(parents=True, exist_ok=True)
-    (args.out / BIFURCATION_FILE).write_text(out.model_dump_json())
+    (folder / BIFURCATION_FILE).write_text(out.model_dump_json())
     for c in cells:
         states = ", ".join(f"{a.d31:.3f} ({a.gait})" for a in c.stable()) or "none confirmed"
         borders = ", ".join(f"{b.d31:.3f}" for b in c.borders if b.d31 is not None)
         print(f"beta {c.beta:g}: stable {states}" + (f"; borders {borders}" if borders else ""))
     wall = time.perf_counter() - t0
     print(f"{stats.computed} runs computed, {stats.cached} cached, in {wall:.0f} s wall; "
-          f"wrote {args.out / BIFURCATION_FILE}")  # fmt: skip
+          f"wrote {folder / BIFURCATION_FILE}")  # fmt: skip
     return 0
 
 

@@ -10,8 +10,9 @@ import sys
 from pathlib import Path
 from typing import Any
 
-from sim_core.cli.common import EXIT_USAGE
+from sim_core.cli.common import EXIT_USAGE, UsageError, one_line, out_file, out_folder
 from sim_core.cli.paper import add_backend_args, backend_from_args
+from sim_core.contract import GROUND_HELP
 from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
 
 # the betas the surface is validated at: the Fig. 7 betas and the two ends of the paper's window
@@ -23,6 +24,16 @@ ATLAS_VALUES = {
     "mass": (1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0, 8.0),
     "slope": (-20.0, -10.0, -5.0, 0.0, 5.0, 10.0, 20.0),
 }
+SURFACE_HELP = (
+    "The drift surface at each duty factor: walks with Delta31 held near each value of a grid "
+    "(a weak pin, phase resets on), each measuring how fast Delta31 would drift per gait cycle "
+    "if let go. Where the drift falls through zero as Delta31 rises is a stable gait (runs "
+    "from either side settle there); where it rises through zero, an unstable one (the border "
+    "between two gaits). The first pass is bisected near zeros and dips of the drift. Prints, "
+    "per beta, each zero in words and the folds where a stable branch ends; --json prints the "
+    "whole surface. Every probe is cached (--cache), so an interrupted or repeated command "
+    "reads them back. docs/MODEL.md, 'Instruments', has the method."
+)
 
 
 def _grid(text: str) -> tuple[float, float, float]:
@@ -60,7 +71,7 @@ def _add_surface_args(p: Any) -> None:
         "--ground",
         choices=["constraint", "penalty"],
         default="constraint",
-        help="constraint: today's default contact; penalty: the paper's ground",
+        help=GROUND_HELP,
     )
     p.add_argument(
         "--gain-per-s",
@@ -89,6 +100,7 @@ def register(sub: Any) -> None:
         "surface",
         help="the drift surface: zeros of Delta31's drift per cycle (gaits, stable and "
         "unstable) and folds, from walks held at each Delta31",
+        description=SURFACE_HELP,
     )
     p.add_argument("--beta", type=float, nargs="+", required=True, help="duty factors")
     p.add_argument("--body-mass-g", type=float, default=3.0, help="body mass, g, 0.5..30")
@@ -153,6 +165,12 @@ def register(sub: Any) -> None:
         help="also probe finer and longer inside unresolved zeros and near-zero bands (off: "
         "such cells are marked unresolved; the pass costs about 40%% more)",
     )
+    a.add_argument(
+        "--no-walks",
+        action="store_true",
+        help="do not decide by settled free walks the cells where an unresolved zero could "
+        "change the region (such cells are then marked unresolved)",
+    )
     _add_surface_args(a)
     a.set_defaults(func=_cmd_atlas)
 
@@ -180,7 +198,8 @@ def _run(
     **fields: Any,
 ) -> Any:
     """The surface the arguments ask for, or None after printing why not (exit 2); `sample`
-    replaces the held Delta31 grid, `dt_s` the physics step."""
+    replaces the held Delta31 grid, `dt_s` the physics step. Its progress bar is labelled
+    with the command's name (`prog`'s last word)."""
     from dataclasses import replace
 
     from sim_core.model.params import ModelParams
@@ -206,7 +225,7 @@ def _run(
             params=ModelParams.of(ground=args.ground),
             numerics=numerics,
             refine=not args.no_refine,
-            progress=not args.no_progress,
+            progress=False if args.no_progress else prog.split()[-1],
             stats=stats,
             **fields,
         )
@@ -217,21 +236,39 @@ def _run(
         backend.close()
 
 
+# what `describe`'s words mean, said once under its lines (only the words it used)
+WORDS = {
+    "stable": "stable X: the drift of Delta31 per gait cycle falls through zero at X rad as "
+    "Delta31 rises: a gait (walks started on either side of X settle on it)",
+    "unstable": "unstable X: the drift rises through zero: the border between two gaits",
+    "unresolved": "unresolved (LO-HI): the zero lies somewhere between the probes at LO and HI "
+    "(the bisection could not narrow it)",
+    "near-zero band": "near-zero band LO-HI: between LO and HI the drift stays inside the noise "
+    "floor ({floor:g} mrad per cycle, or 3 standard errors where larger) and has the same sign on "
+    "both sides: the ghost of a gait, a tangency, or two zeros too close to tell apart",
+}
+
+
 def describe(surface: Any) -> str:
-    """Zeros per beta, then folds, in words."""
+    """Zeros per beta, then folds, in words; a legend of the words used ends it."""
     lines = []
+    used: set[str] = set()
     for b in surface.betas:
         zs = surface.zeros_at(b)
         parts = [
-            f"{'S' if z.stable else 'U'} {z.d31:.3f}"
+            f"{'stable' if z.stable else 'unstable'} {z.d31:.3f}"
             + ("" if z.resolved else f" (unresolved, {z.lo:.2f}-{z.hi:.2f})")
             for z in zs
         ]
+        used.update("stable" if z.stable else "unstable" for z in zs)
+        used.update("unresolved" for z in zs if not z.resolved)
+        bands = [n for n in surface.near_zeros if abs(n.beta - b) < 1e-9]
         parts += [
-            f"near-zero band {n.lo:.2f}-{n.hi:.2f} (|d| >= {n.min_abs_drift * 1e3:.2f} mrad)"
-            for n in surface.near_zeros
-            if abs(n.beta - b) < 1e-9
+            f"near-zero band {n.lo:.2f}-{n.hi:.2f} (drift {'+' if n.sign > 0 else '-'}, "
+            f"smallest {n.min_abs_drift * 1e3:.2g} mrad per cycle)"
+            for n in bands
         ]
+        used.update("near-zero band" for _ in bands)
         bad = [p for p in surface.points_at(b) if not p.usable]
         tail = f"; {len(bad)} probe(s) not used" if bad else ""
         lines.append(f"beta {b:g}: " + (", ".join(parts) or "no zero") + tail)
@@ -241,17 +278,20 @@ def describe(surface: Any) -> str:
             f"{f.beta_hi:g}" + ("" if f.resolved else " (its last zero unresolved)")
         )
     lines.append(f"{surface.sim_s:.0f} simulated s in {len(surface.points)} probes")
+    floor = 1e3 * float(surface.config.get("floor_rad", float("nan")))
+    lines += [WORDS[w].format(floor=floor) for w in WORDS if w in used]
     return "\n".join(lines)
 
 
 def _cmd_surface(args: argparse.Namespace) -> int:
     prog = "insect-gait surface"
+    out = out_file(args.out, "--out")
     surface = _run(args, prog, body_mass_g=args.body_mass_g, slope_deg=args.slope_deg)
     if surface is None:
         return EXIT_USAGE
     text = surface.model_dump_json()
-    if args.out:
-        Path(args.out).write_text(text)
+    if out is not None:
+        out.write_text(text)
     print(json.dumps(json.loads(text)) if args.json else describe(surface))
     return 0
 
@@ -265,14 +305,15 @@ def _cmd_check(args: argparse.Namespace) -> int:
         return _cmd_robust(args, prog)
     try:
         finder = FinderOutput.model_validate_json(Path(args.finder).read_text())
-    except (OSError, ValueError) as exc:
-        print(f"{prog}: error: --finder {args.finder}: {exc}", file=sys.stderr)
-        return EXIT_USAGE
+    except (OSError, ValueError) as exc:  # pydantic's ValidationError is a ValueError
+        raise UsageError(f"--finder {args.finder}: not the finder's output ({one_line(exc)}); "
+                         "`insect-gait finder` writes it") from None  # fmt: skip
+    out = out_file(args.out, "--out")
     surface = _run(args, prog)
     if surface is None:
         return EXIT_USAGE
-    if args.out:
-        Path(args.out).write_text(surface.model_dump_json())
+    if out is not None:
+        out.write_text(surface.model_dump_json())
     rows = check(surface, finder)
     if not rows:
         print(f"{prog}: error: the finder has none of the betas {args.beta}", file=sys.stderr)
@@ -319,6 +360,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     from sim_core.model.params import ModelParams
     from sim_core.paper.results import surface_atlas_file
     from sim_core.paper.surface_atlas import draw_atlas, surface_atlas
+    from sim_core.paper.surface_walks import WalkConfig
     from sim_core.runs.backends import RunStats
     from sim_core.runs.cache import ResultCache
 
@@ -328,6 +370,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     cfg = replace(_config(args), band_pass=args.band_pass)
     if not all(_specs_valid(args.beta, cfg, prog, **{field: v}) for v in values):
         return EXIT_USAGE
+    out = out_folder(args.out, "--out")
     backend = backend_from_args(args, prog)
     if backend is None:
         return EXIT_USAGE
@@ -343,6 +386,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
             config=cfg,
             params=ModelParams.of(ground=args.ground),
             refine=not args.no_refine,
+            walks=None if args.no_walks else WalkConfig(),
             progress=not args.no_progress,
             stats=stats,
         )
@@ -352,14 +396,14 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     finally:
         backend.close()
     wall = time.perf_counter() - t0
-    out = Path(args.out)
-    out.mkdir(parents=True, exist_ok=True)
     js = surface_atlas_file(out, args.axis, args.ground)
     js.write_text(atlas.model_dump_json())
     draw_atlas(atlas, js.with_suffix(".png"))
     for v in values:
         row = [p for p in atlas.points if p.value == v]
-        cells = ", ".join(f"{p.beta:g}: {p.region}" + (" (?)" if p.unresolved else "") for p in row)
+        cells = ", ".join(
+            f"{p.beta:g}: {p.region}" + (" (unresolved)" if p.undecided else "") for p in row
+        )
         print(f"{args.axis} {v:g}: {cells}")
     print(
         f"{atlas.sim_s:.0f} simulated s ({stats.computed} probes computed, {stats.cached} "

@@ -5,13 +5,14 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from pathlib import Path
+from collections.abc import Mapping
 from typing import Any
 
 from pydantic import ValidationError
 
-from sim_core.cli.common import EXIT_USAGE
+from sim_core.cli.common import EXIT_USAGE, doc_with_section
 from sim_core.cli.fields import add_field_flags, flag, given
+from sim_core.contract import GROUND_HELP
 from sim_core.model.params import GROUNDS, ModelParams
 from sim_core.model.spec import INSECT_WORDS, RunSpec, cost_problem, numerics_problem
 
@@ -48,8 +49,7 @@ def _add_run(sub: Any) -> None:
         },
     )
     p.add_argument("--ground", choices=GROUNDS, default=GROUNDS[0],
-                   help="constraint: today's default contact; penalty: the paper's ground "
-                   "(keeps walking on slopes, docs/MODEL.md) (default: %(default)s)")  # fmt: skip
+                   help=f"{GROUND_HELP} (docs/MODEL.md; default: %(default)s)")  # fmt: skip
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_cmd_run, run_fields=names)
 
@@ -62,9 +62,10 @@ def _spec_from_args(args: argparse.Namespace) -> RunSpec:
     return RunSpec(**fields)
 
 
-def _validation_message(exc: ValidationError) -> str:
+def validation_message(exc: ValidationError, flags: Mapping[str, str] | None = None) -> str:
     """Each refused option with pydantic's words and the field's range and reason, as RunSpec
-    describes it (the REST API refuses the same values with the same bounds)."""
+    describes it (the REST API refuses the same values with the same bounds); `flags` names
+    a field whose command calls its flag otherwise (bench's --sim-seconds: duration_s)."""
     parts = []
     for err in exc.errors():
         field = ".".join(str(x) for x in err["loc"])
@@ -74,7 +75,7 @@ def _validation_message(exc: ValidationError) -> str:
             continue
         info = RunSpec.model_fields.get(field)
         what = f" ({info.description})" if info is not None and info.description else ""
-        parts.append(f"{flag(field)}: {msg}{what}")
+        parts.append(f"{(flags or {}).get(field) or flag(field)}: {msg}{what}")
     return "; ".join(parts)
 
 
@@ -84,7 +85,7 @@ def _cmd_run(args: argparse.Namespace) -> int:
     try:
         spec = _spec_from_args(args)
     except ValidationError as exc:
-        print(f"insect-gait run: error: {_validation_message(exc)}", file=sys.stderr)
+        print(f"insect-gait run: error: {validation_message(exc)}", file=sys.stderr)
         return EXIT_USAGE
     # the REST API's rule and words (server/kinds/ calls the same function)
     problem = numerics_problem(spec.integrator, spec.dt_s, spec.control_dt_s)
@@ -155,7 +156,9 @@ def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
 def _add_params(sub: Any) -> None:
     p = sub.add_parser("params", help="every model parameter with its origin and reason")
     p.add_argument("--json", action="store_true")
-    p.add_argument("--update-doc", metavar="MD", help="rewrite the table in this markdown file")
+    p.add_argument("--update-doc", metavar="MD",
+                   help="rewrite the table between the <!-- params:begin --> and <!-- params:end "
+                   "--> lines of this markdown file (docs/MODEL.md has them)")  # fmt: skip
     p.set_defaults(func=_cmd_params)
 
 
@@ -164,8 +167,9 @@ def _cmd_params(args: argparse.Namespace) -> int:
     from sim_core.model.params import parameter_table
 
     if args.update_doc:
-        path = Path(args.update_doc)
+        path = doc_with_section(args.update_doc, "params", "--update-doc")
         path.write_text(update_parameter_doc(path.read_text()))
+        print(f"updated the parameter table in {path}")
         return 0
     if args.json:
         rows = [row._asdict() for row in parameter_table()]
@@ -204,7 +208,7 @@ def _return_map_problems(args: argparse.Namespace) -> list[str]:
     try:
         RunSpec(beta=args.beta, duration_s=args.duration_s)
     except ValidationError as exc:
-        problems.append(_validation_message(exc))
+        problems.append(validation_message(exc))
         return problems
     if not problems:
         cost = cost_problem(args.duration_s, None, None, None, runs=args.n_init)

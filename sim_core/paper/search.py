@@ -29,7 +29,7 @@ def task_runner(
     params: ModelParams | None,
     *,
     chunk_size: int = 8,
-    progress: bool = True,
+    progress: bool | str = True,
     stats: RunStats | None = None,
     executor: Executor = execute_chunk,
 ) -> RunFn:

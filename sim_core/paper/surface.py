@@ -389,7 +389,7 @@ def drift_surface(
     slope_deg: float = 0.0,
     numerics: Mapping[str, Any] | None = None,
     refine: bool = True,
-    progress: bool = True,
+    progress: bool | str = True,
     stats: RunStats | None = None,
     on_progress: Callable[[float], None] | None = None,
     executor: Executor = execute_chunk,
@@ -409,7 +409,8 @@ def drift_surface(
             `resolve_width_rad` (`bisection_probes`, at most `bisect_rounds` rounds), then
             (`band_pass`) probe finer and longer inside every zero still unresolved and every
             near-zero band (`refinement_probes`).
-        progress: a tqdm bar on stderr; stats: accumulates what was computed and read back.
+        progress: a tqdm bar on stderr (a str: its label); stats: accumulates what was
+            computed and read back.
         on_progress: called with the share of probes done (0..1) as chunks finish.
         executor: what runs a chunk of tasks (`execute_chunk`; tests pass a stand-in).
 
@@ -436,7 +437,7 @@ def drift_surfaces(
     params: ModelParams | None = None,
     numerics: Mapping[str, Any] | None = None,
     refine: bool = True,
-    progress: bool = True,
+    progress: bool | str = True,
     stats: RunStats | None = None,
     on_progress: Callable[[float], None] | None = None,
     executor: Executor = execute_chunk,

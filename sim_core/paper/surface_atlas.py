@@ -2,11 +2,15 @@
 (`drift_surface`), read as which of the paper's gaits have a stable zero in the window
 (`PAPER_WINDOW`) and where their branches fold. The finder's atlas (`paper.atlas`) reads the
 same question from settled free runs; this one also sees the folds, at a fixed price per cell.
+Where the surface leaves a zero unresolved and that could change a cell's region, settled free
+walks decide it (`surface_walks`), so the atlas agrees with walking at every cell it shows.
 """
 
 from __future__ import annotations
 
+import tempfile
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import asdict
 from pathlib import Path
 from typing import Any
 
@@ -26,28 +30,20 @@ from sim_core.paper.surface_types import (
     DriftSurface,
     SurfaceAtlas,
     SurfaceConfig,
+    region,
 )
-from sim_core.runs.backends import Backend, Executor, RunStats
+from sim_core.paper.surface_walks import WalkConfig, walk_cells, window_zeros
+from sim_core.runs.backends import Backend, Executor, InlineBackend, RunStats
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk
 
-
-def region(gaits: Sequence[str]) -> str:
-    g = set(gaits)
-    if {"tripod", "metachronal"} <= g:
-        return "both"
-    if "tripod" in g:
-        return "tripod only"
-    if "metachronal" in g:
-        return "metachronal only"
-    return "other states" if g else "none"
+__all__ = ["atlas_points", "draw_atlas", "region", "surface_atlas"]
 
 
 def atlas_points(surface: DriftSurface, value: float) -> list[AtlasPoint]:
-    lo, hi = PAPER_WINDOW
     out = []
     for b in surface.betas:
-        zs = [z for z in surface.zeros_at(b) if lo <= z.d31 <= hi]
+        zs = window_zeros(surface, b)
         stable = [z.d31 for z in zs if z.stable]
         gaits = [classify_gait(x, b) for x in stable]
         unresolved = sum(not z.resolved for z in zs)
@@ -77,6 +73,7 @@ def surface_atlas(
     at: Condition | None = None,
     numerics: Mapping[str, Any] | None = None,
     refine: bool = True,
+    walks: WalkConfig | None = None,
     progress: bool = True,
     stats: RunStats | None = None,
     on_value: Callable[[float, DriftSurface], None] | None = None,
@@ -87,26 +84,53 @@ def surface_atlas(
     "slope": slope_deg, deg), the other held at `at`'s (default: 3 g, level), read as regions
     and folds; `numerics` as `drift_surface`'s. All values' probes go to the backend
     together, pass by pass (`drift_surfaces`), through the cache, so an interrupted atlas
-    resumes; `on_value` hears each value's surface once all are done."""
+    resumes; `on_value` hears each value's surface once all are done. With `walks`, every
+    cell where an unresolved zero could change the region is decided by settled free walks
+    (`surface_walks.walk_cells`: all cells' walks in one batch, through the same cache)."""
     if axis not in AXIS_PARAM:
         raise ValueError(f"unknown atlas axis {axis!r}; choose from {sorted(AXIS_PARAM)}")
+    if cache is None:
+        with tempfile.TemporaryDirectory(prefix="atlas-") as tmp:
+            return surface_atlas(
+                axis, betas, values, cache=ResultCache(tmp), backend=backend, config=config,
+                params=params, at=at, numerics=numerics, refine=refine, walks=walks,
+                progress=progress, stats=stats, on_value=on_value, on_progress=on_progress,
+                executor=executor,
+            )  # fmt: skip
     cfg = config or SurfaceConfig()
     p = params or ModelParams()
     param = AXIS_PARAM[axis]
     base = at or Condition()
     conds = [base._replace(**{param: v}) for v in values]
+    # the walks' share of the progress: about what they cost in a measured row (docs)
+    split = 1.0 if walks is None else 0.7
+
+    def share(a: float, b: float) -> Callable[[float], None] | None:
+        return None if on_progress is None else (lambda x: on_progress(a + (b - a) * x))
+
     surfaces = drift_surfaces(
         betas, conds, cache=cache, backend=backend, config=config, params=p, numerics=numerics,
-        refine=refine, progress=progress, stats=stats, on_progress=on_progress,
+        refine=refine, progress=progress, stats=stats,
+        on_progress=share(0.0, split),
         executor=executor,
     )  # fmt: skip
     points: list[AtlasPoint] = []
     folds = []
-    for v, s in zip(values, surfaces, strict=True):
+    cells = []
+    for v, c, s in zip(values, conds, surfaces, strict=True):
         points += atlas_points(s, v)
+        cells += [(pt, s, c._asdict() | dict(numerics or {})) for pt in points[-len(s.betas) :]]
         folds += [(v, f) for f in s.folds if PAPER_WINDOW[0] <= f.d31 <= PAPER_WINDOW[1]]
         if on_value is not None:
             on_value(v, s)
+    walk_s = 0.0
+    if walks is not None:
+        points = walk_cells(
+            cells, cache=cache, backend=backend or InlineBackend(), params=p, config=walks,
+            chunk_size=cfg.chunk_size, progress=progress, stats=stats, executor=executor,
+            on_progress=share(split, 1.0),
+        )  # fmt: skip
+        walk_s = sum(w.sim_s for pt in points for w in pt.walks)
     return SurfaceAtlas(
         axis=axis,
         param=param,
@@ -115,14 +139,17 @@ def surface_atlas(
         values=list(values),
         points=points,
         folds=folds,
-        sim_s=sum(s.sim_s for s in surfaces),
-        config=cfg.to_dict() | {"refine": refine},
+        sim_s=sum(s.sim_s for s in surfaces) + walk_s,
+        config=cfg.to_dict()
+        | {"refine": refine}
+        | ({} if walks is None else {"walks": asdict(walks)}),
     )
 
 
 def draw_atlas(atlas: SurfaceAtlas, path: Path) -> None:
-    """Regions as coloured cells (hatched where something was unresolved), the folds of the
-    tripod and metachronal branches as markers at their (beta, value)."""
+    """Regions as coloured cells (hatched and marked "?" where the region may hide a gait:
+    `AtlasPoint.undecided`), the folds of the tripod and metachronal branches as markers at
+    their (beta, value)."""
     fig, ax = plt.subplots(figsize=(8.0, 4.8))
     nb, nv = len(atlas.betas), len(atlas.values)
     db = (atlas.betas[1] - atlas.betas[0]) if nb > 1 else 0.01
@@ -135,11 +162,13 @@ def draw_atlas(atlas: SurfaceAtlas, path: Path) -> None:
                 db,
                 1.0,
                 color=REGION_COLOURS.get(pt.region, "0.8"),
-                alpha=0.55 if pt.unresolved else 0.85,
-                hatch="//" if pt.unresolved else None,
+                alpha=0.55 if pt.undecided else 0.85,
+                hatch="//" if pt.undecided else None,
                 lw=0,
             )
         )
+        if pt.undecided:
+            ax.text(pt.beta, i, "?", ha="center", va="center", fontsize=8)
     for v, f in atlas.folds:
         gait = classify_gait(f.d31, f.beta_lo)
         if gait not in ("tripod", "metachronal"):
@@ -158,6 +187,7 @@ def draw_atlas(atlas: SurfaceAtlas, path: Path) -> None:
         ax.plot([], [], "s", color=colour, mec="0.5", label=name)
     ax.plot([], [], "<", color="0.5", mec="k", label="a branch ends as β rises")
     ax.plot([], [], ">", color="0.5", mec="k", label="a branch ends as β falls")
+    ax.plot([], [], ls="none", marker="$?$", color="k", ms=6, label="unresolved")
     ax.set_xlim(atlas.betas[0] - db / 2, atlas.betas[-1] + db / 2)
     ax.set_ylim(-0.5, nv - 0.5)
     ax.set_yticks(range(nv), [f"{v:g}" for v in atlas.values])
@@ -165,7 +195,8 @@ def draw_atlas(atlas: SurfaceAtlas, path: Path) -> None:
     ax.set_ylabel(AXIS_LABEL.get(atlas.axis, atlas.axis))
     ax.set_title(
         f"gait atlas from the drift surface ({atlas.ground} ground)\nstable gaits with Δ31 in "
-        f"{PAPER_WINDOW[0]}-{PAPER_WINDOW[1]} rad; hatched: unresolved zeros there",
+        f"{PAPER_WINDOW[0]}-{PAPER_WINDOW[1]} rad, walked where the surface cannot tell; "
+        "?: unresolved",
         fontsize=9,
     )
     ax.legend(fontsize=7, loc="center left", bbox_to_anchor=(1.01, 0.5))

@@ -4,6 +4,7 @@ a surface file, without loading the physics engine."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import asdict, dataclass, field
 from typing import Any
 
@@ -160,7 +161,7 @@ class DriftSurface(_Model):
         return sorted(usable, key=lambda p: float(p.d31 or 0.0))
 
 
-# an atlas cell's region (`surface_atlas.region`) and its colour (matplotlib names)
+# an atlas cell's region (`region`) and its colour (matplotlib names)
 REGION_COLOURS = {
     "both": "tab:purple",
     "tripod only": "tab:red",
@@ -170,16 +171,52 @@ REGION_COLOURS = {
 }
 
 
+def region(gaits: Sequence[str]) -> str:
+    """An atlas cell's region from its stable states' gaits: which of the paper's two gaits
+    are among them."""
+    g = set(gaits)
+    if {"tripod", "metachronal"} <= g:
+        return "both"
+    if "tripod" in g:
+        return "tripod only"
+    if "metachronal" in g:
+        return "metachronal only"
+    return "other states" if g else "none"
+
+
+class AtlasWalk(_Model):
+    """A free walk that decided an atlas cell (`surface_walks`), read by `gait.settling`."""
+
+    start: float  # Delta31 it started from, rad
+    final: float | None  # where it ends (last quarter's circular mean), rad
+    settled: bool
+    why: str  # why not settled ("" if settled), or the run's failure
+    sim_s: float  # simulated seconds it took (it stops early where settled)
+
+
 class AtlasPoint(_Model):
-    """One (beta, axis value) of a surface atlas: its stable zeros in the window and what
+    """One (beta, axis value) of a surface atlas: its stable states in the window and what
     they make of the paper's two gaits."""
 
     beta: float
     value: float
-    stable: list[float]  # stable zeros' Delta31, rad
+    stable: list[float]  # stable states' Delta31, rad: the surface's zeros, then walks' finals
     gaits: list[str]  # classify_gait of each
     unresolved: int  # zeros or near-zero bands the surface could not resolve here
     region: str  # "both", "tripod only", "metachronal only", "other states", "none"
+    # per stable state: "surface" (a stable zero), "walk" (a settled walk's final only) or
+    # "surface+walk"; empty in atlases written before the walks (all "surface")
+    provenance: list[str] = []
+    walks: list[AtlasWalk] = []  # the walks this cell needed (`surface_walks.open_spans`)
+    checked: bool = False  # whether the cell went through `surface_walks.decide`
+
+    @property
+    def undecided(self) -> bool:
+        """Whether the cell's region may hide a gait: a walk did not settle, or (in an atlas
+        not checked by walks) the surface left a zero or band unresolved."""
+        if self.checked:
+            return any(not w.settled for w in self.walks)
+        return self.unresolved > 0
 
 
 class SurfaceAtlas(_Model):

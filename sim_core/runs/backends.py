@@ -205,13 +205,14 @@ def run_tasks(
     cache: ResultCache,
     backend: Backend,
     chunk_size: int = 8,
-    progress: bool = True,
+    progress: bool | str = True,
     executor: Executor = execute_chunk,
     on_progress: Callable[[float], None] | None = None,
 ) -> tuple[dict[str, dict[str, Any]], RunStats]:
     """Results of every task by key: from the cache, or computed on `backend` and cached;
     `on_progress`, if given, hears the share of tasks done (0..1) after every chunk (a job's
-    progress, where `progress` draws a bar on a terminal)."""
+    progress, where `progress` draws a bar on a terminal, labelled with it if it is a str,
+    else "reproduce")."""
     from tqdm import tqdm
 
     unique = list({t.key: t for t in tasks}.values())
@@ -225,7 +226,8 @@ def run_tasks(
             results[t.key] = hit
     stats = RunStats(tasks=len(unique), cached=len(unique) - len(pending))
     chunks = make_chunks(pending, chunk_size, backend.workers)
-    with tqdm(total=len(unique), initial=stats.cached, unit="task", desc="reproduce",
+    label = progress if isinstance(progress, str) else "reproduce"
+    with tqdm(total=len(unique), initial=stats.cached, unit="task", desc=label,
               disable=not progress, dynamic_ncols=True) as bar:  # fmt: skip
         for chunk, outs in backend.imap(executor, chunks):
             if len(outs) != len(chunk):

@@ -22,7 +22,6 @@ batch evolves exactly as it would alone, so how tasks are grouped never changes 
 from __future__ import annotations
 
 import hashlib
-import json
 import math
 import time
 from collections.abc import Callable, Sequence
@@ -32,18 +31,18 @@ from typing import Any
 import numpy as np
 
 from sim_core.model.gait import yaw_of
-from sim_core.model.params import ModelParams, leaf_values
+from sim_core.model.params import ModelParams
 from sim_core.model.ramp import RAMP_PARAMS, Ramp, RampDriver
 from sim_core.model.runner import BatchRunner
 from sim_core.model.spec import RunSpec
 from sim_core.model.version import PHYSICS_VERSION
+from sim_core.runs.keys import canonical as _canonical
+from sim_core.runs.keys import params_hash as params_hash  # the keys' parts: runs/keys.py
+from sim_core.runs.keys import params_json as params_json
+from sim_core.runs.keys import spec_json as spec_json
 
 # Bump when what a task computes or returns changes; old cache entries then stop matching.
 TASK_VERSION = 1
-
-
-def _canonical(obj: Any) -> str:
-    return json.dumps(obj, sort_keys=True, separators=(",", ":"), allow_nan=False)
 
 
 @dataclass(frozen=True)
@@ -79,22 +78,6 @@ class Task:
         """Tasks with the same group can share one batch (same model and numerics)."""
         s = self.run_spec()
         return (self.params, self.physics, s.integrator, s.dt_s, s.control_dt_s)
-
-
-def params_json(params: ModelParams | None) -> str:
-    """The parameters that differ from the defaults, flat by leaf name (`leaf_values`), as
-    canonical JSON (the key's part): however the model groups its fields, each enters the key
-    by its own name, and `ModelParams` reads the flat form back."""
-    return _canonical(leaf_values(params or ModelParams()))
-
-
-def spec_json(spec: RunSpec) -> str:
-    """The spec's non-default fields, as canonical JSON (the key's part)."""
-    return _canonical(spec.model_dump(mode="json", exclude_defaults=True))
-
-
-def params_hash(params: ModelParams | None) -> str:
-    return hashlib.sha256(params_json(params).encode()).hexdigest()[:12]
 
 
 def run_task(spec: RunSpec, params: ModelParams | None = None) -> Task:

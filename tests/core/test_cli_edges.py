@@ -4,12 +4,14 @@ a NaN is called a NaN, and a coarse run says that its numbers are coarse."""
 from __future__ import annotations
 
 import math
+from pathlib import Path
 
 import pytest
 from pydantic import ValidationError
 
 from server.kinds.run import RunJob
 from sim_core import RunSpec
+from sim_core.cli.common import TRACEBACK_ENV
 from sim_core.cli.main import main
 from sim_core.contract import MAX_STABLE_DT_S, step_problem
 from sim_core.model.gait import DUTY_TOLERANCE, run_warnings
@@ -157,3 +159,155 @@ def test_return_map_names_only_the_broken_rule(capsys: pytest.CaptureFixture[str
     assert main(["return-map", "--beta", "1.2"]) == 2
     err = capsys.readouterr().err.strip()
     assert "--beta" in err and "--n-init" not in err, err
+
+
+# ---- issue 55: every bad input is one line on stderr, never a traceback ---------------------
+
+
+def _bad_inputs(tmp: Path) -> dict[str, list[str]]:
+    """Bad inputs across the commands, each refused before anything is computed (the files
+    they name: `_write_files`)."""
+    plain, bad_json, a_file = tmp / "plain.md", tmp / "bad.json", tmp / "a-file"
+    cache = ["--cache", str(tmp / "cache")]
+    return {
+        "params, missing file": ["params", "--update-doc", str(tmp / "missing.md")],
+        "params, no markers": ["params", "--update-doc", str(plain)],
+        "params, a folder": ["params", "--update-doc", str(tmp)],
+        "surface, --out in a missing folder": [
+            "surface", "--beta", "0.62", "--out", str(tmp / "no" / "s.json"), *cache],
+        "surface, --cache on a file": ["surface", "--beta", "0.62", "--cache", str(a_file)],
+        "surface, beta out of range": ["surface", "--beta", "0.3", *cache],
+        "surface-check, not the finder's file": ["surface-check", "--finder", str(bad_json)],
+        "atlas, --out on a file": ["atlas", "--axis", "mass", "--out", str(a_file), *cache],
+        "bench, nan seconds": ["bench", "--sim-seconds", "nan"],
+        "converge, negative tolerance": ["converge", "--tolerance", "-1"],
+        "converge, infinite duration": ["converge", "--duration-s", "inf"],
+        "converge, a step past the bound": ["converge", "--dt-s", "1"],
+        "numerics, not a grid file": [
+            "numerics", "--from-json", str(bad_json), "--no-doc", "--out", str(tmp / "n")],
+        "reproduce, a doc without markers": ["reproduce", "--doc", str(plain), *cache],
+        "finder, --out on a file": ["finder", "--beta", "0.62", "--out", str(a_file), *cache],
+        "return-map, nan beta": ["return-map", "--beta", "nan"],
+        "run, not a number": ["run", "--beta", "abc"],
+    }  # fmt: skip
+
+
+def _write_files(tmp: Path) -> None:
+    (tmp / "plain.md").write_text("# a document without the generated section's markers\n")
+    (tmp / "bad.json").write_text("{}")
+    (tmp / "a-file").write_text("")
+
+
+def _one_line_error(argv: list[str], capsys: pytest.CaptureFixture[str]) -> tuple[int, str]:
+    """(exit code, stderr) of `insect-gait ARGV` run in-process (argparse exits by
+    SystemExit; any other exception fails the test as the traceback it would print)."""
+    try:
+        code = main(argv)
+    except SystemExit as exc:
+        code = int(exc.code or 0)
+    return code, capsys.readouterr().err
+
+
+@pytest.mark.parametrize("case", sorted(_bad_inputs(Path("/nonexistent"))))
+def test_a_bad_input_is_one_line_without_a_traceback(
+    case: str, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    _write_files(tmp_path)
+    argv = _bad_inputs(tmp_path)[case]
+    code, err = _one_line_error(argv, capsys)
+    assert code != 0, (case, err)
+    assert err.count("\n") == 1 and "Traceback" not in err, err
+    assert err.startswith(f"insect-gait {argv[0]}: error: "), err
+
+
+def test_the_words_say_what_to_do(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    _write_files(tmp_path)
+    bad = _bad_inputs(tmp_path)
+    _, err = _one_line_error(bad["params, no markers"], capsys)
+    assert "<!-- params:begin -->" in err and "put those two lines" in err, err
+    _, err = _one_line_error(bad["surface, --out in a missing folder"], capsys)
+    assert "create it first" in err, err
+    _, err = _one_line_error(bad["bench, nan seconds"], capsys)
+    assert err.startswith("insect-gait bench: error: --sim-seconds: ") and "finite" in err, err
+    _, err = _one_line_error(bad["surface-check, not the finder's file"], capsys)
+    assert "`insect-gait finder` writes it" in err, err
+
+
+def test_a_default_doc_outside_the_project_says_where_to_run(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    monkeypatch.chdir(tmp_path)
+    code, err = _one_line_error(["numerics", "--from-json", "x.json"], capsys)
+    assert code == 2 and err.count("\n") == 1, err
+    assert "docs/NUMERICS.md (the default --doc) is not here" in err and "--no-doc" in err, err
+    assert not (tmp_path / "docs").exists()
+
+
+def test_params_update_doc_rewrites_a_file_with_markers(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    doc = tmp_path / "model.md"
+    doc.write_text("before\n<!-- params:begin -->\nSTALE TABLE\n<!-- params:end -->\nafter\n")
+    assert main(["params", "--update-doc", str(doc)]) == 0
+    text = doc.read_text()
+    assert "STALE TABLE" not in text and "| parameter |" in text and text.endswith("after\n")
+    assert str(doc) in capsys.readouterr().out
+
+
+def test_an_error_from_inside_a_command_is_one_line_unless_a_traceback_is_asked(
+    capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """The net under every command: a file error from deep inside (a full disk) prints one
+    line and exits 1; INSECT_GAIT_TRACEBACK=1 lets it raise for a developer."""
+    import sim_core.docsections
+
+    def full_disk(*_: object) -> str:
+        raise OSError(28, "No space left on device", "docs/MODEL.md")
+
+    monkeypatch.setattr(sim_core.docsections, "parameter_markdown", full_disk)
+    code, err = _one_line_error(["params"], capsys)
+    assert code == 1
+    assert err == "insect-gait params: error: docs/MODEL.md: No space left on device\n"
+    monkeypatch.setenv(TRACEBACK_ENV, "1")
+    with pytest.raises(OSError, match="No space left"):
+        main(["params"])
+
+
+def test_the_surface_command_labels_its_progress_and_says_where_it_caches(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Two probes (about 3 simulated s): the bar says "surface", the cache is named once."""
+    cache = tmp_path / "cache"
+    argv = ["surface", "--beta", "0.655", "--d31", "1.9:2.3:0.4", "--no-refine",
+            "--backend", "inline", "--cache", str(cache)]  # fmt: skip
+    assert main(argv) == 0
+    out, err = capsys.readouterr()
+    assert "surface:" in err and "reproduce" not in err, err
+    assert err.count(f"cached in {cache}") == 1, err
+    assert out.startswith("beta 0.655: stable ") and "S " not in out, out
+    assert out.count("falls through zero") == 1  # the words it used, explained once
+
+
+def test_describe_words_every_kind_of_zero_and_band() -> None:
+    """No "S/U", no "|d| >= 0.00 mrad": each zero in words, a band's smallest drift with its
+    significant digits, and a legend of only the words used."""
+    from sim_core.cli.surface import describe
+    from sim_core.paper.surface_types import DriftSurface, NearZero, SurfaceZero
+
+    zeros = [
+        SurfaceZero(beta=0.62, d31=1.77, lo=1.75, hi=1.8, stable=True, slope=-0.1, resolved=True),
+        SurfaceZero(beta=0.62, d31=2.9, lo=2.88, hi=2.95, stable=False, slope=0.1,
+                    resolved=False),
+    ]  # fmt: skip
+    band = NearZero(beta=0.62, lo=2.6, hi=2.8, sign=-1, min_abs_drift=4.5e-6)
+    surface = DriftSurface(config={"floor_rad": 3e-4}, betas=[0.62], points=[], zeros=zeros,
+                           near_zeros=[band], branches=[], folds=[], sim_s=10.0,
+                           body_mass_g=3.0, slope_deg=0.0, ground="constraint")  # fmt: skip
+    text = describe(surface)
+    first = text.splitlines()[0]
+    assert first.startswith("beta 0.62: stable 1.770, unstable 2.900 (unresolved, 2.88-2.95)")
+    assert "near-zero band 2.60-2.80 (drift -, smallest 0.0045 mrad per cycle)" in first
+    assert "0.00 mrad" not in text and "|d|" not in text
+    for word in ("stable X:", "unstable X:", "unresolved (LO-HI):", "near-zero band LO-HI:"):
+        assert sum(line.startswith(word) for line in text.splitlines()) == 1, word
+    assert "0.3 mrad per cycle" in text

@@ -15,7 +15,8 @@ from pathlib import Path
 import pytest
 from api_harness import SHORT, Server, pid_alive, result_of, submit, wait_for, wait_status
 
-from sim_core.contract import RETURN_MAP_SKIP
+from server.kinds.provenance import PROVENANCE_COLUMNS
+from sim_core.contract import PHYSICS_VERSION, RETURN_MAP_SKIP, ModelParams, params_hash
 
 LONG = {"kind": "run", "beta": 0.66, "duration_s": 120.0, "d31_init": [2.0]}
 # a physical failure at a sound step: on an 80 degree slope the insect flips (measured ~0.25 s)
@@ -206,11 +207,13 @@ def test_a_killed_worker_runs_its_job_again_once_then_fails_it_with_both_reasons
         again = c.get(f"/v1/jobs/{victim['id']}").json()
         assert "fresh worker (attempt 1: the worker process died (signal 9)" in again["note"]
         assert again["error"] is None
+        assert again["requeues"] == 1  # the crash re-queued it (docs/API.md: requeues)
         (second,) = srv.wait_workers(1)
         assert second != worker
         os.kill(second, signal.SIGKILL)
         failed = wait_status(c, victim["id"], {"failed", "done"})
         assert failed["status"] == "failed" and "died 2 times" in failed["error"]
+        assert failed["requeues"] == 1  # the second death failed it: not re-queued again
         assert "attempt 1: the worker process died (signal 9)" in failed["error"]
         assert "attempt 2: the worker process died (signal 9)" in failed["error"]
         assert wait_status(c, other["id"], {"done", "failed"})["status"] == "done"
@@ -235,7 +238,8 @@ def test_empty_return_map_csv_has_its_header(make_server: Callable[..., Server])
         assert job["status"] == "done", job["error"]
         assert result_of(c, job["id"])["result"]["records"] == []
         r = c.get(f"/v1/jobs/{job['id']}/result", params={"format": "csv"})
-        assert r.text == "d31_init,n,d31_n,d31_n_plus_lag\n"
+        assert r.text == ",".join(("d31_init", "n", "d31_n", "d31_n_plus_lag",
+                                   *PROVENANCE_COLUMNS)) + "\n"  # fmt: skip
 
 
 def test_grid_betas_come_back_as_people_write_them(make_server: Callable[..., Server]) -> None:
@@ -278,7 +282,8 @@ def test_hysteresis_job_ramps_down_and_up(make_server: Callable[..., Server]) ->
         summary = result["summary"]
         assert {"first_leg", "second_leg", "width", "loop"} <= set(summary)
         r = c.get(f"/v1/jobs/{job['id']}/result", params={"format": "csv"})
-        assert r.text.splitlines()[0] == "time_s,leg,value,d31"
+        header = ["time_s", "leg", "value", "d31", *PROVENANCE_COLUMNS]
+        assert r.text.splitlines()[0] == ",".join(header)
         assert len(r.text.splitlines()) == len(rows) + 1
         png = c.get(f"/v1/jobs/{job['id']}/figure.png")
         assert png.status_code == 200 and png.content[:4] == b"\x89PNG"
@@ -379,3 +384,39 @@ def test_a_job_walks_on_the_ground_it_names(make_server: Callable[..., Server]) 
             finals[ground] = run["d31"]
         assert finals["constraint"] and finals["penalty"]
         assert finals["constraint"] != finals["penalty"]
+
+
+def test_every_csv_names_its_physics_and_conditions(make_server: Callable[..., Server]) -> None:
+    """Every table a job exports ends with its provenance (one function for every kind): the
+    physics' version and the parameters' hash as the result cache names them, the ground, the
+    numerics, the mass and the slope; a condition the job varies is the row's, left blank."""
+    srv = make_server(workers=1)
+    run = {**SHORT, "body_mass_g": 4.0, "slope_deg": 5.0, "ground": "penalty",
+           "dt_s": 2.5e-5, "include_series": True}  # fmt: skip
+    ramp = {"kind": "hysteresis", "parameter": "slope_deg", "start": 0.0, "turn": 4.0,
+            "hold_s": 0.1, "ramp_s": 0.1, "body_mass_g": 2.5}  # fmt: skip
+    with srv.client() as c:
+        ran = wait_status(c, submit(c, run)["id"], {"done", "failed"}, timeout=60)
+        ramped = wait_status(c, submit(c, ramp)["id"], {"done", "failed"}, timeout=60)
+        assert ran["status"] == ramped["status"] == "done", (ran["error"], ramped["error"])
+        tables = {
+            t: list(csv.DictReader(io.StringIO(c.get(
+                f"/v1/jobs/{ran['id']}/result", params={"format": "csv", "table": t}).text)))
+            for t in ("records", "d31", "samples")
+        }  # fmt: skip
+        ramp_rows = list(csv.DictReader(io.StringIO(
+            c.get(f"/v1/jobs/{ramped['id']}/result", params={"format": "csv"}).text)))  # fmt: skip
+        stamp = result_of(c, ran["id"])["result"]["provenance"]
+    want = {"physics_version": PHYSICS_VERSION,
+            "params_hash": params_hash(ModelParams.of(ground="penalty")), "ground": "penalty",
+            "integrator": "implicitfast", "dt_s": "2.5e-05", "control_dt_s": "0.0005",
+            "body_mass_g": "4.0", "slope_deg": "5.0"}  # fmt: skip
+    assert params_hash(ModelParams.of(ground="penalty")) != params_hash(ModelParams())
+    for name, rows in tables.items():
+        assert rows, name
+        for row in rows:
+            assert {k: row[k] for k in PROVENANCE_COLUMNS} == want, (name, row)
+    assert stamp == {**want, "dt_s": 2.5e-5, "control_dt_s": 5e-4, "body_mass_g": 4.0,
+                     "slope_deg": 5.0}  # fmt: skip
+    assert ramp_rows and all(r["slope_deg"] == "" and r["body_mass_g"] == "2.5" for r in ramp_rows)
+    assert {r["ground"] for r in ramp_rows} == {"constraint"}

@@ -11,7 +11,7 @@ import annotated_types as at
 import pytest
 
 from server import errors, estimates
-from server.jobs import JobRow, JobStore, QueueFull
+from server.jobs import SCHEMA_VERSION, JobRow, JobStore, QueueFull
 from server.kinds import bounds, common
 from server.kinds.bounds import D31
 from server.kinds.run import RunJob
@@ -101,10 +101,63 @@ def test_a_version_1_store_gains_the_worker_deaths_column(tmp_path: Path) -> Non
     s = JobStore(path)
     s.init()
     with sqlite3.connect(path) as conn:
-        assert conn.execute("PRAGMA user_version").fetchone()[0] == 2
+        assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION
         assert conn.execute("SELECT worker_deaths FROM jobs WHERE id = 'j1'").fetchone()[0] == 0
     claim = s.claim_next()
     assert claim is not None and s.worker_died(claim, "killed") == "requeued"
+    row = s.get("j1")
+    assert row is not None and row.requeues == 1
+
+
+def test_requeues_counts_every_requeue_after_a_crash_each_crash_kept_to_its_limit(
+    store: JobStore,
+) -> None:
+    """`requeues` (what the API shows) counts the worker's death and the server's stop alike;
+    `max_requeues` still limits server stops only, and a clean shutdown counts as neither."""
+    job = _submit(store)
+    first = store.claim_next()
+    assert first is not None and store.worker_died(first, "killed") == "requeued"
+    second = store.claim_next()
+    assert second is not None and store.requeue_on_shutdown(second)  # a clean stop: not counted
+    row = store.get(job)
+    assert row is not None and row.requeues == 1
+    assert store.claim_next() is not None
+    # the server died while it ran: a restart re-queues it, its first against max_requeues = 1
+    assert store.recover_interrupted(max_requeues=1) == ([job], [])
+    row = store.get(job)
+    assert row is not None and row.requeues == 2 and row.status is JobStatus.QUEUED
+    assert store.claim_next() is not None
+    assert store.recover_interrupted(max_requeues=1) == ([], [job])
+    row = store.get(job)
+    assert row is not None and row.requeues == 2 and "1 time(s)" not in (row.error or "")
+    assert "2 time(s)" in (row.error or "")
+
+
+def test_a_version_2_store_counts_its_past_requeues(tmp_path: Path) -> None:
+    """Version 2 counted server restarts in `requeues` and a worker death in `worker_deaths`
+    only: on open, `restarts` takes the old count and `requeues` adds the worker's re-queue."""
+    path = tmp_path / "v2.sqlite3"
+    with sqlite3.connect(path) as conn:
+        conn.executescript(
+            "CREATE TABLE jobs (seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE,"
+            " kind TEXT NOT NULL, spec TEXT NOT NULL, status TEXT NOT NULL, progress REAL NOT"
+            " NULL DEFAULT 0, attempts INTEGER NOT NULL DEFAULT 0, requeues INTEGER NOT NULL"
+            " DEFAULT 0, worker_deaths INTEGER NOT NULL DEFAULT 0, sim_seconds REAL NOT NULL,"
+            " created_at TEXT NOT NULL, started_at TEXT, finished_at TEXT, error TEXT, note"
+            " TEXT); PRAGMA user_version = 2;"
+        )
+        for job_id, requeues, deaths in (("a", 1, 0), ("b", 0, 1), ("c", 1, 2)):
+            conn.execute(
+                "INSERT INTO jobs (id, kind, spec, status, requeues, worker_deaths, sim_seconds,"
+                " created_at) VALUES (?, 'run', '{}', 'running', ?, ?, 1.0, '2026-11-28Z')",
+                (job_id, requeues, deaths),
+            )
+    s = JobStore(path)
+    s.init()
+    rows = [s.get(j) for j in "abc"]
+    assert [r.requeues for r in rows if r is not None] == [1, 1, 2]
+    # restarts kept their count: "a" and "c" have spent max_requeues = 1, "b" has not
+    assert s.recover_interrupted(max_requeues=1) == (["b"], ["a", "c"])
 
 
 def test_queue_limit_counts_only_queued(store: JobStore) -> None:

@@ -608,7 +608,7 @@ def test_a_submit_says_where_the_job_went_and_settings_load_back(
         _wait_read(page, "β (simulation)", "0.6200")
         _wait_read(page, "body mass (simulation, g)", "4.50")
         _wait_read(page, "slope (simulation, °)", "-5.0")
-        _wait_read(page, "ground", "paper's ground")
+        _wait_read(page, "ground", "penalty")
         page.get_by_text("speed — max").wait_for(timeout=10_000)
         # a file out of the controls' range is refused, naming the field; nothing changes
         (tmp_path / "bad.json").write_text(json.dumps(edited | {"beta": 0.9}))
@@ -620,7 +620,7 @@ def test_a_submit_says_where_the_job_went_and_settings_load_back(
         # and the original file puts everything back
         (tmp_path / "original.json").write_bytes(original)
         _load(page, tmp_path / "original.json")
-        _wait_read(page, "ground", "today's contact")
+        _wait_read(page, "ground", "constraint")
         _wait_read(page, "body mass (simulation, g)", f"{json.loads(original)['body_mass_g']:.2f}")
         page.get_by_text("speed — 1x").wait_for(timeout=10_000)
         assert errors == [], errors

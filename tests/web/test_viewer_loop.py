@@ -261,7 +261,7 @@ def test_loaded_settings_restart_the_walk_where_the_file_says() -> None:
             app.settings(), beta=0.62, body_mass_g=4.5, slope_deg=5.0, d31_init=3.0, speed=None,
             ground="penalty", ramp=Ramp("body_mass_g", 3.0, 6.0, 2.0, 10.0), job_duration_s=45.0,
         )  # fmt: skip
-        app.apply(LoadSettings(load_settings(settings_json(saved))))
+        app.apply(LoadSettings(load_settings(settings_json(saved, made=app.provenance()))))
         sim = app.sim
         assert (sim.beta, sim.body_mass_g, sim.slope_deg, sim.time_s) == (0.62, 4.5, 5.0, 0.0)
         assert (app.ground, app.d31_init, app.speed) == ("penalty", 3.0, None)
@@ -271,7 +271,7 @@ def test_loaded_settings_restart_the_walk_where_the_file_says() -> None:
         beta = app.panels.live["beta"]
         assert beta.value == beta.box.value == 0.62  # slider and box show what was loaded
         assert app.panels.speed.label == "speed — max"
-        assert app.panels.ground.label == "ground — paper's ground"
+        assert app.panels.ground.label == "ground — penalty"
         assert app.panels.ramp_param.label == "ramp drives — body mass (g)"
     finally:
         app.stop()

@@ -16,7 +16,14 @@ from typing import Any
 import numpy as np
 import pytest
 
-from sim_core.contract import TWO_PI, DriftSurface, EventConditions, FinderOutput, SurfaceAtlas
+from sim_core.contract import (
+    TWO_PI,
+    DriftSurface,
+    EventConditions,
+    FinderOutput,
+    SurfaceAtlas,
+    provenance,
+)
 from web import controls, export
 from web.atlas_svg import atlas_svg
 from web.bifurcation import WatchedFile, finder_points, load_validated
@@ -27,6 +34,8 @@ from web.return_map_plot import RECENCY_SHADES, SERIES, return_map_data
 from web.surface_cells import drift_colour, drift_level
 from web.surface_svg import surface_svg
 from web.svg import MAX_DRAWN, n_dots
+
+MADE = provenance(None)  # the default model's: what every export carries
 
 
 def _run(d31_init: float, final: float | None, settled: bool, attractor: int | None) -> dict:
@@ -163,10 +172,12 @@ def test_the_footfall_export_is_the_records_stance_intervals() -> None:
     s[2:5, 0] = True  # R1 in stance from 0.2 to 0.5
     s[7:, 0] = True  # and from 0.7, still on at the end
     s[:, 3] = True  # L2 always
-    text = export.footfall_csv(stance_intervals(t, s)).decode()
+    now = EventConditions(0.66, 3.0, 0.0)
+    text = export.footfall_csv(stance_intervals(t, s), [], now, made=MADE).decode()
     rows = list(csv.reader(io.StringIO(text)))
-    assert rows[0] == ["leg", "start_s", "end_s"]
-    assert rows[1:] == [["L2", "0.0", "0.9"], ["R1", "0.2", "0.5"], ["R1", "0.7", "0.9"]]
+    assert rows[0][:3] == ["leg", "start_s", "end_s"]
+    assert [r[:3] for r in rows[1:]] == [["L2", "0.0", "0.9"], ["R1", "0.2", "0.5"],
+                                         ["R1", "0.7", "0.9"]]  # fmt: skip
 
 
 def _settings(**kw: Any) -> export.Settings:
@@ -181,21 +192,21 @@ def test_the_exports_carry_the_records() -> None:
                                ramp_param="beta")  # fmt: skip
 
     ev = [D31Event(0.1 * k, 2.0, down(k)) for k in range(5)]
-    rows = list(csv.DictReader(io.StringIO(export.d31_csv(ev).decode())))
+    rows = list(csv.DictReader(io.StringIO(export.d31_csv(ev, made=MADE).decode())))
     assert [float(r["beta"]) for r in rows] == pytest.approx([0.70, 0.699, 0.698, 0.697, 0.696])
     assert rows[0].keys() == set(export.D31_COLUMNS) and rows[0]["ramp"] == "beta down"
     # a ramp's continuous values are written to their resolution, not as float noise
     assert [r["body_mass_g"] for r in rows] == ["3.0", "3.015", "3.03", "3.045", "3.06"]
     assert [r["slope_deg"] for r in rows] == ["0.0", "0.41", "0.82", "1.23", "1.64"]
     ramp = controls.make_ramp("beta", 0.70, 0.62, 0.0, 8.0)
-    rows = list(csv.DictReader(io.StringIO(export.ramp_csv(ev, ramp, 0.0).decode())))
+    rows = list(csv.DictReader(io.StringIO(export.ramp_csv(ev, ramp, 0.0, made=MADE).decode())))
     assert float(rows[-1]["scheduled"]) == pytest.approx(0.70 - 0.08 * 0.4 / 8.0)  # t = 0.4 s
-    js = json.loads(export.settings_json(_settings(ramp=ramp)))
+    js = json.loads(export.settings_json(_settings(ramp=ramp), made=MADE))
     assert js["ramp"]["param"] == "beta" and js["jobs"]["hysteresis"]["turn"] == 0.62
     assert js["jobs_url"] == "http://127.0.0.1:8000/v1/jobs"
     assert (
         js["speed"] == 1.0
-        and json.loads(export.settings_json(_settings(speed=None)))["speed"] == "max"
+        and json.loads(export.settings_json(_settings(speed=None), made=MADE))["speed"] == "max"
     )
 
 

@@ -341,7 +341,7 @@ def test_a_turned_insect_is_explained_not_left_to_guess() -> None:
 def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
     import json
 
-    from sim_core.contract import Ramp
+    from sim_core.contract import ModelParams, Ramp, provenance
     from web.export import Settings, load_settings, settings_json
 
     s = Settings(
@@ -349,15 +349,17 @@ def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
         ramp=Ramp("beta", 0.70, 0.62, 5.0, 20.0), ramp_running=False, ramp_started_at_s=None,
         job_duration_s=45.0, api_url="http://h:1", ground="penalty",
     )  # fmt: skip
-    back = load_settings(settings_json(s))
+    made = provenance(ModelParams.of(ground="penalty"))
+    back = load_settings(settings_json(s, made=made))
     assert (back.beta, back.body_mass_g, back.slope_deg, back.d31_init) == (0.62, 4.5, -7.5, 3.0)
     assert back.speed is None and back.ground == "penalty" and back.ramp == s.ramp
     assert (back.job_duration_s, back.api_url) == (45.0, "http://h:1")
-    raw = json.loads(settings_json(s))
+    raw = json.loads(settings_json(s, made=made))
     for key, value, words in (
         ("beta", 0.9, "beta: 0.9 is outside 0.55..0.8"),
         ("body_mass_g", "heavy", "body_mass_g: a number is expected"),
-        ("speed", 3, "speed: one of"),
+        ("speed", 3, 'speed: a multiple of real time .* or "max", the file has 3'),
+        ("speed", "1x", 'write 1, a number, not "1x"'),
         ("ground", "ice", "ground: one of"),
         ("ramp", {"param": "beta"}, "ramp: param, start, turn"),
     ):

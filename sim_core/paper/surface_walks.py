@@ -1,0 +1,228 @@
+"""Deciding an atlas cell by walking where its drift surface cannot.
+
+Why. The surface reads a gait as a zero of the drift at held Delta31; where |d| stays inside
+the pin's own bias (0.1-0.3 mrad per cycle) it can only say "a zero may be here" (an
+unresolved zero, a near-zero band). The tripod at beta 0.62-0.64 is such a narrow pair (the
+drift touches zero between 2.88 and 2.98): an atlas without the surface's finer last pass
+called beta 0.62, 3 g "metachronal only" while a walk from 3.0 holds the tripod at 2.953.
+Free walks decide it: a stable state there is where a walk from beside it settles.
+
+How. A cell is walked only where the answer could change its region (`region`): a span (an
+unresolved zero's bracket or a near-zero band in `PAPER_WINDOW`) whose Delta31 could hold a
+gait that would change the region. Such a cell walks from just outside each open span on both
+sides (`WalkConfig.margin_rad`) and from near the paper's two branches (`PAPER_STARTS`), as
+`sim_core.runs` tasks (cached, on the atlas's backend), read by the one settled rule
+(`gait.settling`). Every settled final in the window is a stable state of the cell (provenance
+"walk", or "surface+walk" where the surface has a stable zero within `CLUSTER_TOL`); a walk
+that did not settle leaves the cell unresolved (`AtlasPoint.undecided`), never guessed.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from sim_core.model.gait import classify_gait, settling
+from sim_core.model.params import ModelParams
+from sim_core.model.spec import RunSpec
+from sim_core.paper.analysis import PAPER_WINDOW
+from sim_core.paper.fixedpoints import CLUSTER_TOL, FinderConfig, cluster_finals
+from sim_core.paper.surface_types import (
+    AtlasPoint,
+    AtlasWalk,
+    DriftSurface,
+    SurfaceZero,
+    region,
+)
+from sim_core.paper.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
+from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
+from sim_core.runs.cache import ResultCache
+from sim_core.runs.tasks import Task, execute_chunk, run_task
+
+# Starts near the paper's branches (Fig. 5): the metachronal at 1.9, the tripod from 3.0, not
+# 2.9: at beta 0.62 the tripod's basin border sits at 2.88-2.91 (finder 2.884, surface's
+# unstable zero 2.913), so a start at 2.9 would test the saddle, not the branch.
+PAPER_STARTS = (METACHRONAL_BRANCH, TRIPOD_BRANCH + 0.1)
+# How finely a span's Delta31 is scanned for the gaits it could hold (`classify_gait`'s
+# borders move by ~0.02 rad per 0.01 of beta; 0.01 rad cannot step over a gait).
+SCAN_STEP_RAD = 0.01
+
+
+@dataclass(frozen=True)
+class WalkConfig:
+    """How an atlas cell's open spans are walked."""
+
+    # the finder's lengths (`FinderConfig`): a try that stops if settled by then, else runs on
+    try_s: float = FinderConfig().bisect_duration_s
+    duration_s: float = FinderConfig().duration_s
+    # starts this far outside a span: a span's ends are probes whose drift already cleared the
+    # noise floor, and a free run's first cycles wander by ~0.01-0.02 rad from its start
+    margin_rad: float = 0.03
+    # starts closer than this are one walk (the finder's "one attractor" distance)
+    merge_rad: float = CLUSTER_TOL
+    paper_starts: tuple[float, ...] = PAPER_STARTS
+
+
+def window_zeros(surface: DriftSurface, beta: float) -> list[SurfaceZero]:
+    """The surface's zeros at `beta` inside `PAPER_WINDOW` (the atlas's question)."""
+    lo, hi = PAPER_WINDOW
+    return [z for z in surface.zeros_at(beta) if lo <= z.d31 <= hi]
+
+
+def spans_at(surface: DriftSurface, beta: float) -> list[tuple[float, float]]:
+    """The (lo, hi) of every unresolved zero and near-zero band at `beta` that reaches into
+    `PAPER_WINDOW`: where the surface may hide a zero it could not resolve."""
+    lo, hi = PAPER_WINDOW
+    spans = [(z.lo, z.hi) for z in surface.zeros_at(beta) if not z.resolved]
+    spans += [(n.lo, n.hi) for n in surface.near_zeros if abs(n.beta - beta) < 1e-9]
+    return sorted((a, b) for a, b in spans if b >= lo and a <= hi)
+
+
+def could_hold(span: tuple[float, float], beta: float) -> set[str]:
+    """The gaits (`classify_gait`) a state inside `span` could have at `beta`."""
+    a, b = span
+    xs = np.append(np.arange(a, b, SCAN_STEP_RAD), b)
+    return {classify_gait(float(x), beta) for x in xs}
+
+
+def certain_gaits(surface: DriftSurface, beta: float) -> list[str]:
+    """The gaits the surface's stable zeros at `beta` name for sure: a resolved zero's, or an
+    unresolved one's whose whole bracket is of one gait (else its place, and so its gait, is
+    a guess: the bracket's middle or the raw drift's crossing)."""
+    out = []
+    for z in window_zeros(surface, beta):
+        if z.stable:
+            held = {classify_gait(z.d31, beta)} if z.resolved else could_hold((z.lo, z.hi), beta)
+            out += list(held) if len(held) == 1 else []
+    return out
+
+
+def open_spans(
+    beta: float, gaits: Sequence[str], spans: Sequence[tuple[float, float]]
+) -> list[tuple[float, float]]:
+    """The spans where a hidden stable state would change the region the certain `gaits`
+    make: those that could hold a gait g with region(gaits + [g]) != region(gaits)."""
+    now = region(gaits)
+    return [s for s in spans if any(region([*gaits, g]) != now for g in could_hold(s, beta))]
+
+
+def walk_starts(spans: Sequence[tuple[float, float]], cfg: WalkConfig) -> list[float]:
+    """Starts on both sides of each span and near the paper's branches (none if no span),
+    sorted, those within `cfg.merge_rad` of an earlier one dropped."""
+    if not spans:
+        return []
+    raw = [x for a, b in spans for x in (a - cfg.margin_rad, b + cfg.margin_rad)]
+    out: list[float] = []
+    for x in sorted([*raw, *cfg.paper_starts]):
+        if not out or x - out[-1] > cfg.merge_rad:
+            out.append(round(x, 6))
+    return out
+
+
+def walk_spec(beta: float, start: float, cfg: WalkConfig, **fields: Any) -> RunSpec:
+    """A free walk (no pin) from Delta31 = `start`: a `cfg.try_s` try, on to `cfg.duration_s`
+    only if it has not settled by then; `fields` are the cell's mass, slope and numerics."""
+    return RunSpec(beta=beta, d31_init=start, duration_s=cfg.duration_s,
+                   stop_if_settled_s=cfg.try_s, **fields)  # fmt: skip
+
+
+def read_walk(start: float, result: Mapping[str, Any], asked_s: float) -> AtlasWalk:
+    """A walk's outcome by the core's settled rule (`gait.settling` of its Delta31 series)."""
+    error = result.get("error")
+    length = float(result.get("duration_s") or asked_s)
+    if error:
+        return AtlasWalk(start=start, final=None, settled=False, why=str(error), sim_s=length)
+    s = settling(list(result.get("d31") or []))
+    return AtlasWalk(start=start, final=s.final, settled=s.settled, why=s.why, sim_s=length)
+
+
+@dataclass
+class _State:
+    """A stable state of a cell while it is decided: where, from what, and (for an unresolved
+    zero of the surface) the bracket it lies in."""
+
+    d31: float
+    source: str
+    bracket: tuple[float, float] | None = None
+
+    def holds(self, final: float) -> bool:
+        """Whether a walk settling at `final` reached this state."""
+        inside = self.bracket is not None and self.bracket[0] <= final <= self.bracket[1]
+        return inside or abs(self.d31 - final) <= CLUSTER_TOL
+
+
+def decide(
+    point: AtlasPoint,
+    walks: Sequence[AtlasWalk],
+    brackets: Sequence[tuple[float, float] | None] = (),
+) -> AtlasPoint:
+    """The cell with its walks: the surface's stable zeros and every settled walk's final in
+    the window (finals within CLUSTER_TOL are one), each with its provenance; gaits and
+    region from that union. A final inside an unresolved stable zero's bracket (`brackets`,
+    parallel to `point.stable`, None where resolved) or within CLUSTER_TOL of a zero is that
+    zero, placed where the walk settled if the surface could not place it. An unsettled walk
+    is kept, and makes the cell `undecided`."""
+    lo, hi = PAPER_WINDOW
+    spans = list(brackets) or [None] * len(point.stable)
+    states = [_State(x, "surface", b) for x, b in zip(point.stable, spans, strict=True)]
+    finals = [w.final for w in walks if w.settled and w.final is not None and lo <= w.final <= hi]
+    for f, _ in cluster_finals(finals):
+        same = next((st for st in states if st.holds(f)), None)
+        if same is None:
+            states.append(_State(f, "walk"))
+            continue
+        same.source = "surface+walk"
+        if same.bracket is not None:  # placed now: a second final in the bracket is another
+            same.d31, same.bracket = f, None
+    states.sort(key=lambda st: st.d31)
+    gaits = [classify_gait(st.d31, point.beta) for st in states]
+    return point.model_copy(
+        update={
+            "stable": [st.d31 for st in states],
+            "gaits": gaits,
+            "region": region(gaits),
+            "provenance": [st.source for st in states],
+            "walks": list(walks),
+            "checked": True,
+        }
+    )
+
+
+def walk_cells(
+    cells: Sequence[tuple[AtlasPoint, DriftSurface, Mapping[str, Any]]],
+    *,
+    cache: ResultCache,
+    backend: Backend,
+    params: ModelParams,
+    config: WalkConfig | None = None,
+    chunk_size: int = 8,
+    progress: bool = True,
+    stats: RunStats | None = None,
+    on_progress: Callable[[float], None] | None = None,
+    executor: Executor = execute_chunk,
+) -> list[AtlasPoint]:
+    """Each (cell, its surface, its RunSpec fields besides beta and the start) decided: the
+    walks of every cell that has an open span go to the backend as one batch; a cell with none
+    comes back checked, unchanged."""
+    cfg = config or WalkConfig()
+    plans: list[list[tuple[float, Task]]] = []
+    brackets: list[list[tuple[float, float] | None]] = []
+    for pt, surface, fields in cells:
+        b = pt.beta
+        spans = open_spans(b, certain_gaits(surface, b), spans_at(surface, b))
+        starts = walk_starts(spans, cfg)
+        plans.append([(x, run_task(walk_spec(b, x, cfg, **fields), params)) for x in starts])
+        zs = [z for z in window_zeros(surface, b) if z.stable]
+        brackets.append([None if z.resolved else (z.lo, z.hi) for z in zs])
+    tasks = [t for plan in plans for _, t in plan]
+    results, st = run_tasks(tasks, cache, backend, chunk_size, progress, executor, on_progress)
+    if stats is not None:
+        for name in ("tasks", "computed", "cached", "compute_s"):
+            setattr(stats, name, getattr(stats, name) + getattr(st, name))
+    return [
+        decide(pt, [read_walk(x, results[t.key], cfg.duration_s) for x, t in plan], br)
+        for (pt, _, _), plan, br in zip(cells, plans, brackets, strict=True)
+    ]

@@ -1,0 +1,54 @@
+"""The README's headline point, read three ways: at beta 0.62, 3 g, today's contact
+("constraint" ground), the atlas's cell (surface plus deciding walks, as `insect-gait atlas`
+computes it), the drift-surface panel's file (docs/figures/surface.json) and a settled walk
+from Delta31 = 3.0 name the same stable gaits (issue 55, D2)."""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from pathlib import Path
+
+import pytest
+
+from sim_core.model.gait import classify_gait, settling
+from sim_core.model.params import ModelParams
+from sim_core.model.runner import simulate
+from sim_core.model.spec import RunSpec
+from sim_core.paper.surface_atlas import surface_atlas
+from sim_core.paper.surface_types import DriftSurface, SurfaceConfig
+from sim_core.paper.surface_walks import WalkConfig, window_zeros
+from sim_core.runs.cache import ResultCache
+
+SURFACE_JSON = Path(__file__).resolve().parents[2] / "docs" / "figures" / "surface.json"
+BETA = 0.62
+
+
+@pytest.mark.slow
+def test_atlas_surface_and_a_walk_from_3_name_the_same_gaits_at_beta_062(tmp_path: Path) -> None:
+    surface = DriftSurface.model_validate_json(SURFACE_JSON.read_text())
+    assert (surface.body_mass_g, surface.slope_deg, surface.ground) == (3.0, 0.0, "constraint")
+    panel = {classify_gait(z.d31, BETA) for z in window_zeros(surface, BETA) if z.stable}
+
+    # the atlas's cell as the `atlas` command computes it: no band pass, walks on
+    atlas = surface_atlas(
+        "mass",
+        [BETA],
+        [3.0],
+        cache=ResultCache(tmp_path),
+        config=replace(SurfaceConfig(), band_pass=False),
+        params=ModelParams.of(ground="constraint"),
+        walks=WalkConfig(),
+        progress=False,
+    )
+    (cell,) = atlas.points
+    assert cell.checked and not cell.undecided, [w.why for w in cell.walks]
+
+    walk = simulate(RunSpec(beta=BETA, d31_init=3.0, duration_s=WalkConfig().duration_s))
+    settled = settling(walk.events.d31)
+    assert settled.settled and settled.final is not None, settled.why
+    gait = classify_gait(settled.final, BETA)
+
+    assert set(cell.gaits) == panel, (cell, panel)
+    assert gait in panel and gait == "tripod"
+    # the walk's state is one the atlas lists (within the finder's one-attractor distance)
+    assert any(abs(x - settled.final) <= 0.05 for x in cell.stable), (cell.stable, settled)
