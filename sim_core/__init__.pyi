@@ -125,6 +125,7 @@ from .paper.surface_types import (
 from .paper.surface_types import (
     SurfaceConfig as SurfaceConfig,
 )
+from .paper.surface_walks import WalkConfig as WalkConfig
 from .paper.sweep import SweepResult as SweepResult
 from .paper.sweep import sweep as sweep
 from .paper.values import (

@@ -2,8 +2,8 @@
 ground, mass and slope (web/conditions.py), or a sentence saying there are none.
 
 Where surfaces come from: the results folder (`surface*.json` there, each validated as the
-core's `DriftSurface`: `insect-gait reproduce` writes surface.json on today's contact and
-surface_penalty.json on the paper's ground; `--surface PATH` adds a file, looked at first) and
+core's `DriftSurface`: `insect-gait reproduce` writes surface.json on the constraint ground and
+surface_penalty.json on the penalty ground; `--surface PATH` adds a file, looked at first) and
 the surfaces this viewer's `surface` jobs returned in this session (web/surface_jobs.py), which
 are preferred: they are the newest. The runs cache holds probes, not surfaces (one file per
 task, `sim_core.runs.cache`), so it is not searched. The finder's results are the one

@@ -20,7 +20,17 @@ from sim_core.contract import AXIS_PARAM, AtlasAxis, SurfaceAtlas, SurfaceConfig
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-COLUMNS = ("beta", "axis", "value", "region", "stable_d31", "gaits", "unresolved")
+COLUMNS = (
+    "beta",
+    "axis",
+    "value",
+    "region",
+    "stable_d31",
+    "gaits",
+    "unresolved",
+    "undecided",
+    "found_by",
+)
 
 
 class AtlasJob(Held):
@@ -46,6 +56,13 @@ class AtlasJob(Held):
         False,
         description="with refine, also probe finer and longer inside unresolved zeros and "
         "near-zero bands (as `insect-gait atlas --band-pass`; about 40% more simulated time)",
+    )
+
+    walks: bool = Field(
+        True,
+        description="decide by settled free walks every cell where an unresolved zero could "
+        "change the region (as `insect-gait atlas`; false: as `--no-walks`, such cells are "
+        "marked unresolved)",
     )
 
     @field_validator("values")
@@ -91,12 +108,14 @@ def run(job: AtlasJob, progress: Progress, nthread: int) -> AtlasJobResult:
     atlas = sim.surface_atlas(
         job.axis, sorted(set(job.betas)), sorted(set(job.values)), config=job.config(),
         params=job.model_params(), at=at, numerics=job.spec_numerics(), refine=job.refine,
-        progress=False, on_progress=moving.on_progress, executor=moving.executor,
+        walks=sim.WalkConfig() if job.walks else None, progress=False,
+        on_progress=moving.on_progress, executor=moving.executor,
     )  # fmt: skip
     rows = [
         {"beta": p.beta, "axis": job.axis, "value": p.value, "region": p.region,
          "stable_d31": " ".join(f"{x:.3f}" for x in p.stable), "gaits": " ".join(p.gaits),
-         "unresolved": p.unresolved}
+         "unresolved": p.unresolved, "undecided": p.undecided,
+         "found_by": " ".join(p.provenance)}
         for p in atlas.points
     ]  # fmt: skip
     return AtlasJobResult(atlas=atlas, records=rows)

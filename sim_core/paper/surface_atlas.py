@@ -74,7 +74,7 @@ def surface_atlas(
     numerics: Mapping[str, Any] | None = None,
     refine: bool = True,
     walks: WalkConfig | None = None,
-    progress: bool = True,
+    progress: bool | str = True,
     stats: RunStats | None = None,
     on_value: Callable[[float, DriftSurface], None] | None = None,
     on_progress: Callable[[float], None] | None = None,
@@ -108,9 +108,11 @@ def surface_atlas(
     def share(a: float, b: float) -> Callable[[float], None] | None:
         return None if on_progress is None else (lambda x: on_progress(a + (b - a) * x))
 
+    # the bar's label on a terminal: "atlas" for the surfaces, "atlas walks" for the walks
+    label = progress if isinstance(progress, str) else "atlas"
     surfaces = drift_surfaces(
         betas, conds, cache=cache, backend=backend, config=config, params=p, numerics=numerics,
-        refine=refine, progress=progress, stats=stats,
+        refine=refine, progress=label if progress else False, stats=stats,
         on_progress=share(0.0, split),
         executor=executor,
     )  # fmt: skip
@@ -127,7 +129,8 @@ def surface_atlas(
     if walks is not None:
         points = walk_cells(
             cells, cache=cache, backend=backend or InlineBackend(), params=p, config=walks,
-            chunk_size=cfg.chunk_size, progress=progress, stats=stats, executor=executor,
+            chunk_size=cfg.chunk_size, progress=f"{label} walks" if progress else False,
+            stats=stats, executor=executor,
             on_progress=share(split, 1.0),
         )  # fmt: skip
         walk_s = sum(w.sim_s for pt in points for w in pt.walks)

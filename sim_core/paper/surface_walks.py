@@ -199,7 +199,7 @@ def walk_cells(
     params: ModelParams,
     config: WalkConfig | None = None,
     chunk_size: int = 8,
-    progress: bool = True,
+    progress: bool | str = True,
     stats: RunStats | None = None,
     on_progress: Callable[[float], None] | None = None,
     executor: Executor = execute_chunk,

@@ -52,3 +52,26 @@ def test_atlas_surface_and_a_walk_from_3_name_the_same_gaits_at_beta_062(tmp_pat
     assert gait in panel and gait == "tripod"
     # the walk's state is one the atlas lists (within the finder's one-attractor distance)
     assert any(abs(x - settled.final) <= 0.05 for x in cell.stable), (cell.stable, settled)
+
+
+def test_the_committed_atlas_the_surface_panel_and_a_walk_from_3_agree_at_beta_062() -> None:
+    """The files the viewer's panels draw (not recomputed): the constraint ground's mass atlas
+    at (0.62, 3 g), surface.json at 0.62, and a settled walk from 3.0 name the same gaits."""
+    from sim_core.paper.surface_types import SurfaceAtlas
+
+    atlas = SurfaceAtlas.model_validate_json(
+        (SURFACE_JSON.parent / "surface_atlas_mass_constraint.json").read_text()
+    )
+    (cell,) = [p for p in atlas.points if abs(p.beta - BETA) < 1e-9 and p.value == 3.0]
+    surface = DriftSurface.model_validate_json(SURFACE_JSON.read_text())
+    panel = {classify_gait(z.d31, BETA) for z in window_zeros(surface, BETA) if z.stable}
+    assert set(cell.gaits) == panel and not cell.undecided, (cell, panel)
+
+    walk = simulate(
+        RunSpec(beta=BETA, d31_init=3.0, duration_s=WalkConfig().duration_s,
+                stop_if_settled_s=WalkConfig().try_s)
+    )  # fmt: skip
+    settled = settling(walk.events.d31)
+    assert settled.settled and settled.final is not None, settled.why
+    assert classify_gait(settled.final, BETA) in panel
+    assert any(abs(x - settled.final) <= 0.05 for x in cell.stable), (cell.stable, settled)

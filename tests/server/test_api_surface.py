@@ -12,6 +12,7 @@ from api_harness import Server, result_of, submit, wait_status
 from sim_core.contract import DriftSurface, SurfaceAtlas, SurfaceConfig, surface_grid
 from sim_core.paper.surface import drift_surface
 from sim_core.paper.surface_atlas import surface_atlas
+from sim_core.paper.surface_walks import WalkConfig
 from sim_core.runs.cache import ResultCache
 
 
@@ -61,9 +62,15 @@ def test_atlas_job_is_the_atlas_command(make_server: Callable[..., Server], tmp_
     got = SurfaceAtlas.model_validate(result["atlas"])
     cfg = SurfaceConfig(d31_grid=surface_grid(1.7, 2.3, 0.3))
     direct = surface_atlas("slope", [0.64, 0.70], [-10.0, 10.0], cache=ResultCache(tmp_path),
-                           config=cfg, refine=False, progress=False)  # fmt: skip
+                           config=cfg, refine=False, walks=WalkConfig(),
+                           progress=False)  # fmt: skip
     assert got.param == "slope_deg" and len(got.points) == len(direct.points) == 4
     for a, b in zip(got.points, direct.points, strict=True):
         assert (a.beta, a.value, a.region, a.gaits) == (b.beta, b.value, b.region, b.gaits)
+        # walks on by default, as the command: each cell checked, its states' finders named
+        assert a.checked and (a.provenance, a.undecided) == (b.provenance, b.undecided)
         assert all(abs(x - y) < 1e-9 for x, y in zip(a.stable, b.stable, strict=True))
     assert [r["region"] for r in result["records"]] == [p.region for p in direct.points]
+    assert [r["found_by"] for r in result["records"]] == [
+        " ".join(p.provenance) for p in direct.points
+    ]
