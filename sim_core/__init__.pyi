@@ -63,6 +63,12 @@ from .model.runner import (
 )
 from .model.runner import simulate as simulate
 from .model.runner import simulate_batch as simulate_batch
+from .model.settings import (
+    NAMED_SETTINGS as NAMED_SETTINGS,  # research: named regimes of invented parameters
+)
+from .model.settings import (
+    named_params as named_params,  # research: a named regime as ModelParams
+)
 from .model.spec import (
     RunFailure as RunFailure,
 )
