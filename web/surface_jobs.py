@@ -20,7 +20,7 @@ from pydantic import ValidationError
 from sim_core.contract import DriftSurface
 from web.bifurcation import first_error
 from web.conditions import Conditions, of_surface
-from web.jobs import TERMINAL, JobView, api_failure, api_json
+from web.jobs import TERMINAL, JobView, api_failure, api_json, view_of
 
 # The atlas's betas (`insect-gait atlas`: 0.60-0.72, 0.01 apart): the paper's window and past
 # it, where the gaits change. Fig. 8's 25-beta surface took 2,258 core-s (docs/NUMERICS.md),
@@ -104,14 +104,7 @@ class SurfaceJobs:
         try:
             job = api_json(f"{api}/v1/jobs", surface_job_body(want), self.timeout_s)
             while True:
-                view = JobView(
-                    id=job["id"],
-                    kind=job["kind"],
-                    status=job["status"],
-                    progress=float(job.get("progress") or 0.0),
-                    message=job.get("error") or job.get("note") or "",
-                    url=f"{api}/v1/jobs/{job['id']}",
-                )
+                view = view_of(job, api, key=0)  # one job per condition: no list key
                 self._set(want, view)
                 if job["status"] in TERMINAL:
                     break
