@@ -15,6 +15,7 @@ import subprocess
 import sys
 import time
 from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 from typing import Any
 
@@ -58,24 +59,17 @@ def _free_port() -> int:
         return int(s.getsockname()[1])
 
 
-@pytest.fixture(scope="module")
-def viewer(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
-    if CHROMIUM is None:
-        if os.environ.get("CI") == "true":
-            pytest.fail("CI=true but no chromium on PATH: .ci/run should apt-get install it")
-        pytest.skip("no chromium on PATH (apt-get install chromium); CI runs this test")
-    port = _free_port()
-    home = tmp_path_factory.mktemp("viewer")
+@contextmanager
+def running_viewer(home: Path, api_url: str) -> Iterator[str]:
+    """The real viewer as a subprocess in `home`, posting jobs to `api_url`: its address once it
+    prints it; stopped on exit (and said if it died meanwhile)."""
     log_path = home / "viewer.log"
     # the viewer's output goes to a file: a pipe nobody reads could fill and stall it, and the
     # file says why if it dies mid-module
     with open(log_path, "w") as log:
-        # an API address where nothing listens: a submit must say so (and never reach a real
-        # service that a developer's `make run` keeps on :8000)
-        api = f"http://127.0.0.1:{_free_port()}"
         proc = subprocess.Popen(
-            [sys.executable, "-m", "sim_core.cli", "viewer", "--port", str(port),
-             "--api-url", api],
+            [sys.executable, "-m", "sim_core.cli", "viewer", "--port", str(_free_port()),
+             "--api-url", api_url],
             cwd=home, stdout=log, stderr=subprocess.STDOUT, text=True,
         )  # fmt: skip
     try:
@@ -95,6 +89,19 @@ def viewer(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
             proc.wait(timeout=10)
         except subprocess.TimeoutExpired:
             proc.kill()
+
+
+@pytest.fixture(scope="module")
+def viewer(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
+    if CHROMIUM is None:
+        if os.environ.get("CI") == "true":
+            pytest.fail("CI=true but no chromium on PATH: .ci/run should apt-get install it")
+        pytest.skip("no chromium on PATH (apt-get install chromium); CI runs this test")
+    # an API address where nothing listens: a submit must say so (and never reach a real
+    # service that a developer's `make run` keeps on :8000)
+    api = f"http://127.0.0.1:{_free_port()}"
+    with running_viewer(tmp_path_factory.mktemp("viewer"), api) as url:
+        yield url
 
 
 @pytest.fixture(scope="module")

@@ -4,15 +4,20 @@ job's, and the live walk comes back (docs/VIEWER.md, "Jobs from this viewer").""
 
 from __future__ import annotations
 
-import subprocess
 import sys
-import time
 from collections.abc import Iterator
 from pathlib import Path
 
 import pytest
 
-from tests.web.test_viewer_browser import ARGS, CHROMIUM, _open, _poll, _set_box
+from tests.web.test_viewer_browser import (
+    ARGS,
+    CHROMIUM,
+    _open,
+    _poll,
+    _set_box,
+    running_viewer,
+)
 from web.panel_labels import LIVE_AGAIN, SUBMIT_RUN
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "server"))
@@ -35,28 +40,10 @@ def viewer_and_api(tmp_path_factory: pytest.TempPathFactory) -> Iterator[str]:
     env = {"INSECT_GAIT_WORKERS": "1", "INSECT_GAIT_LOG_LEVEL": "warning"}
     api = Server(db=home / "jobs.sqlite3", port=free_port(), env=env, log=home / "api.log")
     api.start(timeout=60)
-    log_path = home / "viewer.log"
-    with open(log_path, "w") as log:
-        proc = subprocess.Popen(
-            [sys.executable, "-m", "sim_core.cli", "viewer", "--port", str(free_port()),
-             "--api-url", api.url],
-            cwd=home, stdout=log, stderr=subprocess.STDOUT, text=True,
-        )  # fmt: skip
     try:
-        deadline, url = time.time() + 120, None
-        while time.time() < deadline and url is None and proc.poll() is None:
-            for line in log_path.read_text().splitlines():
-                if line.startswith("viewer: "):
-                    url = line.split("viewer: ", 1)[1].strip()
-            time.sleep(0.2)
-        assert url, f"the viewer did not print its address:\n{log_path.read_text()[-2000:]}"
-        yield url
+        with running_viewer(home, api.url) as url:
+            yield url
     finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
         api.stop()
 
 
