@@ -138,7 +138,8 @@ def reproduce(
     study = None
     if "7" in figs or "8" in figs:
         study = surface_study(cfg.surface_betas, cfg.surface, p, cache, backend,
-                              progress=progress, executor=executor)  # fmt: skip
+                              progress=progress, executor=executor,
+                              mechanism_refine=cfg.mechanism_refine)  # fmt: skip
         stats = _add_stats(stats, study.stats)
 
     out.mkdir(parents=True, exist_ok=True)

@@ -16,6 +16,7 @@ Matplotlib with the Agg backend: files only.
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -113,7 +114,10 @@ def fig8_rows(surface: DriftSurface, paper: PaperValues, beta_tol: float) -> lis
         ranges = stable_ranges(surface, gait)
         segs = "; ".join(f"{_b(lo)}-{_b(hi)}" for lo, hi in ranges) or "nowhere on the grid"
         grid = sorted(surface.betas)
-        step = f" by {_b(round(grid[1] - grid[0], 6))}" if len(grid) > 1 else ""
+        # the grid's spacing: one step, or the finest and the coarsest where it varies
+        steps = sorted({round(y - x, 6) for x, y in itertools.pairwise(grid)})
+        ends = dict.fromkeys((steps[0], steps[-1])) if steps else {}
+        step = f" by {'-'.join(_b(x) for x in ends)}" if ends else ""
         ours = f"{segs} (grid {_b(grid[0])}-{_b(grid[-1])}{step})"
         ranges = [(max(lo, span[0]), min(hi, span[1])) for lo, hi in ranges]
         ranges = [(lo, hi) for lo, hi in ranges if lo <= hi]

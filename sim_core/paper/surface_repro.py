@@ -73,9 +73,11 @@ def surface_study(
     *,
     progress: bool = True,
     executor: Executor = execute_chunk,
+    mechanism_refine: bool = True,
 ) -> SurfaceStudy:
     """The surface over `betas` on `params`' ground, the mechanism's surface on the paper's
-    ground and the K/3 and dt/2 sample, all through `cache` and `backend`."""
+    ground (refined as `drift_surface` does only with `mechanism_refine`) and the K/3 and dt/2
+    sample, all through `cache` and `backend`."""
     t0 = time.perf_counter()
     stats = RunStats()
     kw: dict[str, Any] = {"cache": cache, "backend": backend, "progress": progress,
@@ -83,7 +85,8 @@ def surface_study(
     surface = drift_surface(betas, config=cfg, params=params, **kw)
     t_surface = time.perf_counter() - t0
     penalty = params.replace(**{"ground": "penalty"})
-    paper_ground = drift_surface(MECHANISM_BETAS, config=cfg, params=penalty, **kw)
+    paper_ground = drift_surface(MECHANISM_BETAS, config=cfg, params=penalty,
+                                 refine=mechanism_refine, **kw)  # fmt: skip
     sample = replace(cfg, d31_grid=SAMPLE_D31)
     variants = {
         "K/3": drift_surface(
