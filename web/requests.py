@@ -1,4 +1,4 @@
-"""What GUI callbacks may do: record a request. The loop thread alone applies them.
+"""What GUI callbacks may do: queue a request. The loop alone applies it (web/handlers.py).
 
 viser runs plain callbacks on a thread pool, and `Simulation` is not thread-safe, so a callback
 never touches the simulation; it puts one of these frozen requests on a `RequestQueue`. The loop
