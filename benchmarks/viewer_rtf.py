@@ -43,8 +43,7 @@ from sim_core.numerics.bench import single_rate
 from web import controls
 from web.app import LoopConfig, ViewerApp
 from web.entry import box_label
-from web.page_probe import READ_BY_LABEL, TAG_BY_LABEL
-from web.panel_labels import DRAW_3D, PAUSE, PLAY
+from web.panel_labels import DRAW_3D, PAUSE, PLAY, READ_BY_LABEL, TAG_BY_LABEL
 from web.requests import SetParam, SetPlaying
 
 ARGS = ["--headless", "--no-sandbox", "--disable-gpu", "--disable-background-networking",

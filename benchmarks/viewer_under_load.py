@@ -33,7 +33,7 @@ from typing import Any
 
 from playwright.sync_api import Page, sync_playwright
 
-from web.page_probe import READ_BY_LABEL
+from web.panel_labels import READ_BY_LABEL
 
 REPO = Path(__file__).resolve().parents[1]
 EXE = str(Path(sys.executable).parent / "insect-gait")

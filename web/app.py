@@ -9,6 +9,12 @@ Hz from the simulation's own record (web/record.py; the viewer keeps no copy of 
 they are read by people, and each redraw is a message to every browser; a panel whose inputs
 did not change (a paused run) is not rebuilt.
 
+Parts, composed here (as mjlab's viewer composes its scene and overlays): the loop's small
+state (web/state.py: the walk and how it is shown), the 3D scene (web/scene.py), the panels
+(web/panels.py, themselves of parts), the request handlers (web/handlers.py: one per request
+type, looked up by type), the painters (web/painter.py, web/chart_painter.py) and the job
+links (web/jobs.py, web/surface_jobs.py). None of them inherits from another.
+
 One simulation for everyone: viser's `server.gui` is shared by all browsers, so sliders already
 move for everybody; a simulation per browser would need per-client panels and would multiply
 the CPU cost per open tab on a model that barely runs faster than real time.
@@ -24,23 +30,78 @@ import logging
 import math
 import threading
 import time
+from collections import deque
 from collections.abc import Callable
+from pathlib import Path
 
-from web.drawing import Drawing
-from web.pacing import RateMeter
-from web.state import LoopConfig, LoopStats
+import viser
+
+from sim_core import RunSpec
+from web import handlers
+from web.chart_painter import ChartPainter
+from web.frame_cap import install_frame_cap
+from web.jobs import JobWatcher
+from web.painter import Painter, Redraws
+from web.panels import Panels
+from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, DEFAULT_SURFACE
+from web.requests import Request, RequestQueue
+from web.scene import HexapodScene
+from web.state import LoopConfig, LoopStats, RateMeter, ViewerState
+from web.surface_jobs import SurfaceJobs
 
 log = logging.getLogger(__name__)
 
 __all__ = ["LoopConfig", "LoopStats", "ViewerApp"]
 
 
-class ViewerApp(Drawing):
-    """The viewer: its lifecycle and its loop (the state, requests and drawing it inherits)."""
+class ViewerApp:
+    """The viewer: its parts, its lifecycle and its loop."""
+
+    def __init__(
+        self,
+        host: str = "127.0.0.1",
+        port: int = 8080,
+        *,
+        spec: RunSpec | None = None,
+        config: LoopConfig | None = None,
+        bifurcation_path: Path = DEFAULT_BIFURCATION,
+        surface_path: Path = DEFAULT_SURFACE,
+        api_url: str = DEFAULT_API_URL,
+    ) -> None:
+        self.cfg = cfg = config or LoopConfig()
+        self.requests = RequestQueue()
+        self.state = state = ViewerState.of(spec)
+        self.server = viser.ViserServer(host=host, port=port, label="insect-gait", verbose=False)
+        self.scene = HexapodScene(self.server, state.sim.model, shadows=cfg.shadows)
+        install_frame_cap(self.server, cfg.software_fps)
+        self.panels = Panels(self.server, self.requests, cfg.software_fps)
+        if api_url != DEFAULT_API_URL:
+            self.panels.api_url.value = api_url  # type: ignore[misc]  # viser types the setter on a subclass
+        self.panels.sync(True, None, {name: state.sim.get(name) for name in handlers.PARAMS})
+        self.jobs = JobWatcher()  # the jobs submitted or opened from this viewer
+        self.surface_jobs = SurfaceJobs()
+        redraws = Redraws(state, self.panels)
+        self.painter = Painter(state, self.panels, jobs=self.jobs, redraws=redraws, config=cfg)
+        self.charts = ChartPainter(state, self.panels, surface_jobs=self.surface_jobs,
+                                   redraws=redraws, config=cfg, bifurcation_path=bifurcation_path,
+                                   surface_path=surface_path)  # fmt: skip
+        # (wall time.time(), request) of the latest requests applied: the input latency a
+        # benchmark reads against the browser's key and click times (same clock)
+        self.applied: deque[tuple[float, Request]] = deque(maxlen=256)
+        self.stats = LoopStats()
+        self._stop = threading.Event()
+        self._wake = threading.Event()  # set by viser's connect hook: a browser arrived
+        self._thread: threading.Thread | None = None
+        self.server.on_client_connect(self._on_connect)
+        self.server.on_client_disconnect(self._on_connect)
 
     @property
     def port(self) -> int:
         return self.server.get_port()
+
+    def _on_connect(self, client: viser.ClientHandle) -> None:
+        """viser's connect/disconnect hook (its thread pool): only wakes the loop."""
+        self._wake.set()
 
     # --- lifecycle ----------------------------------------------------------------------------
     def start(self) -> None:
@@ -64,8 +125,12 @@ class ViewerApp(Drawing):
             self.stop()
 
     # --- the loop -----------------------------------------------------------------------------
+    def apply(self, req: Request) -> None:
+        """Apply one request now (loop thread): the handler of its type (web/handlers.py)."""
+        handlers.apply(self, req)
+
     def _run(self) -> None:
-        cfg = self.cfg
+        cfg, state = self.cfg, self.state
         period = 1.0 / cfg.fps
         rtf, step_rtf, fps = RateMeter(), RateMeter(), RateMeter()
         sim_total = step_wall_total = 0.0
@@ -77,59 +142,50 @@ class ViewerApp(Drawing):
             if clients == 0:
                 # nobody watching: do not simulate; sleep until a browser connects
                 self.stats = LoopStats(
-                    frames, sim_total, step_wall_total, None, None, None, self.sim.beta, 0, True
+                    frames, sim_total, step_wall_total, None, None, None, state.sim.beta, 0, True
                 )
                 self._wake.wait(0.5)
                 self._wake.clear()
                 last = time.perf_counter()
-                self._clock.reset()
-                rtf.reset()
-                step_rtf.reset()
-                fps.reset()
+                state.clock.reset()
+                for meter in (rtf, step_rtf, fps):
+                    meter.reset()
                 continue
             t_frame = time.perf_counter()
             self._apply_pending()
             wall_dt, last = t_frame - last, t_frame
-            if self.playing and self.error is None:
-                due = math.inf if self.speed is None else self._clock.tick(wall_dt, self.speed)
-                deadline = t_frame + cfg.step_budget * period
+            if state.playing and state.error is None:
+                speed = state.speed
+                due = math.inf if speed is None else state.clock.tick(wall_dt, speed)
                 t_step = time.perf_counter()
-                advanced = self._step(due, deadline)
+                advanced = self.step(due, t_frame + cfg.step_budget * period)
                 step_wall_total += time.perf_counter() - t_step
                 sim_total += advanced
-                if self.speed is not None:
-                    self._clock.paid(advanced)
+                if speed is not None:
+                    state.clock.paid(advanced)
             self._apply_pending()  # what came while stepping, before it is drawn
             now = time.perf_counter()
             rtf.add(now, sim_total)
             step_rtf.add(step_wall_total, sim_total)
-            if self.draw_3d:
-                data = self.sim.data  # kinematics computed once per frame
-                self.scene.update(data, self.sim.stance, self.sim.slope_deg, self.sim.heading_rad)
+            if state.draw_3d:
+                sim = state.sim
+                self.scene.update(sim.data, sim.stance, slope_deg=sim.slope_deg,
+                                  heading_rad=sim.heading_rad, follow=state.follow)  # fmt: skip
                 frames += 1
             fps.add(now, frames)
             if now >= next_readout:
                 next_readout = now + 1.0 / cfg.readout_hz
-                self._draw_readouts(rtf.rate, step_rtf.rate, fps.rate)
+                self.painter.readouts(rtf.rate, step_rtf.rate, fps.rate)
             # the diagrams: at panel_hz, or less often when drawing them costs more than
             # DRAW_SHARE of the loop's time (a slow machine keeps stepping and answering)
             if now >= next_panel:
-                cost = self._timed(self._draw_panels)
+                cost = _timed(self.painter.gait)
                 next_panel = now + max(1.0 / cfg.panel_hz, cost / cfg.draw_share)
             if now >= next_bif:
-                cost = self._timed(self._draw_bifurcation)
+                cost = _timed(self.charts.draw)
                 next_bif = now + max(2.0 / cfg.panel_hz, cost / cfg.draw_share)
-            self.stats = LoopStats(
-                frames,
-                sim_total,
-                step_wall_total,
-                rtf.rate,
-                step_rtf.rate,
-                fps.rate,
-                self.sim.beta,
-                clients,
-                False,
-            )
+            self.stats = LoopStats(frames, sim_total, step_wall_total, rtf.rate, step_rtf.rate,
+                                   fps.rate, state.sim.beta, clients, False)  # fmt: skip
             # until the next frame: requests are applied the moment they arrive
             while not self._stop.is_set():
                 left = t_frame + period - time.perf_counter()
@@ -145,37 +201,40 @@ class ViewerApp(Drawing):
                 self.apply(req)
             except Exception as exc:  # a bad request must not kill the viewer
                 log.exception("request %r failed", req)
-                self.error = f"{type(req).__name__} failed: {exc}"
+                self.state.error = f"{type(req).__name__} failed: {exc}"
             self.applied.append((time.time(), req))
 
-    @staticmethod
-    def _timed(draw: Callable[[], None]) -> float:
-        t0 = time.perf_counter()
-        draw()
-        return time.perf_counter() - t0
-
-    def _step(self, due: float, deadline: float) -> float:
-        """Advance in chunks until `due` simulated seconds are done or the frame budget is spent."""
-        sim, chunk = self.sim, self.cfg.chunk_s
+    def step(self, due_s: float, deadline: float) -> float:
+        """Advance the walk in chunks until `due_s` simulated seconds are done or
+        `time.perf_counter()` passes `deadline` (loop thread; `StepCycle` asks for one
+        cycle); the simulated seconds advanced."""
+        state, chunk = self.state, self.cfg.chunk_s
+        sim = state.sim
         advanced = 0.0
-        while due - advanced >= chunk * 0.5 and time.perf_counter() < deadline:
+        while due_s - advanced >= chunk * 0.5 and time.perf_counter() < deadline:
             if self.requests.pending():  # a person's input waits no longer than one slice
-                speed = self.speed
+                speed = state.speed
                 self._apply_pending()
-                if not self.playing or self.error is not None or self.speed != speed:
+                if not state.playing or state.error is not None or state.speed != speed:
                     break
-                sim = self.sim  # a reset or another ground may have replaced it
+                sim = state.sim  # a reset or another ground may have replaced it
             t0 = sim.time_s
             try:
                 sim.advance(chunk)
             except Exception as exc:  # diverged: stop and say so, never show wrong numbers
                 log.warning("simulation stopped: %s", exc)
-                self.error = str(exc)
-                self.playing = False
+                state.error = str(exc)
+                state.playing = False
                 break
             advanced += sim.time_s - t0
             # the new Delta31 events happened under the parameters (and ramp phase) just used
-            self.d31_conditions.note(sim)  # marks where what was in force changed
-            if self.ramp is not None and sim.ramp is None:
-                self._stop_ramp()  # the ramp is done (the core ends it): its slider is free
+            state.d31_conditions.note(sim)  # marks where what was in force changed
+            if state.ramp is not None and sim.ramp is None:
+                state.stop_ramp()  # the ramp is done (the core ends it): its slider is free
         return advanced
+
+
+def _timed(draw: Callable[[], None]) -> float:
+    t0 = time.perf_counter()
+    draw()
+    return time.perf_counter() - t0

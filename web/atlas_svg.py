@@ -8,7 +8,7 @@ pixels tall and their ticks printed over each other, so every other row went unl
 live point sits between the rows of the two values around it, in proportion.
 
 Its own module because it reads a whole `SurfaceAtlas` (regions, unresolved zeros) rather than
-points; its region colours extend the bifurcation panel's gait colours.
+points; its region colours extend the gait colours (web/style.py).
 """
 
 from __future__ import annotations
@@ -19,9 +19,9 @@ import math
 from collections.abc import Sequence
 
 from sim_core.contract import SurfaceAtlas
-from web.bifurcation_svg import GAIT_COLOURS
 from web.legend_svg import Entry, legend, legend_lines, rows_height
 from web.paper_svg import paper_transitions, transitions_entry
+from web.style import GAIT_COLOURS
 from web.svg import FONT, LEFT, LINE, Frame, cell_edges, open_svg, panel_frame, plot_note, x_ticks
 
 # The atlas's regions (`surface_atlas.region`): both gaits purple, one gait its colour

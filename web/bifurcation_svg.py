@@ -3,7 +3,7 @@ session's trail, a beta ramp's path and the live point) and the ramp panel (Delt
 whatever the latest ramp drives).
 
 One module because both draw a ramp's path the same way (`_ramp_lines`: a line per direction,
-broken where Delta31 wraps), and the gait colours the atlas reuses are defined here.
+broken where Delta31 wraps); the gait and ramp colours are web/style.py's.
 """
 
 from __future__ import annotations
@@ -17,6 +17,7 @@ from web.bifurcation import FinderPoints
 from web.legend_svg import Entry, legend, legend_lines, rows_height
 from web.paper_svg import RANGES_ENTRY, paper_ranges, paper_transitions, transitions_entry
 from web.record import D31Event
+from web.style import GAIT_COLOURS, RAMP_COLOURS
 from web.svg import (
     Frame,
     dots,
@@ -27,11 +28,6 @@ from web.svg import (
     x_ticks,
     y_angle_axis,
 )
-
-# The finder's states, coloured by gait: tripod orange, metachronal green, other grey
-GAIT_COLOURS = {"tripod": "#ff7f0e", "metachronal": "#2ca02c", "other": "#7f7f7f"}
-# this session's ramp: its path, drawn as it goes, one colour per direction (holds grey)
-RAMP_COLOURS = {"down": "#8c564b", "up": "#9467bd", "hold": "#999999"}
 
 
 def _marker(kind: str, x: float, y: float, colour: str) -> str:

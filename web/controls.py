@@ -11,7 +11,7 @@ import math
 from dataclasses import dataclass
 
 from sim_core.contract import GROUNDS as CORE_GROUNDS
-from sim_core.contract import METACHRONAL, TWO_PI, Ramp
+from sim_core.contract import METACHRONAL, TWO_PI, Ramp, RampParam
 
 
 @dataclass(frozen=True)
@@ -92,6 +92,11 @@ GROUND_LABEL: dict[str, str] = {v: k for k, v in GROUNDS.items()}
 DEFAULT_CAMERA = CAMERA_POSITION
 
 
+def camera_mode(mode: str) -> str:
+    """One of CAMERA_MODES; anything else means the default ("follow")."""
+    return mode if mode in CAMERA_MODES else DEFAULT_CAMERA
+
+
 def beta_value(slider: float) -> float:
     return BETA.clamp(slider)
 
@@ -125,7 +130,7 @@ def speed_value(label: str) -> float | None:
 class LiveParam:
     """A RunSpec field a person sets while the insect walks (and a ramp may drive)."""
 
-    name: str  # the RunSpec field (and `Simulation.set_<name>`)
+    name: RampParam  # the RunSpec field (what `Simulation.set` and a `Ramp` name it by)
     slider: SliderRange
     ramp_button: str  # the ramp's choice button
     ramp_label: str  # how the ramp's readouts and panels name it
@@ -139,12 +144,12 @@ LIVE: tuple[LiveParam, ...] = (
     LiveParam("body_mass_g", BODY_MASS_G, "ramp mass", "body mass (g)", (3.0, 6.0)),
     LiveParam("slope_deg", SLOPE_DEG, "ramp slope", "slope (°)", (0.0, 20.0)),
 )
-LIVE_NAMES = tuple(p.name for p in LIVE)
+LIVE_NAMES: tuple[RampParam, ...] = tuple(p.name for p in LIVE)
 # derived views of the table
 RAMP_SLIDERS: dict[str, SliderRange] = {p.name: p.slider for p in LIVE}
 RAMP_LABELS: dict[str, str] = {p.name: p.ramp_label for p in LIVE}
 RAMP_DEFAULTS: dict[str, tuple[float, float]] = {p.name: p.ramp_default for p in LIVE}
-RAMP_BUTTONS: dict[str, str] = {p.ramp_button: p.name for p in LIVE}
+RAMP_BUTTONS: dict[str, RampParam] = {p.ramp_button: p.name for p in LIVE}
 RAMP_HOLD_S = SliderRange("hold", 0.0, 600.0, 0.05, 5.0, "s")
 RAMP_RAMP_S = SliderRange("ramp", 0.1, 1200.0, 0.05, 30.0, "s")
 

@@ -15,6 +15,7 @@ from collections.abc import Sequence
 from sim_core.contract import TWO_PI
 from web.legend_svg import label_width
 from web.record import CoreEvents, Mark
+from web.style import JOB_COLOUR, MARK_COLOUR
 from web.svg import (
     CHAR_W,
     FONT,
@@ -33,11 +34,9 @@ from web.svg import (
     y_angle_axis,
 )
 
-MARK_COLOUR = "#9467bd"
-JOB_COLOUR = "#e377c2"  # a finished job's Delta31 beside the live walk's
 MARK_ROWS = 3  # label heights in turn
 FOLD_ROOM = " +99"  # room kept after each label for the count of marks folded into it
-__all__ = ["CHAR_W", "JOB_COLOUR", "MARK_COLOUR", "d31_svg"]
+__all__ = ["CHAR_W", "d31_svg"]
 
 
 def d31_svg(

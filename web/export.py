@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import bisect
 import csv
+import html
 import io
 import json
 import math
@@ -26,7 +27,7 @@ from web.settings_file import Settings, load_settings
 # `Settings` and `load_settings` live in web/settings_file.py (the file read back); the
 # export names them too, as the writer of that file
 __all__ = ["D31_COLUMNS", "EXPORTS", "PROVENANCE_COLUMNS", "Settings", "d31_csv", "footfall_csv",
-           "jobs", "load_settings", "ramp_csv", "run_job", "settings_json"]  # fmt: skip
+           "job_html", "jobs", "load_settings", "ramp_csv", "run_job", "settings_json"]  # fmt: skip
 EXPORTS = ("d31", "footfall", "ramp", "settings")
 CONDITION_COLUMNS = ("beta", "body_mass_g", "slope_deg")
 # What made the numbers, on every row (the core's `provenance`: the physics' version, the
@@ -172,6 +173,28 @@ def curl(api_url: str, body: dict[str, Any]) -> str:
         f"curl -s -X POST {api_url.rstrip('/')}/v1/jobs "
         f"-H 'Content-Type: application/json' -d '{data}'"
     )
+
+
+def job_html(s: Settings) -> str:
+    """The current settings as REST job bodies to copy, with the curl line and the URL (the
+    panel's "Submit as a job" folder shows it)."""
+    url = s.api_url.rstrip("/")
+    parts = [
+        f'<div data-job-url="{html.escape(url)}/v1/jobs" style="font-size:0.8em">',
+        f"<b>POST</b> <code>{html.escape(url)}/v1/jobs</code> "
+        f'(<a href="{html.escape(url)}/docs" target="_blank">API docs</a>)',
+    ]
+    for kind, body in jobs(s).items():
+        text = json.dumps(body, indent=1)
+        parts.append(
+            f"<div>a <b>{kind}</b> job{' (the ramp set up above)' if kind == 'hysteresis' else ''}:"
+            f'</div><pre data-job="{kind}" style="white-space:pre-wrap;user-select:all;'
+            f'margin:2px 0;padding:3px;background:#f4f4f4">{html.escape(text)}</pre>'
+            f'<pre style="white-space:pre-wrap;user-select:all;margin:2px 0;font-size:0.9em">'
+            f"{html.escape(curl(url, body))}</pre>"
+        )
+    parts.append("</div>")
+    return "".join(parts)
 
 
 def settings_json(s: Settings, *, made: Provenance) -> bytes:

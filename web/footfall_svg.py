@@ -1,7 +1,7 @@
 """The footfall diagram: six rows (legs 1-6), one bar per stance interval, scrolling in time.
 
-Its own module because its leg colours are also the 3D legs' (web/scene.py reads them here):
-one palette for the hexapod and its footfall, built on web/svg.py's frame and axes.
+Its rows are coloured as the 3D legs' stance markers are (web/style.py: one palette for the
+hexapod and its footfall), built on web/svg.py's frame and axes.
 """
 
 from __future__ import annotations
@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from sim_core.contract import LEG_NAMES
+from web.style import LEG_COLOURS, PAIR_COLOURS
 from web.svg import (
     FONT,
     LEFT,
@@ -22,14 +23,6 @@ from web.svg import (
 )
 
 LEG_ORDER = LEG_NAMES  # the paper's legs 1-6, rows top to bottom
-# Fig. 4's colouring by leg pair: fore (legs 1-2) red, middle (3-4) blue, hind (5-6) green;
-# right legs in the full colour, left legs in a light tint of it, so that both the pair and the
-# side read at a glance: a tripod is a checkerboard (R1 L2 R3 against L1 R2 L3), a metachronal
-# wave a staircase running from hind to fore on each side.
-PAIR_COLOURS = ("#d62728", "#1f77b4", "#2ca02c")
-PAIR_NAMES = ("fore", "middle", "hind")
-LEFT_TINTS = ("#f1a3a4", "#9cc7e8", "#9fdc9f")
-LEG_COLOURS = tuple(PAIR_COLOURS[i // 2] if i % 2 == 0 else LEFT_TINTS[i // 2] for i in range(6))
 
 
 def footfall_svg(

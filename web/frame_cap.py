@@ -34,8 +34,13 @@ log = logging.getLogger(__name__)
 
 QUERY_KEY = "frameCap"  # the page's URL parameter: frames a second, 0 = every frame
 # The cap where WebGL runs in software: every second pose of the 30 Hz stream, evenly spaced.
-# Drawn in software a frame costs 28-32 ms of a core here; at 15 a second the viewer steps at
-# 0.84-0.89 of bench single, at every frame 0.77-0.79 (docs/VIEWER.md, "Session 23").
+# Measured by `benchmarks/viewer_rtf.py --frame-caps 15,10,20,0 --rounds 3` (headless Chromium
+# at 1280x800 drawing WebGL in software on a 2-core host; the walk at "max", 10 s windows, the
+# cap set live in one page): a frame costs 28-32 ms of a core; capped at 15 the page drew 13.9
+# frames a second, its GPU process took 0.40 of a core and the simulation stepped at 0.87
+# (0.86-0.88) of `bench` single, against 31.7 frames, 0.86 of a core and 0.79 (0.78-0.80)
+# drawing every frame, and 0.88 at a cap of 10 (later runs at 15: 0.84 on average, one window
+# of 30 under 0.8; the tables are docs/VIEWER.md's).
 SOFTWARE_FPS = 15.0
 # The least cap but 0 (every frame): viser applies its messages in the render loop, so below one
 # frame a second the readouts and the status line would stall with the 3D view.

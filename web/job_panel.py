@@ -5,7 +5,7 @@ hysteresis job is done, and one button back to the live walk while a replay is s
 viser has no list widget: each row is an HTML line and two buttons, made by the loop thread
 when a job joins the list (inside the list's folder) and removed when it leaves. The buttons
 only queue requests (`CancelJob`, `ReplayJob`, `StopReplay`); the loop applies them
-(web/dispatch.py). A button's label names the job's short id, so that a person (and a test)
+(web/handlers.py). A button's label names the job's short id, so that a person (and a test)
 tells the rows apart.
 """
 

@@ -22,9 +22,10 @@ import numpy as np
 from sim_core.contract import EventConditions, Ramp
 from web import controls
 from web.bifurcation_svg import ramp_path_svg
-from web.d31_svg import JOB_COLOUR, d31_svg
+from web.d31_svg import d31_svg
 from web.footfall_svg import footfall_svg
 from web.record import D31Event, Interval, Mark, change_label, stance_intervals
+from web.style import JOB_COLOUR
 
 REPLAYABLE = ("run", "hysteresis")  # the kinds whose runs the live panels can draw
 PANELS = ("d31", "footfall", "ramp")  # the panels a replay may fill

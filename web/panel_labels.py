@@ -1,8 +1,10 @@
 """The control panel's words: its buttons' and boxes' labels and the HTML lines it shows.
 
-Their own module because the panel (web/panels.py), the loop's side of it
-(web/panel_display.py), the browser tests and the benchmark all find a control by its label:
-one definition each, imported wherever a control is looked for.
+Their own module because the panel (web/panels.py) and its parts, the browser tests and the
+benchmarks all find a control by its label: one definition each, imported wherever a control is
+looked for; and how a browser reads a control by its label (the JavaScript the end-to-end tests
+and the benchmarks evaluate in the page, `READ_BY_LABEL`, `TAG_BY_LABEL`), kept next to the
+labels whose markup it depends on.
 """
 
 PLAY, PAUSE = "Play", "Pause"
@@ -63,3 +65,22 @@ D31_WINDOW_LABEL = "Δ31 window (s, 0 = whole run)"
 PRESET_TRIPOD, PRESET_METACHRONAL = "Start as tripod (Δ31 = π)", "Start as metachronal (2π/3)"
 # the drift-surface panel's offer when no surface of the walk's conditions exists (web/surfaces.py)
 COMPUTE_SURFACE = "Compute the drift surface for these conditions"
+
+# The value of the text input next to the control labelled `label` (for a slider: its number
+# box), or null when no such label is on the page.
+READ_BY_LABEL = """label => {
+  const l = [...document.querySelectorAll('label')].find(e => e.textContent.trim() === label);
+  if (!l) return null;
+  let node = l.parentElement;
+  while (node && !node.querySelector('input:not([type=hidden])')) node = node.parentElement;
+  return node ? node.querySelector('input:not([type=hidden])').value : null;
+}"""
+
+# Mark the text input next to the control labelled `label` with data-probe-box="tag", so that
+# a locator can type into it (`[data-probe-box=tag]`).
+TAG_BY_LABEL = """([label, tag]) => {
+  const l = [...document.querySelectorAll('label')].find(e => e.textContent.trim() === label);
+  let node = l.parentElement;
+  while (node && !node.querySelector('input:not([type=hidden])')) node = node.parentElement;
+  node.querySelector('input:not([type=hidden])').setAttribute('data-probe-box', tag);
+}"""

@@ -1,7 +1,7 @@
 """The readouts and the status line: what the loop measured, as the strings a person reads.
 
 Pure (numbers in, strings and markup out), so a test pins what a user reads; the panel
-(web/panels.py) shows them, the loop (web/drawing.py) fills them.
+(web/panel_parts.py) shows them, the loop's painter (web/painter.py) fills them.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""What GUI callbacks may do: record a request. The loop thread alone applies them.
+"""What GUI callbacks may do: queue a request. The loop alone applies it (web/handlers.py).
 
 viser runs plain callbacks on a thread pool, and `Simulation` is not thread-safe, so a callback
 never touches the simulation; it puts one of these frozen requests on a `RequestQueue`. The loop
@@ -14,16 +14,16 @@ import threading
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from sim_core.contract import Ramp
+from sim_core.contract import Ramp, RampParam
 from web.controls import LIVE_NAMES
 from web.export import Settings
 
 
 @dataclass(frozen=True)
 class SetParam:
-    """Set a simulation parameter: one of PARAMS (the RunSpec field names)."""
+    """Set a live parameter: one of PARAMS (the RunSpec field names `Simulation.set` takes)."""
 
-    name: str
+    name: RampParam
     value: float
 
 

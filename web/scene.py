@@ -28,8 +28,10 @@ import trimesh
 import viser
 import viser.transforms as vtf
 
+from sim_core.contract import LEG_NAMES
 from web import controls
-from web.footfall_svg import LEG_ORDER, PAIR_COLOURS
+from web.floor import Floor
+from web.style import GROUND_RGB, PAIR_COLOURS, SKY_RGB, rgb
 
 # Every dynamic node lives under this node; we own its pose (see the module docstring).
 BODIES_NODE = "/bodies"
@@ -41,21 +43,9 @@ CAMERA_POSITION = (-0.06, -0.05, 0.075)
 # 8-12 mm leg, true-to-scale links read as hairlines on screen. Drawing only; physics untouched.
 LEG_DRAW_SCALE = 3.0
 CAMERA_NEAR, CAMERA_FAR = 5e-4, 20.0
-# The floor: grid lines on a 20 x 20 cm patch (1 cm cells, every 5th line darker) kept under the
-# insect: once the body is 3.5 cm from the patch's centre (so at least 6.5 cm of floor shows on
-# every side, and a walk along a section line does not make it flicker) the patch jumps to the
-# section nearest the body, a jump its repeating lines hide. viser's infinite grid shades every
-# pixel of the view (a full-screen pass, 35-45 ms a frame in software WebGL) and its tinted plane
-# more (the lit plane about 20 ms); lines cost only their own pixels (benchmarks/viewer_rtf.py;
-# docs/VIEWER.md). `--shadows` keeps viser's infinite grid (1 cm cells, still): its plane is what
-# catches the shadows.
-FLOOR_HALF_M, FLOOR_CELL_M, FLOOR_SECTION_M = 0.10, 0.01, 0.05
-FLOOR_SHIFT_M = 0.035
-FLOOR_CELL_RGB, FLOOR_SECTION_RGB = (190, 190, 190), (120, 120, 120)
-# Light without viser's environment map: image-based lighting is a texture lookup per lit pixel
-# (~8 ms a frame in software WebGL); a hemisphere light (sky above, warm ground below) fills in
-# what the default lights leave dark.
-SKY_RGB, GROUND_RGB = (255, 255, 255), (140, 125, 110)
+# No environment map: image-based lighting is a texture lookup per lit pixel (~8 ms a frame in
+# software WebGL); a hemisphere light fills in instead (its colours: web/style.py). The floor
+# under the insect is web/floor.py's part.
 # viser's default orbit limits (1 cm .. 10 km) would not let one zoom onto a 2 mm femur
 MIN_ORBIT, MAX_ORBIT = 2e-3, 5.0
 
@@ -85,7 +75,7 @@ def world_pose(
 def foot_geom_ids(model: mujoco.MjModel) -> np.ndarray:
     """Geom ids of the six feet in paper order, found by the core's names `<leg>_foot`."""
     ids = []
-    for leg in LEG_ORDER:
+    for leg in LEG_NAMES:
         gid = mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_GEOM, f"{leg}_foot")
         if gid < 0:
             raise ValueError(f"model has no geom named {leg}_foot; cannot mark stance")
@@ -102,7 +92,7 @@ def torso_body_id(model: mujoco.MjModel) -> int:
 
 
 class HexapodScene:
-    """Owns every 3D node. Call `update` from the loop thread only."""
+    """Owns every 3D node (the floor is its part). Call `update` from the loop thread only."""
 
     def __init__(
         self, server: viser.ViserServer, model: mujoco.MjModel, *, shadows: bool = False
@@ -115,42 +105,18 @@ class HexapodScene:
         server.scene.add_light_hemisphere("/fill", sky_color=SKY_RGB, ground_color=GROUND_RGB)
         self._feet = foot_geom_ids(model)
         self._torso = torso_body_id(model)
-        self._follow = controls.DEFAULT_CAMERA
         self._frame = server.scene.add_frame(BODIES_NODE, show_axes=False)
         self._bodies = add_body_meshes(server, model, BODIES_NODE)
-        self._floor: viser.SceneNodeHandle
-        self._floor_at: np.ndarray | None = None if shadows else np.zeros(2)  # None: it stays
-        if shadows:
-            self._floor = server.scene.add_grid(
-                f"{BODIES_NODE}/floor",
-                infinite_grid=True,
-                cell_size=FLOOR_CELL_M,
-                section_size=FLOOR_SECTION_M,
-                cell_color=FLOOR_CELL_RGB,
-                section_color=FLOOR_SECTION_RGB,
-                fade_distance=0.6,
-                plane_color=(235, 230, 215),
-                plane_opacity=0.6,
-                shadow_opacity=0.25,
-            )
-        else:
-            points, colours = floor_lines(FLOOR_HALF_M, FLOOR_CELL_M, FLOOR_SECTION_M)
-            self._floor = server.scene.add_line_segments(
-                f"{BODIES_NODE}/floor",
-                points=points,
-                colors=colours,
-                thickness=1.0,
-                thickness_units="screen",
-            )
+        self._floor = Floor(server, BODIES_NODE, shadows=shadows)
         r = float(model.geom_size[self._feet[0], 0]) * 2.2
         self._markers = [
             server.scene.add_icosphere(
                 f"{BODIES_NODE}/stance/{leg}",
                 radius=r,
-                color=_hex_rgb(PAIR_COLOURS[i // 2]),
+                color=rgb(PAIR_COLOURS[i // 2]),
                 visible=False,
             )
-            for i, leg in enumerate(LEG_ORDER)
+            for i, leg in enumerate(LEG_NAMES)
         ]
         self._stance = np.zeros(6, dtype=bool)
         server.initial_camera.position = CAMERA_POSITION
@@ -165,34 +131,26 @@ class HexapodScene:
             client.camera.min_orbit_distance = MIN_ORBIT
             client.camera.max_orbit_distance = MAX_ORBIT
 
-    @property
-    def follow(self) -> str:
-        return self._follow
-
-    def set_follow(self, mode: str) -> None:
-        """One of controls.CAMERA_MODES; anything else means "follow"."""
-        self._follow = mode if mode in controls.CAMERA_MODES else controls.DEFAULT_CAMERA
-
     def update(
         self,
         data: mujoco.MjData,
         stance: np.ndarray,
+        *,
         slope_deg: float,
-        heading_rad: float | None = None,
+        heading_rad: float | None,
+        follow: str,
     ) -> None:
-        """Stream one frame: body poses, stance markers, slope tilt and follow camera."""
+        """Stream one frame of the walk `data` (with its kinematics) and `stance` (6,): body
+        poses, stance markers, slope tilt and the camera mode `follow` (controls.CAMERA_MODES);
+        it only reads them, the loop steps."""
         stance = np.asarray(stance, dtype=bool)
-        wxyz, position = world_pose(slope_deg, self._follow, data.xpos[self._torso], heading_rad)
+        wxyz, position = world_pose(slope_deg, follow, data.xpos[self._torso], heading_rad)
         with self.server.atomic():
             if not np.array_equal(self._frame.wxyz, wxyz):
                 self._frame.wxyz = wxyz
             if not np.array_equal(self._frame.position, position):
                 self._frame.position = position
-            if self._floor_at is not None:
-                at = floor_centre(data.xpos[self._torso], self._floor_at)
-                if at is not self._floor_at:
-                    self._floor.position = (float(at[0]), float(at[1]), 0.0)
-                    self._floor_at = at
+            self._floor.follow(data.xpos[self._torso])
             for b, handle in self._bodies.items():
                 handle.position = data.xpos[b]
                 handle.wxyz = data.xquat[b]
@@ -202,32 +160,6 @@ class HexapodScene:
                 if stance[i] != self._stance[i]:
                     marker.visible = bool(stance[i])
             self._stance = stance.copy()
-
-
-def floor_centre(body_xyz: np.ndarray, centre: np.ndarray) -> np.ndarray:
-    """Where the floor patch sits: `centre` (the same object) while the body is within
-    FLOOR_SHIFT_M of it along x and y, else the section point nearest the body (a jump the
-    repeating lines hide)."""
-    xy = np.asarray(body_xyz[:2], dtype=float)
-    if np.max(np.abs(xy - centre)) <= FLOOR_SHIFT_M:
-        return centre
-    return np.round(xy / FLOOR_SECTION_M) * FLOOR_SECTION_M
-
-
-def floor_lines(half: float, cell: float, section: float) -> tuple[np.ndarray, np.ndarray]:
-    """Grid lines on the square [-half, half]^2 at z = 0: (N, 2, 3) end points and their
-    (N, 2, 3) colours, every `section / cell`-th line (those through multiples of `section`)
-    darker."""
-    n = round(half / cell)
-    k = np.arange(-n, n + 1)
-    along_y = np.zeros((k.size, 2, 3))  # line k: x = k cell, from y = -half to y = half
-    along_y[:, :, 0] = (k * cell)[:, None]
-    along_y[:, :, 1] = (-half, half)
-    along_x = along_y[:, :, [1, 0, 2]]
-    points = np.concatenate([along_y, along_x]).astype(np.float32)
-    major = np.tile(k % round(section / cell) == 0, 2)
-    rgb = np.where(major[:, None], FLOOR_SECTION_RGB, FLOOR_CELL_RGB).astype(np.uint8)
-    return points, np.repeat(rgb[:, None, :], 2, axis=1)
 
 
 def geom_mesh(model: mujoco.MjModel, g: int) -> trimesh.Trimesh | None:
@@ -266,8 +198,3 @@ def add_body_meshes(
             )
         frames[b] = frame
     return frames
-
-
-def _hex_rgb(colour: str) -> tuple[int, int, int]:
-    c = colour.lstrip("#")
-    return int(c[0:2], 16), int(c[2:4], 16), int(c[4:6], 16)

@@ -34,6 +34,15 @@ class Settings:
     ground: str = GROUND_DEFAULT  # `ModelParams.ground` of the walk (the jobs' `ground` too)
 
 
+@dataclass(frozen=True)
+class JobInputs:
+    """What the panel's inputs hold for the settings beside the walk's own (read by the loop)."""
+
+    ramp: Ramp | None  # the ramp set up in the ramp inputs (None: a box holds no number)
+    duration_s: float  # a job's duration
+    api_url: str
+
+
 SPEED_NUMBERS = [v for v in controls.SPEEDS.values() if v is not None]
 
 

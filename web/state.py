@@ -1,43 +1,84 @@
-"""The viewer's state, shared by the loop, the requests it applies and what it draws.
+"""The loop's small state: the walk and how the panels show it; the loop's settings; and its
+real-time bookkeeping (`SimClock`, `RateMeter`).
 
 See web/app.py for the threads: GUI callbacks only queue requests; the loop thread alone reads
-and changes what is here.
+and changes a `ViewerState`, through the request handlers (web/handlers.py, which change it)
+and the painters (web/painter.py, which read it). It holds no GUI: the panels, the scene and
+the job links are the viewer's other parts, composed beside it in web/app.py.
+
+The bookkeeping is pure (the caller passes the clock readings), so that "keeps real time, never
+spirals when the machine is too slow, and says so" is tested without a browser or a physics
+engine.
 """
 
 from __future__ import annotations
 
-import threading
 from collections import deque
-from collections.abc import Hashable
-from dataclasses import dataclass
-from pathlib import Path
+from dataclasses import dataclass, field
 
-import viser
-
-from sim_core import RunSpec, Simulation
-from sim_core.contract import (
-    ATLAS_AXES,
-    FinderOutput,
-    Ramp,
-    SurfaceAtlas,
-    surface_atlas_file,
-)
+from sim_core import ModelParams, RunSpec, Simulation
+from sim_core.contract import Ramp, RampParam, provenance
 from web import controls
-from web.bifurcation import WatchedFile
 from web.conditions import Conditions
-from web.frame_cap import SOFTWARE_FPS, install_frame_cap
-from web.jobs import JobView, JobWatcher
-from web.pacing import SimClock
-from web.panels import Panels
-from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, DEFAULT_SURFACE
+from web.frame_cap import SOFTWARE_FPS
+from web.job_replay import Replay
 from web.record import D31Conditions
-from web.requests import (
-    Request,
-    RequestQueue,
-)
-from web.scene import HexapodScene
-from web.surface_jobs import SurfaceJobs
-from web.surfaces import SurfaceFiles
+from web.settings_file import JobInputs, Settings
+
+
+class SimClock:
+    """Simulated seconds owed to the wall clock at the chosen speed.
+
+    If stepping cannot keep up, the debt would grow without bound and the viewer would lag
+    further and further behind; instead it is capped at `max_lag_s` of wall time, so the viewer
+    falls back to running as fast as it can, and the real-time factor readout shows the gap.
+    """
+
+    def __init__(self, max_lag_s: float = 0.2) -> None:
+        self.max_lag_s = max_lag_s
+        self.debt_s = 0.0
+        self.lag_s = 0.0  # uncapped: how far behind the wall clock the walk is (the status)
+
+    def reset(self) -> None:
+        self.debt_s = 0.0
+        self.lag_s = 0.0
+
+    def tick(self, wall_dt_s: float, speed: float) -> float:
+        """Add `wall_dt_s` of wall time at `speed`; returns the simulated seconds now due."""
+        wall_dt_s = max(0.0, wall_dt_s)
+        self.debt_s = min(self.debt_s + wall_dt_s * speed, self.max_lag_s * speed)
+        self.lag_s += wall_dt_s * speed
+        return self.debt_s
+
+    def paid(self, sim_s: float) -> None:
+        self.debt_s -= sim_s
+        self.lag_s = max(0.0, self.lag_s - sim_s)
+
+
+class RateMeter:
+    """Rate of a counter over the last `window_s` of wall time (real-time factor, frame rate)."""
+
+    def __init__(self, window_s: float = 1.0) -> None:
+        self.window_s = window_s
+        self._samples: deque[tuple[float, float]] = deque()
+
+    def reset(self) -> None:
+        self._samples.clear()
+
+    def add(self, wall_s: float, total: float) -> None:
+        """Record the counter's running `total` at wall time `wall_s`."""
+        self._samples.append((wall_s, total))
+        while len(self._samples) > 2 and wall_s - self._samples[1][0] >= self.window_s:
+            self._samples.popleft()
+
+    @property
+    def rate(self) -> float | None:
+        if len(self._samples) < 2:
+            return None
+        (w0, c0), (w1, c1) = self._samples[0], self._samples[-1]
+        if w1 - w0 <= 0:
+            return None
+        return (c1 - c0) / (w1 - w0)
 
 
 @dataclass(frozen=True)
@@ -73,92 +114,108 @@ class LoopStats:
     idle: bool = True  # no browser connected: not simulating
 
 
+def _start_spec() -> RunSpec:
+    """The walk the sliders start at."""
+    return RunSpec(
+        beta=controls.BETA.initial,
+        body_mass_g=controls.BODY_MASS_G.initial,
+        slope_deg=controls.SLOPE_DEG.initial,
+        d31_init=controls.d31_init_value(controls.D31_INIT.initial),
+    )
+
+
+@dataclass(eq=False)
 class ViewerState:
-    """What the loop (web/app.py), its requests (web/dispatch.py) and its drawing
-    (web/drawing.py) share: the simulation, the GUI, the ramp, the record's conditions and the
-    loop's settings, built once here. Only the loop thread changes it after construction."""
+    """The walk (its simulation, ground, start, ramp, speed, pause, failure) and how the
+    panels show it (windows, a replayed job's run); loop thread only."""
 
-    def __init__(
-        self,
-        host: str = "127.0.0.1",
-        port: int = 8080,
-        *,
-        spec: RunSpec | None = None,
-        config: LoopConfig | None = None,
-        bifurcation_path: Path = DEFAULT_BIFURCATION,
-        surface_path: Path = DEFAULT_SURFACE,
-        api_url: str = DEFAULT_API_URL,
-    ) -> None:
-        self.cfg = config or LoopConfig()
-        self.requests = RequestQueue()
-        self.d31_init = controls.d31_init_value(controls.D31_INIT.initial)
-        self.sim = Simulation(
-            spec
-            or RunSpec(
-                beta=controls.BETA.initial,
-                body_mass_g=controls.BODY_MASS_G.initial,
-                slope_deg=controls.SLOPE_DEG.initial,
-                d31_init=self.d31_init,
-            )
-        )
-        if spec is not None:
-            self.d31_init = spec.d31_init
-        self.ground = "constraint"  # `ModelParams.ground` of the running simulation
-        self.server = viser.ViserServer(host=host, port=port, label="insect-gait", verbose=False)
-        self.scene = HexapodScene(self.server, self.sim.model, shadows=self.cfg.shadows)
-        install_frame_cap(self.server, self.cfg.software_fps)
-        self.panels = Panels(self.server, self.requests, self.cfg.software_fps)
-        if api_url != DEFAULT_API_URL:
-            self.panels.api_url.value = api_url  # type: ignore[misc]  # viser types the setter on a subclass
-        sim = self.sim
-        start = {"beta": sim.beta, "body_mass_g": sim.body_mass_g, "slope_deg": sim.slope_deg}
-        self.panels.sync_controls(True, None, start)
-        self.footfall_window_s = controls.FOOTFALL_WINDOW_S.initial
-        self.d31_conditions = D31Conditions()  # what the core's Delta31 events happened under
-        self._walk = 0  # bumps when the walk starts over: its record is a new one
-        self._drawn: dict[int, Hashable] = {}  # per panel handle, the inputs last drawn
-        self.d31_window_s: float | None = None  # None: the whole run
-        self.bifurcation_path = bifurcation_path
-        self.bifurcation = WatchedFile(bifurcation_path, FinderOutput, "finder results")
-        self.atlases: dict[tuple[str, str], WatchedFile[SurfaceAtlas]] = {
-            (axis, g): WatchedFile(
-                surface_atlas_file(bifurcation_path.parent, axis, g), SurfaceAtlas, "atlas"
-            )
-            for axis in ATLAS_AXES
-            for g in controls.GROUND_LABEL
-        }
-        # the results folder's drift surfaces and this session's surface jobs (web/surfaces.py)
-        self.surfaces = SurfaceFiles(bifurcation_path.parent, surface_path)
-        self.surface_jobs = SurfaceJobs()
-        self.playing = True
-        self.draw_3d = True  # stream poses (SetDraw3D)
-        self.speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
-        self.ramp: Ramp | None = None
-        self._ramp_t0 = 0.0  # when the latest ramp began (its path's export)
-        self._last_ramp: Ramp | None = None  # the latest ramp, for its path's export
-        self._write: dict[str, float] = {}  # values the loop sets into sliders at next redraw
-        self.error: str | None = None
-        self.jobs = JobWatcher()  # the job submitted or opened from this viewer
-        self._job_shown: JobView | None = None
-        # (wall time.time(), request) of the latest requests applied: the input latency a
-        # benchmark reads against the browser's key and click times (same clock)
-        self.applied: deque[tuple[float, Request]] = deque(maxlen=256)
-        self.stats = LoopStats()
-        self._clock = SimClock()
-        self._stop = threading.Event()
-        self._wake = threading.Event()  # set by viser's connect hook: a browser arrived
-        self._thread: threading.Thread | None = None
-        self.server.on_client_connect(self._on_connect)
-        self.server.on_client_disconnect(self._on_connect)
+    sim: Simulation
+    d31_init: float  # the initial Delta31 of the walk's last (re)start
+    ground: str = "constraint"  # `ModelParams.ground` of the running simulation
+    playing: bool = True
+    speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
+    clock: SimClock = field(default_factory=SimClock)  # simulated time owed at `speed`
+    error: str | None = None  # why the walk stopped (None: it walks)
+    ramp: Ramp | None = None  # the ramp running now
+    ramp_t0: float = 0.0  # when the latest ramp began (its path's export)
+    last_ramp: Ramp | None = None  # the latest ramp, for its path's panel and export
+    d31_conditions: D31Conditions = field(default_factory=D31Conditions)
+    walk: int = 0  # bumps when the walk starts over: its record is a new one
+    draw_3d: bool = True  # stream poses (SetDraw3D)
+    follow: str = controls.DEFAULT_CAMERA  # the camera mode (controls.CAMERA_MODES)
+    footfall_window_s: float = controls.FOOTFALL_WINDOW_S.initial
+    d31_window_s: float | None = None  # None: the whole run
+    replaying: Replay | None = None  # a done job's run the panels show instead of the walk's
+    # values the loop sets into sliders at the next redraw (a ramp's start, a loaded file)
+    write: dict[str, float] = field(default_factory=dict)
 
-    def walk_conditions(self) -> Conditions:
+    @classmethod
+    def of(cls, spec: RunSpec | None = None) -> ViewerState:
+        """The walk `spec` (None: the sliders' initial values) on the default ground."""
+        spec = spec or _start_spec()
+        return cls(Simulation(spec), spec.d31_init)
+
+    def conditions(self) -> Conditions:
         """The ground, mass and slope the walk is under now: the panels draw data of these."""
         return Conditions(self.ground, self.sim.body_mass_g, self.sim.slope_deg)
 
-    def _on_connect(self, client: viser.ClientHandle) -> None:
-        """viser's connect/disconnect hook (its thread pool): only wakes the loop."""
-        self._wake.set()
+    def set(self, name: RampParam, value: float) -> None:
+        """A live parameter, clamped to its slider's range (a ramp's own is left to it)."""
+        self.sim.set(name, controls.RAMP_SLIDERS[name].clamp(value))
 
-    def _step(self, due: float, deadline: float) -> float:
-        """Advance the walk (the loop's, web/app.py); `StepCycle` asks for one cycle."""
-        raise NotImplementedError
+    def start_ramp(self, ramp: Ramp) -> None:
+        """Ramp `ramp.param` by the core's ramp driver from now on (a running one ends)."""
+        self.stop_ramp()
+        self.ramp, self.last_ramp, self.ramp_t0 = ramp, ramp, self.sim.time_s
+        self.sim.start_ramp(ramp)  # the core's ramp driver moves the parameter
+        self.write[ramp.param] = ramp.start  # the slider shows the start, once
+        self.d31_conditions.start_ramp(self.sim)  # a new ramp draws a new path
+
+    def stop_ramp(self) -> None:
+        """End the ramp where it is; its slider then shows the value the ramp left."""
+        if self.ramp is not None:
+            self.write[self.ramp.param] = self.sim.get(self.ramp.param)
+        self.ramp = None
+        self.sim.stop_ramp()
+
+    def restart(self, d31_init: float, ground: str | None = None) -> None:
+        """A new walk from `d31_init` at the parameters in force, on `ground` (None: the
+        same one; another builds a new simulation); its record starts over."""
+        self.stop_ramp()
+        self.d31_init = d31_init = controls.d31_init_value(d31_init)
+        if ground is None or ground == self.ground:
+            self.sim.reset(d31_init=d31_init)
+        else:
+            sim = self.sim
+            here = RunSpec(beta=sim.beta, body_mass_g=sim.body_mass_g, slope_deg=sim.slope_deg,
+                           d31_init=d31_init)  # fmt: skip
+            self.sim = Simulation(here, ModelParams.of(ground=ground))
+            self.ground = ground
+        self.d31_conditions.clear()
+        self.walk += 1
+        self.clock.reset()
+        self.error = None
+        self.playing = True
+
+    def settings(self, inputs: JobInputs) -> Settings:
+        """The walk's settings as the export and the job bodies say them."""
+        running, sim = self.ramp is not None, self.sim
+        return Settings(
+            beta=sim.beta,
+            body_mass_g=sim.body_mass_g,
+            slope_deg=sim.slope_deg,
+            d31_init=self.d31_init,
+            speed=self.speed,
+            time_s=sim.time_s,
+            ground=self.ground,
+            ramp=self.ramp if running else inputs.ramp,  # the one running, else the one set up
+            ramp_running=running,
+            ramp_started_at_s=self.ramp_t0 if running else None,
+            job_duration_s=inputs.duration_s,
+            api_url=inputs.api_url,
+        )
+
+    def provenance(self) -> dict[str, object]:
+        """What makes the walk's numbers (the core's `provenance`: physics version, the
+        parameter hash the cache uses, ground, dt), for every export."""
+        return provenance(ModelParams.of(ground=self.ground))

@@ -17,7 +17,14 @@ import numpy as np
 from sim_core.model import gait
 from sim_core.model.mjspec import build_model
 from sim_core.model.params import ModelParams
-from sim_core.model.ramp import EventConditions, Ramp, RampDriver, set_ramped
+from sim_core.model.ramp import (
+    RAMP_PARAMS,
+    EventConditions,
+    Ramp,
+    RampDriver,
+    RampParam,
+    set_ramped,
+)
 from sim_core.model.runner import BatchRunner
 from sim_core.model.spec import RunFailure, RunSpec, SimulationDiverged
 
@@ -70,14 +77,42 @@ class Simulation:
         if r.failures[0] is not None:
             raise SimulationDiverged(r.failures[0])
 
+    def set(self, param: RampParam, value: float) -> None:
+        """Set live parameter `param` to `value` (beta, g or degrees; checked against RunSpec's
+        range) from the next control period on: one typed call for every live parameter, so a
+        caller (the viewer) names it by the same Literal a `Ramp` does, never by a method name
+        built from a string."""
+        r = self._runner
+        match param:
+            case "beta":
+                r.set_beta(0, value)
+            case "body_mass_g":
+                r.set_body_mass_g(0, value)
+            case "slope_deg":
+                r.set_slope_deg(0, value)
+            case _:
+                raise ValueError(f"no live parameter {param!r}; choose from {list(RAMP_PARAMS)}")
+
+    def get(self, param: RampParam) -> float:
+        """The value of live parameter `param` in force now (what `set` set, or a ramp)."""
+        match param:
+            case "beta":
+                return self.beta
+            case "body_mass_g":
+                return self.body_mass_g
+            case "slope_deg":
+                return self.slope_deg
+            case _:
+                raise ValueError(f"no live parameter {param!r}; choose from {list(RAMP_PARAMS)}")
+
     def set_beta(self, beta: float) -> None:
-        self._runner.set_beta(0, beta)
+        self.set("beta", beta)
 
     def set_body_mass_g(self, mass_g: float) -> None:
-        self._runner.set_body_mass_g(0, mass_g)
+        self.set("body_mass_g", mass_g)
 
     def set_slope_deg(self, slope_deg: float) -> None:
-        self._runner.set_slope_deg(0, slope_deg)
+        self.set("slope_deg", slope_deg)
 
     def start_ramp(self, ramp: Ramp) -> None:
         """Ramp `ramp.param` from now on (hold, to the turn, back, hold) by the core's one

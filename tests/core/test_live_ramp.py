@@ -4,7 +4,7 @@ tasks do, and records what was in force at each Delta31 event (one history, in t
 from __future__ import annotations
 
 from sim_core import RunSpec, Simulation
-from sim_core.contract import EventConditions, Ramp
+from sim_core.contract import EventConditions, Ramp, RampParam
 from sim_core.runs.tasks import execute_chunk, ramp_task
 
 
@@ -57,3 +57,25 @@ def test_a_stopped_ramp_leaves_its_value_and_a_reset_ends_it() -> None:
     sim.start_ramp(Ramp("slope_deg", 0.0, 10.0, 0.0, 1.0))
     sim.reset(d31_init=3.0)
     assert sim.ramp is None and sim.d31_events == [] and sim.d31_conditions == []
+
+
+def test_one_typed_call_sets_each_live_parameter_and_refuses_other_names() -> None:
+    """`Simulation.set(param, value)`: the viewer's one way to a live parameter (the ramp's
+    names, `RampParam`); `get` reads it back; RunSpec's range and the names are checked."""
+    import pytest
+
+    sim = Simulation(RunSpec(beta=0.66, d31_init=2.5))
+    values: tuple[tuple[RampParam, float], ...] = (
+        ("beta", 0.63), ("body_mass_g", 4.5), ("slope_deg", -7.5)
+    )  # fmt: skip
+    for param, value in values:
+        sim.set(param, value)
+        assert sim.get(param) == value
+    assert (sim.beta, sim.body_mass_g, sim.slope_deg) == (0.63, 4.5, -7.5)
+    sim.advance(0.2)
+    assert sim.d31_conditions[-1] == EventConditions(0.63, 4.5, -7.5, "constraint")
+    with pytest.raises(ValueError, match="no live parameter 'duration_s'"):
+        sim.set("duration_s", 1.0)  # type: ignore[arg-type]
+    with pytest.raises(ValueError):
+        sim.set("beta", 2.0)  # outside RunSpec's range
+    assert sim.beta == 0.63

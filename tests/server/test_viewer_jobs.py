@@ -77,27 +77,27 @@ def test_a_done_job_replays_in_the_viewers_panels_and_the_walk_comes_back(
     srv = make_server()
     app = ViewerApp("127.0.0.1", 0, api_url=srv.url)
     try:
-        app._step(0.3, time.perf_counter() + 600)
+        app.step(0.3, time.perf_counter() + 600)
         run = app.jobs.submit(srv.url, {**SHORT, "include_series": True})
         ramp = app.jobs.submit(srv.url, RAMP)
         for key in (run, ramp):
             assert wait_for(lambda k=key: _finished(app.jobs, k), timeout=180).status == "done"
         views = {v.key: v for v in app.jobs.views}
-        app._draw_readouts(None, None, None)  # the rows: a replay button for each
+        app.painter.readouts(None, None, None)  # the rows: a replay button for each
         rows = app.panels.job_rows._rows
         assert all(rows[k].replay.visible and not rows[k].cancel.visible for k in (run, ramp))
 
         app.apply(ReplayJob(run))
-        app._draw_panels()
+        app.painter.gait()
         d31, foot = app.panels.d31.content, app.panels.footfall.content
         rid = views[run].id
         assert f'data-replay="{rid}"' in d31 and f'data-replay="{rid}"' in foot
         assert f'data-n-events="{len(views[run].d31_series)}"' in d31
-        app._draw_readouts(None, None, None)
+        app.painter.readouts(None, None, None)
         assert app.panels.job_rows.live_again.visible and not rows[run].replay.visible
 
         app.apply(ReplayJob(ramp))  # a hysteresis job: its Delta31 and its ramp path
-        app._draw_panels()
+        app.painter.gait()
         hid = views[ramp].id
         assert f'data-replay="{hid}"' in app.panels.ramp_plot.content
         assert 'data-plot="ramp-path"' in app.panels.ramp_plot.content
@@ -105,10 +105,10 @@ def test_a_done_job_replays_in_the_viewers_panels_and_the_walk_comes_back(
         assert "data-replay" not in app.panels.footfall.content  # the live walk's, again
 
         app.apply(StopReplay())
-        app._draw_panels()
-        app._draw_bifurcation()
+        app.painter.gait()
+        app.charts.draw()
         assert "data-replay" not in app.panels.d31.content + app.panels.ramp_plot.content
-        assert f'data-n-events="{len(app.sim.d31_events)}"' in app.panels.d31.content
+        assert f'data-n-events="{len(app.state.sim.d31_events)}"' in app.panels.d31.content
     finally:
         app.stop()
 

@@ -39,7 +39,7 @@ def test_a_ramp_of_another_parameter_has_no_paper_betas() -> None:
 
 
 def test_the_ramp_panel_colours_the_papers_transitions_as_its_directions() -> None:
-    from web.bifurcation_svg import RAMP_COLOURS
+    from web.style import RAMP_COLOURS
 
     svg = PANELS["ramp beta"]
     for direction in ("down", "up"):

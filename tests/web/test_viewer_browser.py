@@ -25,8 +25,13 @@ import pytest
 from web import controls
 from web.entry import box_label
 from web.frame_cap import MIN_FPS, SOFTWARE_FPS, frame_cap_source
-from web.page_probe import READ_BY_LABEL, TAG_BY_LABEL
-from web.panel_labels import LOAD_SETTINGS, PRESET_METACHRONAL, SUBMIT_RUN
+from web.panel_labels import (
+    LOAD_SETTINGS,
+    PRESET_METACHRONAL,
+    READ_BY_LABEL,
+    SUBMIT_RUN,
+    TAG_BY_LABEL,
+)
 
 pytestmark = pytest.mark.browser
 

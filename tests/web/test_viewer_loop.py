@@ -82,18 +82,18 @@ def test_presets_and_the_ramp_drive_the_running_simulation() -> None:
     try:
         for preset in (TRIPOD, METACHRONAL):
             app.apply(Reset(preset))
-            app._step(0.25, time.perf_counter() + 600)
-            first = app.sim.d31_events[0][1]
+            app.step(0.25, time.perf_counter() + 600)
+            first = app.state.sim.d31_events[0][1]
             assert abs(first - preset) < 0.15, (preset, first)  # the first touchdowns start there
         app.apply(StartRamp(controls.make_ramp("beta", 0.66, 0.60, 0.0, 1.0)))
-        app._step(0.6, time.perf_counter() + 600)
-        assert app.ramp is not None and app.sim.beta < controls.BETA.initial
-        path = app.d31_conditions.ramp_path(app.sim)
+        app.step(0.6, time.perf_counter() + 600)
+        assert app.state.ramp is not None and app.state.sim.beta < controls.BETA.initial
+        path = app.state.d31_conditions.ramp_path(app.state.sim)
         assert path and {e.at.ramp for e in path} == {"down"}
         assert all(math.isfinite(e.d31) for e in path)
         assert path[-1].at.beta < path[0].at.beta  # the path follows beta down as it goes
         # the path is the core's own events, with the beta the loop set when each happened
-        assert [(e.time_s, e.d31) for e in path] == app.sim.d31_events[-len(path) :]
+        assert [(e.time_s, e.d31) for e in path] == app.state.sim.d31_events[-len(path) :]
     finally:
         app.stop()
 
@@ -108,7 +108,7 @@ def test_the_footfall_bars_are_the_stance_read_at_every_control_period() -> None
 
     app = ViewerApp("127.0.0.1", 0)
     try:
-        sim, window = app.sim, app.footfall_window_s
+        sim, window = app.state.sim, app.state.footfall_window_s
         direct = []
         while sim.time_s < window + 0.05:
             sim.advance(sim.control_dt_s)
@@ -127,7 +127,7 @@ def test_the_footfall_bars_are_the_stance_read_at_every_control_period() -> None
             if direct[first][1][leg]:
                 assert any(a <= t0 < b for a, b in bars[leg]), (leg, bars[leg])
         assert sum(map(len, bars)) >= 6  # a few steps per leg: the check saw transitions
-        app._draw_panels()
+        app.painter.gait()
         assert app.panels.footfall.content == footfall_svg(bars, sim.time_s, window)
     finally:
         app.stop()
@@ -138,26 +138,29 @@ def test_a_reset_starts_the_record_and_its_panels_over_and_an_idle_plot_is_not_r
 
     app = ViewerApp("127.0.0.1", 0)
     try:
-        app._step(0.3, time.perf_counter() + 600)
-        app._draw_panels()
+        app.step(0.3, time.perf_counter() + 600)
+        app.painter.gait()
         assert 'class="stance"' in app.panels.footfall.content
-        n = len(app.sim.d31_events)
-        assert n > 0 and len(app.d31_conditions) == n
+        n = len(app.state.sim.d31_events)
+        assert n > 0 and len(app.state.d31_conditions) == n
         assert f'data-n-events="{n}"' in app.panels.d31.content
         # nothing stepped, nothing changed: the panels are not rebuilt
         app.panels.footfall.content = "idle"
         app.panels.d31.content = "idle"
-        app._draw_panels()
+        app.painter.gait()
         assert app.panels.footfall.content == app.panels.d31.content == "idle"
         app.apply(Reset(2.0))
-        assert app.sim.time_s == 0.0 and len(app.sim.d31_events) == len(app.d31_conditions) == 0
-        app._draw_panels()  # a new walk: redrawn, empty
+        assert (
+            app.state.sim.time_s == 0.0
+            and len(app.state.sim.d31_events) == len(app.state.d31_conditions) == 0
+        )
+        app.painter.gait()  # a new walk: redrawn, empty
         assert 'class="stance"' not in app.panels.footfall.content
         assert 'data-n-events="0"' in app.panels.d31.content
-        app._step(0.05, time.perf_counter() + 600)
-        times, _ = app.sim.footfall_since(None)
-        assert times[0] < 0.05 and len(app.d31_conditions) == len(app.sim.d31_events)
-        app._draw_panels()
+        app.step(0.05, time.perf_counter() + 600)
+        times, _ = app.state.sim.footfall_since(None)
+        assert times[0] < 0.05 and len(app.state.d31_conditions) == len(app.state.sim.d31_events)
+        app.painter.gait()
         assert app.panels.footfall.content != "idle"
     finally:
         app.stop()
@@ -174,13 +177,13 @@ def test_a_mass_ramp_holds_ramps_and_holds_and_the_export_shows_it() -> None:
 
     app = ViewerApp("127.0.0.1", 0)
     try:
-        app._step(0.2, time.perf_counter() + 600)
+        app.step(0.2, time.perf_counter() + 600)
         ramp = controls.make_ramp("body_mass_g", 3.0, 5.0, 0.3, 0.4)
         app.apply(StartRamp(ramp))
         app.apply(SetParam("body_mass_g", 9.0))  # its slider is disabled: a stale request
-        t0 = app.sim.time_s
-        app._step(ramp.duration_s + 0.1, time.perf_counter() + 600)
-        assert app.ramp is None and app.sim.body_mass_g == 3.0
+        t0 = app.state.sim.time_s
+        app.step(ramp.duration_s + 0.1, time.perf_counter() + 600)
+        assert app.state.ramp is None and app.state.sim.body_mass_g == 3.0
         got: list[tuple[str, bytes]] = []
         app.apply(Export("d31", lambda name, data: got.append((name, data))))
         rows = list(csv.DictReader(io.StringIO(got[0][1].decode())))
@@ -201,22 +204,25 @@ def test_the_ground_button_restarts_the_walk_on_the_papers_ground_where_it_stood
     import json
 
     from web import controls
-    from web.requests import SetGround, SetParam
+    from web.requests import Export, SetGround, SetParam
 
     app = ViewerApp("127.0.0.1", 0)
     try:
         app.apply(SetParam("slope_deg", -20.0))
-        app._step(0.2, time.perf_counter() + 600)
-        old = app.sim
+        app.step(0.2, time.perf_counter() + 600)
+        old = app.state.sim
         app.apply(SetGround("penalty"))
-        assert app.sim is not old and app.ground == "penalty"
-        assert app.sim.slope_deg == -20.0 and app.sim.time_s == 0.0  # kept; a new walk
-        assert len(app.sim.d31_events) == len(app.d31_conditions) == 0
-        app._step(0.3, time.perf_counter() + 600)
-        assert app.sim.error is None and len(app.d31_conditions) == len(app.sim.d31_events) > 0
+        assert app.state.sim is not old and app.state.ground == "penalty"
+        assert app.state.sim.slope_deg == -20.0 and app.state.sim.time_s == 0.0  # kept; a new walk
+        assert len(app.state.sim.d31_events) == len(app.state.d31_conditions) == 0
+        app.step(0.3, time.perf_counter() + 600)
+        sim = app.state.sim
+        assert sim.error is None and len(app.state.d31_conditions) == len(sim.d31_events) > 0
         app.apply(SetGround("penalty"))  # the same ground again: no restart
-        assert app.sim.time_s > 0.0
-        settings = json.loads(app.export("settings")[1])
+        assert app.state.sim.time_s > 0.0
+        got: list[tuple[str, bytes]] = []
+        app.apply(Export("settings", lambda name, data: got.append((name, data))))
+        settings = json.loads(got[0][1])
         assert settings["ground"] == "penalty" and settings["jobs"]["run"]["ground"] == "penalty"
         with pytest.raises(ValueError, match="unknown ground"):
             app.apply(SetGround("ice"))
@@ -231,18 +237,18 @@ def test_paused_the_walk_steps_one_gait_cycle_at_a_time() -> None:
 
     app = ViewerApp("127.0.0.1", 0)
     try:
-        app._step(0.2, time.perf_counter() + 600)
+        app.step(0.2, time.perf_counter() + 600)
         app.apply(StepCycle())  # playing: ignored (the loop is stepping anyway)
-        assert app.sim.time_s == pytest.approx(0.2, abs=0.003)
+        assert app.state.sim.time_s == pytest.approx(0.2, abs=0.003)
         app.apply(SetPlaying(False))
-        t0, n0 = app.sim.time_s, len(app.sim.d31_events)
+        t0, n0 = app.state.sim.time_s, len(app.state.sim.d31_events)
         app.apply(StepCycle())
-        period = 0.034 / (1.0 - app.sim.beta)  # T_sw / (1 - beta)
-        assert app.sim.time_s - t0 == pytest.approx(period, abs=0.003)
+        period = 0.034 / (1.0 - app.state.sim.beta)  # T_sw / (1 - beta)
+        assert app.state.sim.time_s - t0 == pytest.approx(period, abs=0.003)
         # leg 1 lands once a cycle (twice if the cycle's ends straddle two touchdowns)
-        assert 1 <= len(app.sim.d31_events) - n0 <= 2
-        assert len(app.d31_conditions) == len(app.sim.d31_events)
-        assert not app.playing
+        assert 1 <= len(app.state.sim.d31_events) - n0 <= 2
+        assert len(app.state.d31_conditions) == len(app.state.sim.d31_events)
+        assert not app.state.playing
     finally:
         app.stop()
 
@@ -256,22 +262,25 @@ def test_loaded_settings_restart_the_walk_where_the_file_says() -> None:
 
     app = ViewerApp("127.0.0.1", 0)
     try:
-        app._step(0.05, time.perf_counter() + 600)
+        app.step(0.05, time.perf_counter() + 600)
+        now = app.state.settings(app.panels.job_inputs())
         saved = replace(
-            app.settings(), beta=0.62, body_mass_g=4.5, slope_deg=5.0, d31_init=3.0, speed=None,
+            now, beta=0.62, body_mass_g=4.5, slope_deg=5.0, d31_init=3.0, speed=None,
             ground="penalty", ramp=Ramp("body_mass_g", 3.0, 6.0, 2.0, 10.0), job_duration_s=45.0,
         )  # fmt: skip
-        app.apply(LoadSettings(load_settings(settings_json(saved, made=app.provenance()))))
-        sim = app.sim
+        app.apply(LoadSettings(load_settings(settings_json(saved, made=app.state.provenance()))))
+        sim = app.state.sim
         assert (sim.beta, sim.body_mass_g, sim.slope_deg, sim.time_s) == (0.62, 4.5, 5.0, 0.0)
-        assert (app.ground, app.d31_init, app.speed) == ("penalty", 3.0, None)
-        assert app.panels.ramp_param_name == "body_mass_g" and app.panels.ramp_turn.value == 6.0
-        assert app.panels.job_duration.value == 45.0 and app.ramp is None  # set up, not started
-        app._draw_readouts(None, None, None)
-        beta = app.panels.live["beta"]
+        assert (app.state.ground, app.state.d31_init, app.state.speed) == ("penalty", 3.0, None)
+        assert app.panels.ramp.param_name == "body_mass_g" and app.panels.ramp.turn.value == 6.0
+        assert (
+            app.panels.job_duration.value == 45.0 and app.state.ramp is None
+        )  # set up, not started
+        app.painter.readouts(None, None, None)
+        beta = app.panels.walk.live["beta"]
         assert beta.value == beta.box.value == 0.62  # slider and box show what was loaded
-        assert app.panels.speed.label == "speed — max"
-        assert app.panels.ground.label == "ground — penalty"
-        assert app.panels.ramp_param.label == "ramp drives — body mass (g)"
+        assert app.panels.walk.speed.label == "speed — max"
+        assert app.panels.walk.ground.label == "ground — penalty"
+        assert app.panels.ramp.param.label == "ramp drives — body mass (g)"
     finally:
         app.stop()

@@ -15,13 +15,13 @@ from web.requests import Reset
 def test_the_start_buttons_move_the_initial_delta31_slider() -> None:
     app = ViewerApp("127.0.0.1", 0)
     try:
-        assert app.panels.d31_init.value == round(METACHRONAL, 2)
+        assert app.panels.walk.d31_init.value == round(METACHRONAL, 2)
         app.apply(Reset(TRIPOD))
-        assert app.d31_init == TRIPOD and app.panels.d31_init.value == 3.14
-        app._step(0.05, time.perf_counter() + 600)
-        app.apply(Reset(float(app.panels.d31_init.value)))  # "Reset with this initial Δ31"
-        assert math.isclose(app.d31_init, 3.14) and app.sim.time_s == 0.0
+        assert app.state.d31_init == TRIPOD and app.panels.walk.d31_init.value == 3.14
+        app.step(0.05, time.perf_counter() + 600)
+        app.apply(Reset(float(app.panels.walk.d31_init.value)))  # "Reset with this initial Δ31"
+        assert math.isclose(app.state.d31_init, 3.14) and app.state.sim.time_s == 0.0
         app.apply(Reset(METACHRONAL))
-        assert app.panels.d31_init.value == 2.09
+        assert app.panels.walk.d31_init.value == 2.09
     finally:
         app.stop()

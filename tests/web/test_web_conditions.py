@@ -260,8 +260,8 @@ def test_the_loops_panels_follow_the_ground_and_the_mass() -> None:
     app = ViewerApp("127.0.0.1", 0)
     try:
         app.apply(SetGround("penalty"))
-        app._step(0.4, time.perf_counter() + 600)
-        app._draw_bifurcation()
+        app.step(0.4, time.perf_counter() + 600)
+        app.charts.draw()
         surface, bif = app.panels.surface.content, app.panels.bifurcation.content
         assert title(surface).endswith(f"— {PAPER.label()}")
         assert 'data-n-cells="0"' not in surface  # surface_penalty.json is drawn
@@ -271,8 +271,8 @@ def test_the_loops_panels_follow_the_ground_and_the_mass() -> None:
         assert title(app.panels.atlas.content).endswith(f"— {ground_words('penalty')}, slope 0°")
 
         app.apply(SetParam("body_mass_g", 6.0))
-        app._step(0.4, time.perf_counter() + 600)
-        app._draw_bifurcation()
+        app.step(0.4, time.perf_counter() + 600)
+        app.charts.draw()
         surface = app.panels.surface.content
         assert title(surface).endswith(f"— {PAPER_6G.label()}")
         assert (

@@ -12,10 +12,10 @@ from sim_core.contract import EventConditions as Conditions
 from web import controls
 from web.d31_svg import CHAR_W, d31_svg
 from web.footfall_svg import footfall_svg
-from web.pacing import RateMeter, SimClock
 from web.readouts import Readouts, format_readouts
 from web.record import D31Conditions, D31Event, d31_since, stance_intervals
 from web.requests import Request, RequestQueue, Reset, SetParam, StartRamp, StopRamp, coalesce
+from web.state import RateMeter, SimClock
 from web.svg import n_dots
 
 
@@ -84,6 +84,18 @@ def test_request_queue_is_safe_across_threads() -> None:
         t.join()
     drained = q.drain()
     assert len(drained) == 800 and q.drain() == []
+
+
+def test_every_request_type_has_its_handler_and_a_second_one_is_refused() -> None:
+    """The loop applies a request by its type's handler (web/handlers.py): every type a
+    callback may queue has one, and registering another for the same type fails."""
+    from typing import get_args
+
+    from web.handlers import HANDLERS, handles
+
+    assert set(HANDLERS) == set(get_args(Request)) and len(HANDLERS) == 20
+    with pytest.raises(RuntimeError, match="SetParam has a handler already"):
+        handles(SetParam)(lambda viewer, req: None)
 
 
 def test_stance_samples_make_one_bar_per_interval() -> None:
@@ -215,7 +227,7 @@ def test_the_follow_camera_can_turn_the_world_so_the_body_faces_x() -> None:
 
 
 def test_the_floor_patch_stays_under_the_insect_on_its_own_grid() -> None:
-    from web.scene import FLOOR_CELL_M, FLOOR_SECTION_M, floor_centre, floor_lines
+    from web.floor import FLOOR_CELL_M, FLOOR_SECTION_M, floor_centre, floor_lines
 
     points, colours = floor_lines(0.1, FLOOR_CELL_M, FLOOR_SECTION_M)
     assert points.shape == colours.shape == (42, 2, 3)  # 21 lines each way, 2 end points
@@ -257,7 +269,7 @@ def test_readouts_do_not_claim_keeping_up_while_paused() -> None:
 
 
 def test_footfall_shows_the_chosen_window_with_legs_coloured_by_pair() -> None:
-    from web.footfall_svg import LEG_COLOURS, PAIR_COLOURS
+    from web.style import LEG_COLOURS, PAIR_COLOURS
 
     bars = [[(0.0, 2.9)] for _ in range(6)]
     svg = footfall_svg(bars, 3.0, 0.5)
