@@ -26,25 +26,17 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from sim_core import (
+from sim_core import ModelParams
+from sim_core.contract import TWO_PI, Cell, CellResult, FinderConfig, Probe, find, settling
+from sim_core.research import (
     Backend,
-    ModelParams,
     ResultCache,
     RunStats,
+    angle_diff,
+    initial_values,
     probe_task,
     run_tasks,
     task_runner,
-)
-from sim_core.contract import (
-    TWO_PI,
-    Cell,
-    CellResult,
-    FinderConfig,
-    Probe,
-    angle_diff,
-    find,
-    initial_values,
-    settling,
 )
 
 MATCH = 0.05  # rad, the tolerance

@@ -25,16 +25,9 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from sim_core import (
-    CALIBRATED,
-    SCALES,
-    ModelParams,
-    RunResult,
-    RunSpec,
-    scaled_values,
-    simulate_batch,
-)
-from sim_core.contract import FinderOutput, angle_diff, classify_gait, settling
+from sim_core import ModelParams, RunResult, RunSpec, simulate_batch
+from sim_core.contract import FinderOutput, classify_gait, settling
+from sim_core.research import CALIBRATED, SCALES, angle_diff, scaled_values
 
 CHECK_S = 40.0  # the finder's run length (FinderConfig.duration_s)
 SAME_TOL = 0.05  # rad: "each within 0.05 rad" ...

@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from sim_core import ModelParams, RunSpec, fig5, simulate_batch
+from sim_core import ModelParams, RunSpec, simulate_batch
+from sim_core.research import fig5
 
 
 def main() -> None:
