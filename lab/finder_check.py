@@ -17,7 +17,7 @@ Two checks at each beta:
 
 Everything goes through the result cache, so the finder's own searches are read back when they
 were run before (`reproduce` at the same betas): its runs are the finder's own tasks
-(`sim_core.probe_task`, `task_runner`). The study is `python -m lab finder-check`.
+(`sim_core.research.probe_task`, `task_runner`). The study is `python -m lab finder-check`.
 """
 
 from __future__ import annotations

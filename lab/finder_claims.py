@@ -15,7 +15,7 @@ fold move)?
 
 Both run through `simulate_batch` (threads on this machine) rather than the task cache: the
 landing share is a `RunResult` field that the cached task record does not keep. The list of
-calibrated parameters and the +-10% variants are the core's (`sim_core.CALIBRATED`,
+calibrated parameters and the +-10% variants are the core's (`sim_core.research.CALIBRATED`,
 `scaled_values`: `insect-gait surface-check` and the readings screen use them too); this study
 is `python -m lab finder-claims`.
 """

@@ -132,9 +132,13 @@ def test_the_edges_and_the_lab_use_only_the_public_core(package: str) -> None:
     assert not wrong, f"{package}/ may use only sim_core's public names:\n" + "\n".join(wrong)
 
 
-def _readme_python() -> list[ast.AST]:
-    """The README's Python blocks, parsed: the product's API as a reader first meets it."""
+def _shown_python() -> list[ast.AST]:
+    """The README's Python blocks and the example notebooks' code cells, parsed: the product's
+    API as a reader first meets it."""
     blocks = re.findall(r"```python\n(.*?)```", (REPO / "README.md").read_text(), re.S)
+    for nb in sorted((REPO / "examples").glob("*.ipynb")):
+        cells = json.loads(nb.read_text())["cells"]
+        blocks += ["".join(c["source"]) for c in cells if c["cell_type"] == "code"]
     return [ast.parse(b) for b in blocks]
 
 
@@ -143,7 +147,7 @@ def test_the_root_holds_what_the_edges_use() -> None:
     README's Python; a name only the lab needs belongs to `sim_core.research`."""
     used: set[str] = set()
     trees = [ast.parse(p.read_text()) for d in ("server", "web", "examples")
-             for p in sorted((REPO / d).rglob("*.py"))] + _readme_python()  # fmt: skip
+             for p in sorted((REPO / d).rglob("*.py"))] + _shown_python()  # fmt: skip
     for tree in trees:
         used |= {name for module, name in _core_uses(tree) if module == "sim_core" and name}
     unused = _faces()["sim_core"] - used
