@@ -26,8 +26,8 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from sim_core import ModelParams
-from sim_core.contract import TWO_PI, Cell, CellResult, FinderConfig, Probe, find, settling
+from sim_core import ModelParams, find
+from sim_core.contract import TWO_PI, Cell, CellResult, FinderConfig, Probe, settling
 from sim_core.research import (
     Backend,
     ResultCache,

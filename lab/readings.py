@@ -21,14 +21,13 @@ from typing import Any
 
 import numpy as np
 
-from sim_core import ModelParams, RunSpec
+from sim_core import ModelParams, RunSpec, find
 from sim_core.contract import (
     GROUND_ONLY,
     Cell,
     CellResult,
     FinderConfig,
     classify_gait,
-    find,
     settling,
 )
 from sim_core.research import (

@@ -16,6 +16,10 @@ from .model.runner import simulate_batch as simulate_batch
 from .model.spec import RunResult as RunResult
 from .model.spec import RunSpec as RunSpec
 from .model.spec import spec_grid as spec_grid
+from .paper.finder import find as find  # the REST `bifurcation` kind's search (engine-free)
+from .paper.returnmap import (
+    return_map_from_series as return_map_from_series,  # Fig. 7's pairs: REST kind, viewer
+)
 from .paper.surface import Condition as Condition
 from .paper.surface import drift_surface as drift_surface
 from .paper.surface_atlas import surface_atlas as surface_atlas

@@ -11,11 +11,11 @@ from collections.abc import Callable, Hashable
 
 import viser
 
+from sim_core import return_map_from_series
 from sim_core.contract import (
     ATLAS_AXES,
     AXIS_LABEL,
     RETURN_MAP_SKIP,
-    return_map_from_series,
 )
 from web import controls, export
 from web.atlas_svg import atlas_svg

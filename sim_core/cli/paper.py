@@ -128,8 +128,8 @@ def _cmd_finder(args: argparse.Namespace) -> int:
     from dataclasses import asdict
 
     from sim_core.contract.finder import Cell, FinderOutput
-    from sim_core.contract.finder_search import find
     from sim_core.paper.figures import ReproduceConfig
+    from sim_core.paper.finder import find
     from sim_core.paper.search import task_runner
     from sim_core.runs.backends import RunStats
     from sim_core.runs.cache import ResultCache

@@ -10,13 +10,21 @@ A package of its own, below the reproduction (`sim_core.paper`, which imports it
 the other way; pyproject's import-linter layers): the run's rules come from the model and are
 named here; what the instruments produce is defined here, each in a small module by concern:
 
-- `finder`: the fixed-point finder's protocol and typed output (bifurcation.json), and its
-  gait atlas's (atlas_<axis>.json); `finder_search` is the search itself (`find`, engine-free:
-  the REST `bifurcation` kind runs it) and `finder_runs` what it reads off runs;
+- `finder`: the fixed-point finder's protocol (`FinderConfig`, `Cell`, `Probe`, and `RunFn`,
+  what the search asks of its caller) and typed output (bifurcation.json), and its gait
+  atlas's (atlas_<axis>.json);
 - `surface`: the drift surface's protocol and result (`DriftSurface`) and the surface atlas
   (`SurfaceAtlas`, the viewer's atlas panel);
-- `returnmap`: the paper's Fig. 7 pairs; `results`: where result files live; `values`: what
-  the paper states; `defaults`: the model's default numerics and the grounds' words.
+- `returnmap`: the paper's Fig. 7 pairs (`ReturnMap`); `results`: where result files live;
+  `values`: what the paper states; `defaults`: the model's default numerics and the grounds'
+  words.
+
+A schema package: types, their validators and readings (methods, properties), the constants
+they name and a few pure helpers on them (`region_of`, `surface_grid`, the result files'
+names). What computes results lives above it in `sim_core.paper`: the finder's search
+(`paper.finder`, `find`: the package root's, for the REST `bifurcation` kind) and what it reads
+off runs (`paper.finder_runs`), the return map's pairs (`paper.returnmap`,
+`return_map_from_series`: the root's, for the REST kind and the viewer).
 
 The face is the imports below, listed once: every public name they bind is in `__all__`.
 The lab's further names (readings of a run, the finder's clustering and branch ranges) are
@@ -42,9 +50,9 @@ from sim_core.contract.finder import (
     FinderConfig,
     FinderOutput,
     Probe,
+    RunFn,
     region_of,
 )
-from sim_core.contract.finder_search import find
 from sim_core.contract.results import (
     ATLAS_AXES,
     BIFURCATION_FILE,
@@ -55,7 +63,7 @@ from sim_core.contract.results import (
     atlas_file,
     surface_atlas_file,
 )
-from sim_core.contract.returnmap import RETURN_MAP_SKIP, ReturnMap, return_map_from_series
+from sim_core.contract.returnmap import RETURN_MAP_SKIP, ReturnMap
 from sim_core.contract.surface import REGION_COLOURS, DriftSurface, SurfaceAtlas, SurfaceConfig
 from sim_core.contract.surface import grid as surface_grid
 from sim_core.contract.values import PAPER, PaperValues  # what the paper states: beside ours

@@ -1,6 +1,7 @@
 """The fixed-point finder's protocol and typed output, and its gait atlas's: what `reproduce`,
 the REST `bifurcation`, `finder` and `atlas` kinds, the lab and the viewer read and validate,
-without the engine (the search that fills them: `finder_search.find`).
+without the engine (the search that fills them: `sim_core.paper.finder.find`, which asks its
+caller's `RunFn` for the runs).
 
 A condition (`Cell`) is searched with runs (`Probe`) as `FinderConfig` says; what the finder
 knows about it is a `CellResult`: stable gaits (`Attractor`), the borders between their basins
@@ -11,6 +12,7 @@ finder over a beta x (mass | slope) grid (atlas_<axis>.json).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 from typing import Any, Literal
 
@@ -94,6 +96,11 @@ class Probe:
                 "stop_if_settled_s": self.stop_if_settled_s}  # fmt: skip
 
 
+# What the search asks of its caller: (cell, probe) pairs in, one result dict per pair out with
+# the task result's keys (`d31`, `error`, and `duration_s` where a run stopped settled).
+RunFn = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
+
+
 # --- the output schema (what reproduce, the REST kinds and the viewer read) --------------------
 class _Model(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
@@ -122,7 +129,8 @@ class RunOutcome(_Model):
     simulated_s: float | None = None  # how long it ran: less than duration_s if it stopped
 
     def probe(self) -> Probe:
-        """The probe that ran it (its task, `search.probe_task`, reads its series back)."""
+        """The probe that ran it (its task, `sim_core.paper.search.probe_task`, reads its series
+        back)."""
         return Probe(self.d31_init, self.duration_s, self.stop_if_settled_s)
 
 

@@ -1,13 +1,13 @@
-"""The paper's return map (Fig. 7): pairs (Delta31_n, Delta31_n+lag) at leg-1 touchdowns.
+"""The paper's return map (Fig. 7): its typed output, pairs (Delta31_n, Delta31_n+lag) at leg-1
+touchdowns, and how many touchdowns each series drops first.
 
-MuJoCo-free, so that the REST API's return-map jobs and `reproduce` build their pairs with the
-same function (`sim_core.contract`).
+The pairs are built by `sim_core.paper.returnmap` (from stored series; MuJoCo-free, so the REST
+API's return-map jobs, the viewer and `reproduce` build them with one function) and
+`sim_core.paper.protocols.return_map` (which runs the simulations first).
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -36,29 +36,3 @@ class ReturnMap:
         centers = 0.5 * (edges[1:] + edges[:-1])
         means = np.array([d[idx == k].mean() if (idx == k).any() else np.nan for k in range(bins)])
         return centers, means
-
-
-def initial_values(n: int) -> np.ndarray:
-    """n initial Delta31 spread evenly over the circle (offset off the symmetric points)."""
-    return np.linspace(0.0, TWO_PI, n, endpoint=False) + math.pi / n
-
-
-def return_map_from_series(
-    beta: float,
-    series: Sequence[Sequence[float] | np.ndarray],
-    lag: int = 4,
-    skip: int = RETURN_MAP_SKIP,
-) -> ReturnMap:
-    """Pairs (Delta31_n, Delta31_n+lag) from stored Delta31 series, first `skip` dropped.
-
-    The one construction of the paper's Fig. 7 pairs; `return_map` runs the simulations first.
-    """
-    xs: list[float] = []
-    ys: list[float] = []
-    for s in series:
-        d = np.asarray(s, dtype=float)[skip:]
-        if d.size <= lag:
-            continue
-        xs.extend(d[:-lag].tolist())
-        ys.extend(d[lag:].tolist())
-    return ReturnMap(beta=beta, lag=lag, x=np.array(xs), y=np.array(ys))

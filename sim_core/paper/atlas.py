@@ -28,14 +28,15 @@ from sim_core.contract.finder import (
     Cell,
     CellResult,
     FinderConfig,
+    RunFn,
     region_of,
 )
-from sim_core.contract.finder_search import RunFn, find
 from sim_core.contract.results import AtlasAxis, atlas_file
 from sim_core.model.gait import angle_diff
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import branch_ranges
 from sim_core.paper.figures import ReproduceConfig
+from sim_core.paper.finder import find
 from sim_core.paper.search import task_runner
 from sim_core.runs.backends import Backend, RunStats
 from sim_core.runs.cache import ResultCache

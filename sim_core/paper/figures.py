@@ -19,7 +19,6 @@ from typing import Any
 import numpy as np
 
 from sim_core.contract.finder import Cell, FinderConfig, Probe
-from sim_core.contract.returnmap import initial_values
 from sim_core.contract.surface import SurfaceConfig, grid
 from sim_core.contract.values import FIGURES, METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
 from sim_core.model.gait import (
@@ -36,6 +35,7 @@ from sim_core.paper.analysis import (
     max_drift,
     sweep_summary,
 )
+from sim_core.paper.returnmap import initial_values
 from sim_core.paper.search import probe_task
 from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
 
@@ -57,7 +57,7 @@ class ReproduceConfig:
     # from 0.60 to 0.72)
     surface_betas: tuple[float, ...] = tuple(round(0.60 + 0.005 * k, 3) for k in range(25))
     surface: SurfaceConfig = field(default_factory=SurfaceConfig)
-    # the settled fixed-point finder (`contract.finder_search`), now the independent check of the
+    # the settled fixed-point finder (`finder`), now the independent check of the
     # surface (`surface-check`, `finder-check`); its starts and durations, chosen from
     # measurement in `FinderConfig`, also make Fig. 5's and Fig. 7's free runs
     finder: FinderConfig = field(default_factory=FinderConfig)

@@ -10,8 +10,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from sim_core.contract.finder import Cell, Probe
-from sim_core.contract.finder_search import RunFn
+from sim_core.contract.finder import Cell, Probe, RunFn
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks

@@ -3,7 +3,7 @@ held at each Delta31.
 
 Why. The model's stability story is this one function: its zeros are the gaits (a negative
 slope: stable), its near-zeros the ghosts, and where two zeros meet as beta moves is a fold.
-Free walking (the fixed-point finder, `contract.finder_search`) sees only where runs end; a walk
+Free walking (the fixed-point finder, `finder`) sees only where runs end; a walk
 held at Delta31 = D shows d at every D, stable and unstable zeros alike, for a fixed price.
 
 How. Resets stay on (eq. 4); a weak pin (`RunSpec.pin_d31`, `cpg.pin`) on the fore and hind

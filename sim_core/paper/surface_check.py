@@ -1,6 +1,6 @@
 """The drift surface against the fixed-point finder: two independent readings of one model.
 
-The finder (`contract.finder_search`) reads stable states from settled free runs and borders by
+The finder (`finder`) reads stable states from settled free runs and borders by
 bisecting starts; the surface (`paper.surface`) reads zeros of the drift at held Delta31. They
 agree when:
 - every resolved stable zero of the surface has a stable state of the finder within

@@ -110,5 +110,5 @@ def fake_execute(tasks: Sequence[Task]) -> list[dict[str, Any]]:
 
 
 def fake_runner(batch: Sequence[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
-    """The finder's `run` on the toy (`finder_search.find`)."""
+    """The finder's `run` on the toy (`sim_core.paper.finder.find`)."""
     return [fake_run(probe_task(c, p, None)) for c, p in batch]

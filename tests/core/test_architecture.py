@@ -61,7 +61,8 @@ def _loaded_after(code: str) -> list[str]:
     ["import sim_core", "import sim_core.contract", "import server.schemas",
      "import server.kinds", "from sim_core import RunSpec, ModelParams",
      "import sim_core.research; from sim_core.research import initial_values, angle_diff",
-     "from sim_core.contract import find, FinderOutput, DriftSurface, SurfaceAtlas, PAPER",
+     "from sim_core.contract import FinderOutput, DriftSurface, SurfaceAtlas, PAPER",
+     "from sim_core import find, return_map_from_series",  # the REST kinds' MuJoCo-free calls
      "from sim_core.cli import build_parser; build_parser()"],  # `insect-gait --help`
 )  # fmt: skip
 def test_the_contract_loads_without_mujoco_or_numba(code: str) -> None:

@@ -9,10 +9,10 @@ from typing import Any
 import numpy as np
 import pytest
 
-from sim_core.contract.finder import Cell, FinderConfig, Probe
-from sim_core.contract.finder_runs import clusters_of, map_slope, parting, slowest_passage
-from sim_core.contract.finder_search import RunFn, find
+from sim_core.contract.finder import Cell, FinderConfig, Probe, RunFn
 from sim_core.model.gait import TAIL_DRIFT_SETTLED, settling
+from sim_core.paper.finder import find
+from sim_core.paper.finder_runs import clusters_of, map_slope, parting, slowest_passage
 from tests.core.synthetic_gait import fake_runner
 
 CFG = FinderConfig()

@@ -9,13 +9,13 @@ import pytest
 
 from sim_core import RunSpec
 from sim_core.contract.finder import Cell, FinderConfig
-from sim_core.contract.finder_search import find
 from sim_core.contract.surface import DriftSurface
 from sim_core.docsections import markers
 from sim_core.model.gait import stance_intervals
 from sim_core.model.ramp import Ramp
 from sim_core.paper.analysis import branch_ranges, range_ends, sweep_summary
 from sim_core.paper.figures import ReproduceConfig
+from sim_core.paper.finder import find
 from sim_core.paper.reproduce import DOC_BEGIN, DOC_END, reproduce, table_rows, update_doc
 from sim_core.runs.backends import InlineBackend, run_tasks
 from sim_core.runs.cache import ResultCache

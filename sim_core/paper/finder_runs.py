@@ -2,7 +2,8 @@
 local drift along it, its slowest passage (a ghost), the slope of the n -> n+4 map at a state
 from the approach to it, and where two runs that start either side of a border dwell before
 they part (the saddle). Off many runs: their settled finals clustered into states. Pure numpy,
-tested on synthetic data; `finder_search` calls them.
+tested on synthetic data; the search (`finder`) calls them, and the surface atlas's walks
+(`surface_walks`) cluster their finals by the same rule.
 """
 
 from __future__ import annotations
