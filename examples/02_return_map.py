@@ -13,8 +13,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from sim_core import RunSpec, simulate_batch
-from sim_core.contract import return_map_from_series
+from sim_core import RunSpec, return_map_from_series, simulate_batch
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--beta", type=float, default=0.62)

@@ -6,7 +6,7 @@ python examples/04_batch_sweep.py --betas 0.62 0.66 0.70 --starts 4 --duration-s
 import argparse
 
 from sim_core import RunResult, simulate_batch, spec_grid
-from sim_core.paper.protocols import initial_values
+from sim_core.research import initial_values
 
 parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
 parser.add_argument("--betas", type=float, nargs="+", default=[0.62, 0.66, 0.70])

@@ -26,15 +26,16 @@ from lab.objectives import (
     outcome_gap,
 )
 from lab.space import SEARCH_SPACE, WIDE_SPACE
-from sim_core import BETA_BISTABLE, BETA_FAST, BETA_SLOW, ModelParams, phi_aep
+from sim_core import ModelParams
 from sim_core.contract import TWO_PI
+from sim_core.research import BETA_BISTABLE, BETA_FAST, BETA_SLOW, phi_aep
 
 OBJECTIVES = ("closed-loop", "drift", "pull")
 
 
 def reachable(params: ModelParams, beta: float = BETA_FAST, samples: int = 64) -> bool:
     """Whether every leg can reach its whole swing curve and stance line (with 2% margin)."""
-    from sim_core import inverse_kinematics, leg_geometry, swing_point
+    from sim_core.research import inverse_kinematics, leg_geometry, swing_point
 
     geo = leg_geometry(params.replace(**{"femur_length": params.legs.femur_length * 0.98}))
     aep = phi_aep(beta)

@@ -354,7 +354,7 @@ def _cmd_readings(args: argparse.Namespace) -> int:
         table,
         variants,
     )
-    from sim_core import ResultCache, get_backend
+    from sim_core.research import ResultCache, get_backend
 
     if not 0 < args.duration_s <= 600 or not all(0.5 < b < 1.0 for b in args.betas):
         print("python -m lab readings: error: --duration-s in (0, 600], betas in (0.5, 1)",

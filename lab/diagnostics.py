@@ -27,16 +27,15 @@ from typing import Any
 import mujoco
 import numpy as np
 
-from sim_core import (
+from sim_core import ModelParams, RunSpec
+from sim_core.contract import LEG_NAMES
+from sim_core.research import (
     BatchRunner,
-    ModelParams,
-    RunSpec,
     attachment_points,
     build_model,
     leg_qpos_addresses,
     mid_stance_angles,
 )
-from sim_core.contract import LEG_NAMES
 
 PAIRS = ("fore", "middle", "hind")
 # each leg's pair (0 fore, 1 middle, 2 hind), read from its name (R1 L1 R2 L2 R3 L3)

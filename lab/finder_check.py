@@ -17,7 +17,7 @@ Two checks at each beta:
 
 Everything goes through the result cache, so the finder's own searches are read back when they
 were run before (`reproduce` at the same betas): its runs are the finder's own tasks
-(`sim_core.probe_task`, `task_runner`). The study is `python -m lab finder-check`.
+(`sim_core.research.probe_task`, `task_runner`). The study is `python -m lab finder-check`.
 """
 
 from __future__ import annotations
@@ -26,25 +26,17 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from sim_core import (
+from sim_core import ModelParams, find
+from sim_core.contract import TWO_PI, Cell, CellResult, FinderConfig, Probe, settling
+from sim_core.research import (
     Backend,
-    ModelParams,
     ResultCache,
     RunStats,
+    angle_diff,
+    initial_values,
     probe_task,
     run_tasks,
     task_runner,
-)
-from sim_core.contract import (
-    TWO_PI,
-    Cell,
-    CellResult,
-    FinderConfig,
-    Probe,
-    angle_diff,
-    find,
-    initial_values,
-    settling,
 )
 
 MATCH = 0.05  # rad, the issue's tolerance

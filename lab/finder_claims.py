@@ -15,7 +15,7 @@ fold move)?
 
 Both run through `simulate_batch` (threads on this machine) rather than the task cache: the
 landing share is a `RunResult` field that the cached task record does not keep. The list of
-calibrated parameters and the +-10% variants are the core's (`sim_core.CALIBRATED`,
+calibrated parameters and the +-10% variants are the core's (`sim_core.research.CALIBRATED`,
 `scaled_values`: `insect-gait surface-check` and the readings screen use them too); this study
 is `python -m lab finder-claims`.
 """
@@ -25,16 +25,9 @@ from __future__ import annotations
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
-from sim_core import (
-    CALIBRATED,
-    SCALES,
-    ModelParams,
-    RunResult,
-    RunSpec,
-    scaled_values,
-    simulate_batch,
-)
-from sim_core.contract import FinderOutput, angle_diff, classify_gait, settling
+from sim_core import ModelParams, RunResult, RunSpec, simulate_batch
+from sim_core.contract import FinderOutput, classify_gait, settling
+from sim_core.research import CALIBRATED, SCALES, angle_diff, scaled_values
 
 CHECK_S = 40.0  # the finder's run length (FinderConfig.duration_s)
 SAME_TOL = 0.05  # rad: "each within 0.05 rad" ...

@@ -31,19 +31,19 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from lab.space import SEARCH_SPACE
-from sim_core import (
+from sim_core import ModelParams, nominal_speed, simulate_batch, spec_grid
+from sim_core.contract import TWO_PI, final_d31
+from sim_core.research import (
     BETA_BISTABLE,
     BETA_FAST,
     BETA_SLOW,
     METACHRONAL_BRANCH,
     TRIPOD_BRANCH,
-    ModelParams,
-    nominal_speed,
+    angle_diff,
+    initial_values,
     open_loop_drift,
-    simulate_batch,
-    spec_grid,
+    window_d31,
 )
-from sim_core.contract import TWO_PI, angle_diff, final_d31, initial_values, window_d31
 
 # rad of score per unit of speed error or slip beyond 10%: walking properly (the sim_core
 # acceptance) outranks a closer Delta31 (0.1 of excess slip costs as much as 3 rad of Delta31)

@@ -45,7 +45,7 @@ def _cmd_study(args: argparse.Namespace) -> int:
 
 
 def _add_atlas(sub: Any) -> None:
-    from sim_core import BACKENDS
+    from sim_core.research import BACKENDS
 
     p = sub.add_parser(
         "finder-atlas",
@@ -67,7 +67,7 @@ def _add_atlas(sub: Any) -> None:
 def _cmd_atlas(args: argparse.Namespace) -> int:
     import time
 
-    from sim_core import AtlasConfig, ResultCache, RunStats, run_atlas, write_atlas
+    from sim_core.research import AtlasConfig, ResultCache, RunStats, run_atlas, write_atlas
 
     prog = "python -m lab finder-atlas"
     cfg = AtlasConfig.quick(args.axis) if args.quick else AtlasConfig(args.axis)
@@ -129,7 +129,7 @@ def _cmd_finder_check(args: argparse.Namespace) -> int:
     import time
 
     from lab.finder_check import report, validate
-    from sim_core import ReproduceConfig, ResultCache, RunStats, get_backend
+    from sim_core.research import ReproduceConfig, ResultCache, RunStats, get_backend
 
     for b in args.beta:
         if not 0.5 < b < 1.0:
@@ -186,7 +186,8 @@ def _cmd_finder_claims(args: argparse.Namespace) -> int:
     from tqdm import tqdm
 
     from lab.finder_claims import numerics, numerics_report, robustness, robustness_report
-    from sim_core.contract import FinderOutput, branch_ranges
+    from sim_core.contract import FinderOutput
+    from sim_core.research import branch_ranges
 
     try:
         found = FinderOutput.model_validate_json(args.bifurcation.read_text())

@@ -21,28 +21,26 @@ from typing import Any
 
 import numpy as np
 
-from sim_core import (
-    CALIBRATED,
-    SCALES,
-    Backend,
-    ModelParams,
-    ResultCache,
-    RunSpec,
-    classify_gait,
-    run_task,
-    run_tasks,
-    scaled_values,
-    task_runner,
-)
+from sim_core import ModelParams, RunSpec, find
 from sim_core.contract import (
     GROUND_ONLY,
     Cell,
     CellResult,
     FinderConfig,
-    cluster_finals,
-    find,
-    initial_values,
+    classify_gait,
     settling,
+)
+from sim_core.research import (
+    CALIBRATED,
+    SCALES,
+    Backend,
+    ResultCache,
+    cluster_finals,
+    initial_values,
+    run_task,
+    run_tasks,
+    scaled_values,
+    task_runner,
 )
 
 # Each built reading: its name and the ModelParams fields that switch it on.

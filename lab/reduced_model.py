@@ -25,8 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 from numba import njit
 
-from sim_core import advance_phases, phi_aep
-from sim_core.contract import TWO_PI, initial_values
+from sim_core.contract import TWO_PI
+from sim_core.research import advance_phases, initial_values, phi_aep
 
 MAX_EVENTS = 4000
 

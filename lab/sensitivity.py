@@ -20,7 +20,9 @@ import matplotlib.pyplot as plt
 
 from lab.objectives import evaluate
 from lab.space import SEARCH_SPACE
-from sim_core import BETA_FAST, BETA_SLOW, ModelParams, circular_mean, classify_gait
+from sim_core import ModelParams
+from sim_core.contract import circular_mean, classify_gait
+from sim_core.research import BETA_FAST, BETA_SLOW
 
 
 @dataclass(frozen=True)

@@ -16,7 +16,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from sim_core import ModelParams, RunSpec, simulate_batch
-from sim_core.contract import HEADING_KEPT_DEG, settling, yaw_of
+from sim_core.contract import settling
+from sim_core.research import HEADING_KEPT_DEG, yaw_of
 
 
 @dataclass

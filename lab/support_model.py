@@ -21,7 +21,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from sim_core.contract import TWO_PI, drift_per_cycle
+from sim_core.contract import TWO_PI
+from sim_core.research import drift_per_cycle
 
 
 @dataclass(frozen=True)

@@ -29,8 +29,9 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 
 from lab.reduced_model import ReducedParams, run_reduced
-from sim_core import ModelParams, RunSpec, phi_aep, simulate_batch
-from sim_core.contract import TWO_PI, phase_jumps, settling
+from sim_core import ModelParams, RunSpec, simulate_batch
+from sim_core.contract import TWO_PI, settling
+from sim_core.research import phase_jumps, phi_aep
 
 # Leg 1's start phase over these: an open-loop probe's jumps depend a little on where the cycle
 # starts (the legs of a pair differ at some D on the paper's ground); their spread is reported.

@@ -1,7 +1,7 @@
 """insect-gait core: the Fujiki et al. (2013) hexapod in MuJoCo, headless and batchable.
 
-Public API (server/, web/ and the lab use only these names, `sim_core.contract` and
-`sim_core.cli`; the names for research are marked in __init__.pyi, docs/CORE_API.md):
+Public API (server/ and web/ use only these names, `sim_core.contract` and `sim_core.cli`;
+the lab those and its own face, `sim_core.research`; docs/CORE_API.md):
 
     from sim_core import RunSpec, simulate, simulate_batch, Simulation, ModelParams
 

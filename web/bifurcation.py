@@ -1,7 +1,7 @@
 """Read the finder's typed results for the bifurcation and atlas panels.
 
-`insect-gait finder` writes bifurcation.json as a `FinderOutput` and `insect-gait atlas`
-writes atlas_<axis>.json as an `AtlasOutput` (sim_core.paper.fixedpoints, re-exported by the
+`insect-gait finder` writes bifurcation.json as a `FinderOutput` and `python -m lab
+finder-atlas` writes atlas_<axis>.json as an `AtlasOutput` (sim_core.contract.finder, in the
 MuJoCo-free `sim_core.contract`). The viewer validates them with those very models: no guessing
 at shapes. A file that is absent or does not validate gives a one-line note for the panel,
 naming the first validation error, instead of a drawing.

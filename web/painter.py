@@ -12,7 +12,8 @@ from collections.abc import Callable, Hashable
 
 import viser
 
-from sim_core.contract import RETURN_MAP_SKIP, return_map_from_series
+from sim_core import return_map_from_series
+from sim_core.contract import RETURN_MAP_SKIP
 from web import controls, export
 from web.d31_svg import d31_svg
 from web.footfall_svg import footfall_svg

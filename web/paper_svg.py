@@ -1,7 +1,7 @@
 """The paper's numbers drawn beside ours: Fujiki et al. 2013's transition betas (Fig. 6a, Sec.
 III B) as dashed verticals and its Fig. 8 stable ranges as pale bands at the branch values.
 
-The numbers are the core's (`PAPER`, sim_core/paper/values.py, through the contract), never
+The numbers are the core's (`PAPER`, sim_core/contract/values.py, through the contract), never
 retyped here, so a panel and `reproduce`'s comparison table cannot disagree about what the
 paper says. One home for the marks and their legend words, so that every panel marks the
 paper's numbers alike and a reader learns the look once.

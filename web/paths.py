@@ -1,7 +1,7 @@
 """Where the viewer finds things: light, so that `insect-gait --help` loads no viser.
 
 The results folder (the finder's bifurcation file, the atlases) is the core's one results
-place (`sim_core.paper.results`, through the contract): what `insect-gait reproduce`,
+place (`sim_core.contract.results`, through the contract): what `insect-gait reproduce`,
 `finder` and `atlas` write by default, `INSECT_GAIT_RESULTS` overriding
 it; `--bifurcation PATH` names the bifurcation file itself (the atlas files and, unless
 `--surface PATH` names another, the drift surface are read from the same folder).

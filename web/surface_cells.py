@@ -38,7 +38,7 @@ def drift_colour(level: float, top: float) -> str:
 
 
 def grid_key(v: float) -> float:
-    """Grid values as the core rounds them (`surface_types.grid`: 1e-6)."""
+    """Grid values as the core rounds them (`sim_core.contract.surface.grid`: 1e-6)."""
     return round(v, 6)
 
 

@@ -22,18 +22,9 @@ from pathlib import Path
 from typing import Any
 
 from lab.surface_search import METACHRONAL_WINDOW, TRIPOD_WINDOW, geometry
-from sim_core import (
-    DriftSurface,
-    ModelParams,
-    ResultCache,
-    RunSpec,
-    SurfaceConfig,
-    drift_surface,
-    get_backend,
-    nominal_speed,
-    simulate_batch,
-)
-from sim_core.contract import surface_grid
+from sim_core import ModelParams, RunSpec, drift_surface, nominal_speed, simulate_batch
+from sim_core.contract import DriftSurface, SurfaceConfig, surface_grid
+from sim_core.research import ResultCache, get_backend
 
 BETAS = surface_grid(0.60, 0.72, 0.01)
 STARTS = {"tripod side": 3.0, "metachronal side": 1.9}
@@ -75,7 +66,8 @@ def fold_end(betas: list[float], grid_betas: list[float], high: bool) -> float |
 def ramps(params: ModelParams) -> list[dict[str, Any]]:
     """Fig. 6a's two protocols at the reproduction's rate: from the metachronal side at 0.70
     down to 0.62 and back, and from the tripod at 0.62 up to 0.70 and back."""
-    from sim_core import ReproduceConfig, sweep
+    from sim_core import sweep
+    from sim_core.research import ReproduceConfig
 
     cfg = ReproduceConfig()
     out = []

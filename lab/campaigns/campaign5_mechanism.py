@@ -28,15 +28,9 @@ from typing import Any
 
 import numpy as np
 
-from sim_core import (
-    DriftSurface,
-    ModelParams,
-    ResultCache,
-    SurfaceConfig,
-    drift_surface,
-    get_backend,
-)
-from sim_core.contract import surface_grid
+from sim_core import ModelParams, drift_surface
+from sim_core.contract import DriftSurface, SurfaceConfig, surface_grid
+from sim_core.research import ResultCache, get_backend
 
 JUMP_BETAS = (0.62, 0.645, 0.70)
 JUMP_CONFIG = SurfaceConfig(d31_grid=surface_grid(1.5, 3.3, 0.05), average_s=2.0)

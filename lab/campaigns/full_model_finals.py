@@ -9,7 +9,7 @@ speed and where in the swing the feet land (`RunMeasures.landing_swing_share`, t
 the runs; 1 = at the AEP, 0.5 = when the scuff window closes): an attractor reached with feet
 landing in mid-swing is set by the swing and scuff rule, not by walking mechanics.
 `--plot FILE` draws Delta31 per gait cycle, one panel per beta, with
-`sim_core.fig5` (the reproduction's Fig. 5 drawing).
+`sim_core.research.fig5` (the reproduction's Fig. 5 drawing).
 A scratch study tool kept so that the numbers in the docs can be re-made; the product's
 own commands (`python -m lab study`, `reproduce`) are the supported path.
 """
@@ -22,7 +22,8 @@ from pathlib import Path
 
 import numpy as np
 
-from sim_core import ModelParams, RunSpec, fig5, simulate_batch
+from sim_core import ModelParams, RunSpec, simulate_batch
+from sim_core.research import fig5
 
 
 def main() -> None:

@@ -25,17 +25,9 @@ from typing import Any
 
 import numpy as np
 
-from sim_core import (
-    ModelParams,
-    RunResult,
-    RunSpec,
-    circular_mean,
-    nominal_speed,
-    phi_aep,
-    simulate_batch,
-    sweep,
-)
-from sim_core.contract import TAIL_DRIFT_SETTLED, angle_diff, settling
+from sim_core import ModelParams, RunResult, RunSpec, nominal_speed, simulate_batch, sweep
+from sim_core.contract import TAIL_DRIFT_SETTLED, circular_mean, settling
+from sim_core.research import angle_diff, phi_aep
 
 LEAD1: dict[str, Any] = {
     "velocity_feedforward_yaw": 0.0,  # was pd_damping="joint_velocity"

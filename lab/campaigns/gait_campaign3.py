@@ -29,21 +29,16 @@ from typing import Any
 import numpy as np
 
 from lab.campaigns.gait_campaign2 import binned_legs, crossings, row, table_finals
-from sim_core import (
+from sim_core import ModelParams, RunSpec, Task, simulate_batch, sweep
+from sim_core.contract import Ramp, classify_gait
+from sim_core.research import (
     Backend,
-    ModelParams,
     ResultCache,
-    RunSpec,
-    Task,
-    classify_gait,
     get_backend,
     open_loop_drift,
     ramp_task,
     run_tasks,
-    simulate_batch,
-    sweep,
 )
-from sim_core.contract import Ramp
 
 # The step-one candidate of issue 22 (fact 7, first row): lift joints 0.6x as stiff with
 # damping on their own velocity (1 ms lag), a 0.5 mm lower stance, centre of mass 1 mm forward.

@@ -15,7 +15,8 @@ import time
 import mujoco
 import numpy as np
 
-from sim_core import BatchRunner, ModelParams, RunResult, RunSpec, build_model
+from sim_core import ModelParams, RunResult, RunSpec
+from sim_core.research import BatchRunner, build_model
 
 
 def direct(

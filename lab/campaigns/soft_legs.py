@@ -15,8 +15,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from sim_core import RunSpec, named_params, simulate_batch
+from sim_core import RunSpec, simulate_batch
 from sim_core.contract import settling
+from sim_core.research import named_params
 
 FROM_19 = (0.62, 0.6375, 0.64, 0.645, 0.65, 0.66, 0.70)  # across the metachronal end
 FROM_30 = (0.62, 0.66, 0.70)  # the upper state

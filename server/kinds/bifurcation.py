@@ -20,7 +20,8 @@ from server.kinds.finder import (
     finder_rows,
     finder_runner,
 )
-from sim_core.contract import TWO_PI, Cell, FinderConfig, FinderOutput, find
+from sim_core import find
+from sim_core.contract import TWO_PI, Cell, FinderConfig, FinderOutput
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

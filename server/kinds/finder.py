@@ -21,7 +21,7 @@ FINDER_DEFAULTS = FinderConfig()
 
 
 class Finder(Physics):
-    """Kinds answered by the settled fixed-point finder (`sim_core.contract.find`): settled
+    """Kinds answered by the settled fixed-point finder (`sim_core.find`): settled
     runs from starts spread over the circle, judged by the core's one settled rule."""
 
     starts: IntLike = bounded(

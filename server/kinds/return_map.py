@@ -18,7 +18,8 @@ from server.kinds.bounds import (
 )
 from server.kinds.common import d31_axis
 from server.kinds.run import simulate_each
-from sim_core.contract import RETURN_MAP_SKIP, return_map_from_series
+from sim_core import return_map_from_series
+from sim_core.contract import RETURN_MAP_SKIP
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure

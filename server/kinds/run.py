@@ -104,7 +104,7 @@ def run(job: RunJob, progress: Progress, nthread: int) -> RunJobResult:
 def series_tables(d31_init: list[float], runs: list[dict[str, Any]]) -> SeriesTables:
     """The time series as flat tables: Delta31 at each leg-1 touchdown, and every recorded
     sample (stance per leg in the paper's order 1..6 = R1 L1 R2 L2 R3 L3, as
-    `sim_core.leg_names()`; body position, m)."""
+    `LEG_NAMES` of `sim_core.contract`; body position, m)."""
     legs = SERIES_COLUMNS["samples"][3:9]
     d31_rows: list[dict[str, Any]] = []
     samples: list[dict[str, Any]] = []

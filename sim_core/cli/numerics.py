@@ -11,9 +11,9 @@ from typing import Any
 from pydantic import ValidationError
 
 from sim_core.cli.common import UsageError, doc_to_update, one_line, out_folder
+from sim_core.contract.results import RESULTS_DIR, RESULTS_ENV
 from sim_core.model.params import INTEGRATORS
 from sim_core.model.spec import RunSpec
-from sim_core.paper.results import RESULTS_DIR, RESULTS_ENV
 
 
 def _runs_valid(flags: dict[str, str] | None = None, **fields: Any) -> None:

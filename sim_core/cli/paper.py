@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE, doc_to_update, out_folder
-from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR, RESULTS_ENV
+from sim_core.contract.results import BIFURCATION_FILE, RESULTS_DIR, RESULTS_ENV
 
 
 def add_backend_args(p: Any, backends: Sequence[str]) -> None:
@@ -54,7 +54,7 @@ def backend_from_args(args: argparse.Namespace, prog: str) -> Any:
 
 
 def _add_reproduce(sub: Any) -> None:
-    from sim_core.paper.values import FIGURES
+    from sim_core.contract.values import FIGURES
     from sim_core.runs import BACKENDS
 
     p = sub.add_parser(
@@ -127,8 +127,9 @@ def _cmd_finder(args: argparse.Namespace) -> int:
     import time
     from dataclasses import asdict
 
+    from sim_core.contract.finder import Cell, FinderOutput
     from sim_core.paper.figures import ReproduceConfig
-    from sim_core.paper.fixedpoints import Cell, FinderOutput, find
+    from sim_core.paper.finder import find
     from sim_core.paper.search import task_runner
     from sim_core.runs.backends import RunStats
     from sim_core.runs.cache import ResultCache

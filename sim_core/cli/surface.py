@@ -13,7 +13,7 @@ from typing import Any
 from sim_core.cli.common import EXIT_USAGE, UsageError, one_line, out_file, out_folder
 from sim_core.cli.paper import add_backend_args, backend_from_args
 from sim_core.contract import GROUND_HELP
-from sim_core.paper.results import BIFURCATION_FILE, RESULTS_DIR
+from sim_core.contract.results import BIFURCATION_FILE, RESULTS_DIR
 
 # the betas the surface is validated at: the Fig. 7 betas and the two ends of the paper's window
 CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
@@ -50,7 +50,7 @@ def _grid(text: str) -> tuple[float, float, float]:
 
 
 def _default_grid() -> str:
-    from sim_core.paper.surface_types import SurfaceConfig
+    from sim_core.contract.surface import SurfaceConfig
 
     g = SurfaceConfig().d31_grid
     return f"{g[0]:g}:{g[-1]:g}:{round(g[1] - g[0], 6):g}"
@@ -297,7 +297,7 @@ def _cmd_surface(args: argparse.Namespace) -> int:
 
 
 def _cmd_check(args: argparse.Namespace) -> int:
-    from sim_core.paper.fixedpoints import FinderOutput
+    from sim_core.contract.finder import FinderOutput
     from sim_core.paper.surface_check import check, table
 
     prog = "insect-gait surface-check"
@@ -357,8 +357,8 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     import time
     from dataclasses import replace
 
+    from sim_core.contract.results import surface_atlas_file
     from sim_core.model.params import ModelParams
-    from sim_core.paper.results import surface_atlas_file
     from sim_core.paper.surface_atlas import draw_atlas, surface_atlas
     from sim_core.paper.surface_walks import WalkConfig
     from sim_core.runs.backends import RunStats

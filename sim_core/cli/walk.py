@@ -220,7 +220,8 @@ def _return_map_problems(args: argparse.Namespace) -> list[str]:
 def _cmd_return_map(args: argparse.Namespace) -> int:
     import numpy as np
 
-    from sim_core.paper.protocols import initial_values, return_map
+    from sim_core.paper.protocols import return_map
+    from sim_core.paper.returnmap import initial_values
 
     problems = _return_map_problems(args)
     if problems:

@@ -1,7 +1,7 @@
 """Reading the paper's quantities out of simulated data: pure functions, tested on synthetic data.
 
 Transition detection, and what Figs. 6-9 need on top: stable ranges and folds of a
-bifurcation diagram (from the fixed-point finder's attractors, `paper.fixedpoints`), and the
+bifurcation diagram (from the fixed-point finder's attractors, `contract.finder`), and the
 two legs of a triangle sweep with their transitions and the hysteresis loop between them.
 Angles in rad; the swept value in the units of the parameter being swept.
 """
@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import asdict, dataclass
 from typing import Any
 
 import numpy as np
 
+from sim_core.contract.finder import CellResult
 from sim_core.model.gait import angle_diff, classify_gait, window_gait
 
 # The band of Delta31 the paper's return maps and bifurcation diagram are about (branches 1.9
@@ -125,6 +126,16 @@ def range_ends(
     lower = lo if i == 0 else 0.5 * (grid[i - 1] + lo)
     upper = hi if j == len(grid) - 1 else 0.5 * (hi + grid[j + 1])
     return lower, upper
+
+
+def branch_ranges(cells: Sequence[CellResult], gait: str) -> dict[str, Any]:
+    """Where `gait` has an attractor along a beta grid: ranges, their ends and the folds
+    between (beta of the last point on each branch, +- half the grid step)."""
+    betas = [c.beta for c in cells]
+    fixed = [[FixedPoint(a.d31, a.slope or 0.0, True) for a in c.stable()] for c in cells]
+    rng = stable_ranges(betas, fixed, gait)
+    return {"ranges": rng, "ends": range_ends(betas, rng),
+            "folds": [asdict(f) for f in folds(betas, rng, gait)]}  # fmt: skip
 
 
 def _transition_dict(t: Transition, times: np.ndarray) -> dict[str, Any]:

@@ -19,25 +19,24 @@ from dataclasses import asdict, dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
-from sim_core.model.gait import angle_diff
-from sim_core.model.params import ModelParams
-from sim_core.paper.figures import ReproduceConfig
-from sim_core.paper.fixedpoints import (
+from sim_core.contract.finder import (
     AXIS_LABEL,
     AXIS_PARAM,
     REGIONS,
-    AtlasAxis,
     AtlasFold,
     AtlasOutput,
     Cell,
     CellResult,
     FinderConfig,
     RunFn,
-    branch_ranges,
-    find,
     region_of,
 )
-from sim_core.paper.results import atlas_file
+from sim_core.contract.results import AtlasAxis, atlas_file
+from sim_core.model.gait import angle_diff
+from sim_core.model.params import ModelParams
+from sim_core.paper.analysis import branch_ranges
+from sim_core.paper.figures import ReproduceConfig
+from sim_core.paper.finder import find
 from sim_core.paper.search import task_runner
 from sim_core.runs.backends import Backend, RunStats
 from sim_core.runs.cache import ResultCache

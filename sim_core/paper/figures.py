@@ -18,6 +18,9 @@ from typing import Any
 
 import numpy as np
 
+from sim_core.contract.finder import Cell, FinderConfig, Probe
+from sim_core.contract.surface import SurfaceConfig, grid
+from sim_core.contract.values import FIGURES, METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
 from sim_core.model.gait import (
     angle_diff,
     circular_mean,
@@ -32,11 +35,8 @@ from sim_core.paper.analysis import (
     max_drift,
     sweep_summary,
 )
-from sim_core.paper.fixedpoints import Cell, FinderConfig, Probe
-from sim_core.paper.protocols import initial_values
+from sim_core.paper.returnmap import initial_values
 from sim_core.paper.search import probe_task
-from sim_core.paper.surface_types import SurfaceConfig, grid
-from sim_core.paper.values import FIGURES, METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
 from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
 
 BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch counts as on it
@@ -83,7 +83,7 @@ class ReproduceConfig:
     # no row reads its zeros (the refinement was 3/4 of its cost, at twice a constraint-ground
     # probe's cost per simulated second)
     mechanism_refine: bool = False
-    # the settled fixed-point finder (`paper.fixedpoints`), now the independent check of the
+    # the settled fixed-point finder (`finder`), now the independent check of the
     # surface (`surface-check`, `finder-check`); its starts and durations, chosen from
     # measurement in `FinderConfig`, also make Fig. 5's and Fig. 7's free runs
     finder: FinderConfig = field(default_factory=FinderConfig)

@@ -18,8 +18,8 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 import numpy as np
 
+from sim_core.contract.values import METACHRONAL_BRANCH, TRIPOD_BRANCH, PaperValues
 from sim_core.model.gait import TWO_PI
-from sim_core.paper.values import METACHRONAL_BRANCH, TRIPOD_BRANCH, PaperValues
 
 PAPER_STYLE: dict[str, Any] = {"color": "0.55", "lw": 0.9}
 # leg colours of the paper's Fig. 4: fore red, middle blue, hind green

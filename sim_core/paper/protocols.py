@@ -1,21 +1,16 @@
-"""How the paper's experiments are set up: initial values spread over the circle, and return
-maps run from them (the pairs' construction itself is `paper.returnmap`, MuJoCo-free)."""
+"""The paper's return maps, run: simulations from initial values spread over the circle, read
+as Fig. 7 pairs (the starts and the pairs' construction are `returnmap`'s, MuJoCo-free; the
+typed output is the contract's)."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
 
+from sim_core.contract.returnmap import RETURN_MAP_SKIP, ReturnMap
 from sim_core.model.params import ModelParams
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import spec_grid
-from sim_core.paper.returnmap import (
-    RETURN_MAP_SKIP,
-    ReturnMap,
-    initial_values,
-    return_map_from_series,
-)
-
-__all__ = ["ReturnMap", "initial_values", "return_map", "return_map_from_series"]
+from sim_core.paper.returnmap import return_map_from_series
 
 
 def return_map(

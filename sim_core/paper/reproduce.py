@@ -20,13 +20,14 @@ from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
 
+from sim_core.contract.results import SURFACE_FILE, SURFACE_PENALTY_FILE
+from sim_core.contract.values import PAPER
 from sim_core.docsections import markers, replace_section
 from sim_core.model.gait import HEADING_KEPT_DEG
 from sim_core.model.params import ModelParams
 from sim_core.model.version import PHYSICS_VERSION
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.figures import BRANCH_TOL, FIGURES, ReproduceConfig, analyse, figure_tasks
-from sim_core.paper.results import SURFACE_FILE, SURFACE_PENALTY_FILE
 from sim_core.paper.surface_check import variant_table
 from sim_core.paper.surface_repro import (
     FREE_RUN_TOL,
@@ -34,7 +35,6 @@ from sim_core.paper.surface_repro import (
     surface_figure_data,
     surface_study,
 )
-from sim_core.paper.values import PAPER
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import Task, execute_chunk, params_hash

@@ -1,41 +1,21 @@
-"""The paper's return map (Fig. 7): pairs (Delta31_n, Delta31_n+lag) at leg-1 touchdowns.
+"""The paper's return map (Fig. 7) built from series: the starts spread over the circle that
+its protocols (and the finder's) run from, and the pairs (Delta31_n, Delta31_n+lag) read off
+stored Delta31 series (the typed output, `ReturnMap`, is the contract's).
 
-MuJoCo-free, so that the REST API's return-map jobs and `reproduce` build their pairs with the
-same function (`sim_core.contract`).
+Pure numpy, no engine: the REST API's return-map jobs and the viewer call
+`return_map_from_series` through the package root (`sim_core`), `reproduce` and
+`protocols.return_map` here, so that every Fig. 7 is built by one function.
 """
 
 from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass
 
 import numpy as np
 
-from sim_core.model.gait import TWO_PI, angle_diff
-
-# touchdowns dropped at the start of every series: the start's own transient (the first
-# stance after the initial condition is not a gait cycle yet)
-RETURN_MAP_SKIP = 2
-
-
-@dataclass
-class ReturnMap:
-    """Pairs (Delta31_n, Delta31_{n+lag}) at leg-1 touchdowns, the paper's Fig. 7 construction."""
-
-    beta: float
-    lag: int
-    x: np.ndarray
-    y: np.ndarray
-
-    def drift_per_cycle(self, bins: int = 24) -> tuple[np.ndarray, np.ndarray]:
-        """Mean (y - x) / lag in bins of x over the circle: > 0 pushes Delta31 up."""
-        edges = np.linspace(0, TWO_PI, bins + 1)
-        d = angle_diff(self.y, self.x) / self.lag
-        idx = np.clip(np.digitize(self.x, edges) - 1, 0, bins - 1)
-        centers = 0.5 * (edges[1:] + edges[:-1])
-        means = np.array([d[idx == k].mean() if (idx == k).any() else np.nan for k in range(bins)])
-        return centers, means
+from sim_core.contract.returnmap import RETURN_MAP_SKIP, ReturnMap
+from sim_core.model.gait import TWO_PI
 
 
 def initial_values(n: int) -> np.ndarray:

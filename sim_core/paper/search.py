@@ -10,9 +10,9 @@ from __future__ import annotations
 
 from typing import Any
 
+from sim_core.contract.finder import Cell, Probe, RunFn
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec
-from sim_core.paper.fixedpoints import Cell, Probe, RunFn
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import Task, execute_chunk, run_task

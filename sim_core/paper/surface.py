@@ -3,7 +3,7 @@ held at each Delta31.
 
 Why. The model's stability story is this one function: its zeros are the gaits (a negative
 slope: stable), its near-zeros the ghosts, and where two zeros meet as beta moves is a fold.
-Free walking (the fixed-point finder, `paper.fixedpoints`) sees only where runs end; a walk
+Free walking (the fixed-point finder, `finder`) sees only where runs end; a walk
 held at Delta31 = D shows d at every D, stable and unstable zeros alike, for a fixed price.
 
 How. Resets stay on (eq. 4); a weak pin (`RunSpec.pin_d31`, `cpg.pin`) on the fore and hind
@@ -35,10 +35,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
-from sim_core.model.gait import angle_diff, circular_mean, drift_per_cycle, phase_jumps
-from sim_core.model.params import ModelParams, phi_aep
-from sim_core.model.spec import RunSpec
-from sim_core.paper.surface_types import (
+from sim_core.contract.surface import (
     Branch,
     DriftSurface,
     Fold,
@@ -48,6 +45,9 @@ from sim_core.paper.surface_types import (
     SurfaceZero,
     grid,
 )
+from sim_core.model.gait import angle_diff, circular_mean, drift_per_cycle, phase_jumps
+from sim_core.model.params import ModelParams, phi_aep
+from sim_core.model.spec import RunSpec
 from sim_core.runs.backends import Backend, Executor, InlineBackend, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk, run_task

@@ -19,12 +19,8 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from sim_core.model.gait import classify_gait
-from sim_core.model.params import ModelParams
-from sim_core.paper.analysis import PAPER_WINDOW
-from sim_core.paper.fixedpoints import AXIS_LABEL, AXIS_PARAM
-from sim_core.paper.surface import Condition, drift_surfaces
-from sim_core.paper.surface_types import (
+from sim_core.contract.finder import AXIS_LABEL, AXIS_PARAM
+from sim_core.contract.surface import (
     REGION_COLOURS,
     AtlasPoint,
     DriftSurface,
@@ -32,6 +28,10 @@ from sim_core.paper.surface_types import (
     SurfaceConfig,
     region,
 )
+from sim_core.model.gait import classify_gait
+from sim_core.model.params import ModelParams
+from sim_core.paper.analysis import PAPER_WINDOW
+from sim_core.paper.surface import Condition, drift_surfaces
 from sim_core.paper.surface_walks import WalkConfig, walk_cells, window_zeros
 from sim_core.runs.backends import Backend, Executor, InlineBackend, RunStats
 from sim_core.runs.cache import ResultCache

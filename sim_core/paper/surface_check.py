@@ -1,6 +1,6 @@
 """The drift surface against the fixed-point finder: two independent readings of one model.
 
-The finder (`paper.fixedpoints`) reads stable states from settled free runs and borders by
+The finder (`finder`) reads stable states from settled free runs and borders by
 bisecting starts; the surface (`paper.surface`) reads zeros of the drift at held Delta31. They
 agree when:
 - every resolved stable zero of the surface has a stable state of the finder within
@@ -16,10 +16,10 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
+from sim_core.contract.finder import CellResult, FinderOutput
+from sim_core.contract.surface import SurfaceConfig
 from sim_core.model.params import ModelParams
-from sim_core.paper.fixedpoints import CellResult, FinderOutput
 from sim_core.paper.surface import DriftSurface
-from sim_core.paper.surface_types import SurfaceConfig
 from sim_core.runs.backends import Backend
 from sim_core.runs.cache import ResultCache
 

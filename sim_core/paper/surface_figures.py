@@ -29,11 +29,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import SymLogNorm
 
+from sim_core.contract.surface import DriftSurface, SurfaceZero
+from sim_core.contract.values import PaperValues
 from sim_core.model.gait import classify_gait
 from sim_core.paper.analysis import PAPER_WINDOW, FixedPoint
 from sim_core.paper.analysis import stable_ranges as analysis_stable_ranges
-from sim_core.paper.surface_types import DriftSurface, SurfaceZero
-from sim_core.paper.values import PaperValues
 
 MRAD = 1e3
 Row = tuple[str, str, str, str]

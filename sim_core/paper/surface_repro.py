@@ -12,7 +12,7 @@ that come with it on every run.
 - The mechanism: the same surface on the paper's ground at `MECHANISM_BETAS`, for the per-leg
   jumps drawn beside today's ground.
 
-The fixed-point finder (`paper.fixedpoints`) is no longer part of reproduce: it is the
+The fixed-point finder (`finder`) is no longer part of reproduce: it is the
 independent check (`insect-gait surface-check`, `finder-check`).
 """
 
@@ -26,17 +26,17 @@ from typing import Any
 
 import numpy as np
 
+from sim_core.contract.results import SURFACE_FILE
+from sim_core.contract.surface import DriftSurface, SurfaceConfig
+from sim_core.contract.values import PaperValues
 from sim_core.model.gait import angle_diff, settling
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.figures import FigureData, Lookup, ReproduceConfig, figure_tasks
-from sim_core.paper.results import SURFACE_FILE
 from sim_core.paper.returnmap import return_map_from_series
 from sim_core.paper.surface import drift_surface
 from sim_core.paper.surface_check import SAMPLE_BETAS, SAMPLE_D31, VariantRow, variant_rows
 from sim_core.paper.surface_figures import fig7_rows, fig8_rows
-from sim_core.paper.surface_types import DriftSurface, SurfaceConfig
-from sim_core.paper.values import PaperValues
 from sim_core.runs.backends import Backend, Executor, RunStats
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk

@@ -25,19 +25,20 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.model.gait import classify_gait, settling
-from sim_core.model.params import ModelParams
-from sim_core.model.spec import RunSpec
-from sim_core.paper.analysis import PAPER_WINDOW
-from sim_core.paper.fixedpoints import CLUSTER_TOL, FinderConfig, cluster_finals
-from sim_core.paper.surface_types import (
+from sim_core.contract.finder import CLUSTER_TOL, FinderConfig
+from sim_core.contract.surface import (
     AtlasPoint,
     AtlasWalk,
     DriftSurface,
     SurfaceZero,
     region,
 )
-from sim_core.paper.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
+from sim_core.contract.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
+from sim_core.model.gait import classify_gait, settling
+from sim_core.model.params import ModelParams
+from sim_core.model.spec import RunSpec
+from sim_core.paper.analysis import PAPER_WINDOW
+from sim_core.paper.finder_runs import cluster_finals
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import Task, execute_chunk, run_task

@@ -18,8 +18,8 @@ from typing import Any
 
 import numpy as np
 
+from sim_core.contract.finder import Cell, Probe
 from sim_core.model.params import phi_aep
-from sim_core.paper.fixedpoints import Cell, Probe
 from sim_core.paper.search import probe_task
 from sim_core.runs.tasks import Task
 
@@ -110,5 +110,5 @@ def fake_execute(tasks: Sequence[Task]) -> list[dict[str, Any]]:
 
 
 def fake_runner(batch: Sequence[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
-    """The finder's `run` on the toy (`fixedpoints.find`)."""
+    """The finder's `run` on the toy (`sim_core.paper.finder.find`)."""
     return [fake_run(probe_task(c, p, None)) for c, p in batch]

@@ -5,11 +5,13 @@ parameters free of the engine) is declared as import-linter contracts in pyproje
 checked by `lint-imports` in `make test`; import-linter reads every import statement, including
 those inside functions, so a lazy import cannot hide a cycle or a wrong-way arrow. What it
 cannot say is checked here: what a fresh interpreter actually loads, which public names the
-edges and the lab use, and that numba's cache sees every model source.
+edges and the lab use (and that each face holds only what its users need), and that numba's
+cache sees every model source.
 """
 
 import ast
 import json
+import re
 import shutil
 import subprocess
 import sys
@@ -57,7 +59,10 @@ def _loaded_after(code: str) -> list[str]:
 @pytest.mark.parametrize(
     "code",
     ["import sim_core", "import sim_core.contract", "import server.schemas",
-     "import server.kinds", "from sim_core import RunSpec, ModelParams, leg_names",
+     "import server.kinds", "from sim_core import RunSpec, ModelParams",
+     "import sim_core.research; from sim_core.research import initial_values, angle_diff",
+     "from sim_core.contract import FinderOutput, DriftSurface, SurfaceAtlas, PAPER",
+     "from sim_core import find, return_map_from_series",  # the REST kinds' MuJoCo-free calls
      "from sim_core.cli import build_parser; build_parser()"],  # `insect-gait --help`
 )  # fmt: skip
 def test_the_contract_loads_without_mujoco_or_numba(code: str) -> None:
@@ -73,31 +78,91 @@ def test_insect_gait_run_loads_no_viewer() -> None:
     assert _loaded_after(code) == ["mujoco", "numba"]
 
 
-def _core_imports(path: Path) -> list[tuple[str, str]]:
-    """(module, name) for every `from sim_core... import name` and `import sim_core...`."""
+def _core_uses(tree: ast.AST) -> list[tuple[str, str]]:
+    """(module, name) for every `from sim_core... import name`, every `import sim_core...`, and
+    every `sim_core.name` (also through a plain alias, as in `sim = sim_core`)."""
     out = []
-    for node in ast.walk(ast.parse(path.read_text())):
+    aliases = {"sim_core"} | {
+        t.id
+        for node in ast.walk(tree)
+        if isinstance(node, ast.Assign) and isinstance(node.value, ast.Name)
+        and node.value.id == "sim_core"
+        for t in node.targets if isinstance(t, ast.Name)
+    }  # fmt: skip
+    for node in ast.walk(tree):
         if isinstance(node, ast.ImportFrom) and (node.module or "").startswith("sim_core"):
             out += [(node.module or "", a.name) for a in node.names]
         elif isinstance(node, ast.Import):
             out += [(a.name, "") for a in node.names if a.name.startswith("sim_core")]
+        elif (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name)
+              and node.value.id in aliases and not node.attr.startswith("__")):  # fmt: skip
+            if node.attr in ("cli", "contract", "research"):  # a face itself, as a module
+                out.append((f"sim_core.{node.attr}", ""))
+            else:
+                out.append(("sim_core", node.attr))
     return out
+
+
+def _core_imports(path: Path) -> list[tuple[str, str]]:
+    return _core_uses(ast.parse(path.read_text()))
+
+
+def _faces() -> dict[str, set[str]]:
+    """Each public module of the core and its names."""
+    import sim_core
+    import sim_core.cli
+    import sim_core.contract
+    import sim_core.research
+
+    faces = (sim_core, sim_core.contract, sim_core.research, sim_core.cli)
+    return {m.__name__: set(m.__all__) for m in faces}
 
 
 @pytest.mark.parametrize("package", ["server", "web", "lab"])
 def test_the_edges_and_the_lab_use_only_the_public_core(package: str) -> None:
-    import sim_core
-    import sim_core.cli
-    import sim_core.contract
-
-    # the package's API, the MuJoCo-free contract, and the CLI's helpers for plug-ins
-    public = {m.__name__: set(m.__all__) for m in (sim_core, sim_core.contract, sim_core.cli)}
+    # the package's API, the MuJoCo-free contract, the CLI's helpers for plug-ins, and for the
+    # lab alone its own face (what it needs beyond the edges' names)
+    public = _faces()
+    if package != "lab":
+        del public["sim_core.research"]
     wrong = []
     for path in sorted((REPO / package).rglob("*.py")):
         for module, name in _core_imports(path):
             if module not in public or (name and name not in public[module]):
                 wrong.append(f"{path.relative_to(REPO)}: {module} {name}".strip())
     assert not wrong, f"{package}/ may use only sim_core's public names:\n" + "\n".join(wrong)
+
+
+def _shown_python() -> list[ast.AST]:
+    """The README's Python blocks and the example notebooks' code cells, parsed: the product's
+    API as a reader first meets it."""
+    blocks = re.findall(r"```python\n(.*?)```", (REPO / "README.md").read_text(), re.S)
+    for nb in sorted((REPO / "examples").glob("*.ipynb")):
+        cells = json.loads(nb.read_text())["cells"]
+        blocks += ["".join(c["source"]) for c in cells if c["cell_type"] == "code"]
+    return [ast.parse(b) for b in blocks]
+
+
+def test_the_root_holds_what_the_edges_use() -> None:
+    """`sim_core`'s names are the product's: each is used by server/, web/, an example or the
+    README's Python; a name only the lab needs belongs to `sim_core.research`."""
+    used: set[str] = set()
+    trees = [ast.parse(p.read_text()) for d in ("server", "web", "examples")
+             for p in sorted((REPO / d).rglob("*.py"))] + _shown_python()  # fmt: skip
+    for tree in trees:
+        used |= {name for module, name in _core_uses(tree) if module == "sim_core" and name}
+    unused = _faces()["sim_core"] - used
+    assert not unused, f"no edge, example or README block uses {sorted(unused)}"
+
+
+def test_each_name_has_one_face() -> None:
+    """The lab's names are only in its face; the root and the contract share the two names
+    both the engine's callers and the contract's readers build on (the run's spec and the
+    model's parameters), and no other."""
+    faces = _faces()
+    root, contract, research = (faces[f"sim_core{s}"] for s in ("", ".contract", ".research"))
+    assert not research & (root | contract), research & (root | contract)
+    assert root & contract == {"RunSpec", "ModelParams"}
 
 
 def test_no_integrator_is_spelled_in_the_server() -> None:
@@ -113,17 +178,34 @@ def test_no_integrator_is_spelled_in_the_server() -> None:
     assert not found, found
 
 
-def test_every_public_name_has_a_home_and_loads() -> None:
-    """`sim_core.__all__` is the stub's list (sim_core/__init__.pyi), and each name resolves."""
-    import ast
+def _imported_names(path: Path) -> list[str]:
+    """The names a module's top-level `from ... import` statements bind."""
+    tree = ast.parse(path.read_text())
+    names = [a.asname or a.name for n in tree.body if isinstance(n, ast.ImportFrom)
+             for a in n.names]  # fmt: skip
+    return [n for n in names if not n.startswith("_")]
+
+
+@pytest.mark.parametrize(
+    ("face", "listing"),
+    [("sim_core", "__init__.pyi"), ("sim_core.research", "research.pyi"),
+     ("sim_core.contract", "contract/__init__.py")],
+)  # fmt: skip
+def test_every_public_name_is_listed_once_and_loads(face: str, listing: str) -> None:
+    """Each face's `__all__` is its one list (the stub's imports; the contract's own imports),
+    each name listed once, and each resolves; the lazy faces load a name where it is asked
+    for, never on another face."""
+    import importlib
 
     import sim_core
 
-    stub = ast.parse((ROOT / "__init__.pyi").read_text())
-    listed = [a.name for n in stub.body if isinstance(n, ast.ImportFrom) for a in n.names]
-    assert sorted(sim_core.__all__) == sorted(listed) and len(listed) == len(set(listed))
-    for name in sim_core.__all__:
-        assert getattr(sim_core, name) is not None
+    module = importlib.import_module(face)
+    listed = _imported_names(ROOT / listing)
+    assert sorted(module.__all__) == sorted(listed) and len(listed) == len(set(listed))
+    for name in module.__all__:
+        assert getattr(module, name) is not None
+    if face != "sim_core":
+        assert not set(module.__all__) - set(sim_core.__all__) & set(vars(sim_core))
 
 
 def test_the_lab_is_not_installed_with_the_package() -> None:

@@ -3,8 +3,8 @@ backend, resumed from the cache without simulating, and written as JSON + PNG.""
 
 from pathlib import Path
 
+from sim_core.contract.finder import AtlasOutput
 from sim_core.paper.atlas import AtlasConfig, run_atlas, write_atlas
-from sim_core.paper.fixedpoints import AtlasOutput
 from sim_core.runs.backends import InlineBackend, RunStats, get_backend
 from sim_core.runs.cache import ResultCache
 

@@ -10,12 +10,12 @@ from pathlib import Path
 
 import pytest
 
+from sim_core.contract.surface import DriftSurface, SurfaceConfig
 from sim_core.model.gait import classify_gait, settling
 from sim_core.model.params import ModelParams
 from sim_core.model.runner import simulate
 from sim_core.model.spec import RunSpec
 from sim_core.paper.surface_atlas import surface_atlas
-from sim_core.paper.surface_types import DriftSurface, SurfaceConfig
 from sim_core.paper.surface_walks import WalkConfig, window_zeros
 from sim_core.runs.cache import ResultCache
 
@@ -57,7 +57,7 @@ def test_atlas_surface_and_a_walk_from_3_name_the_same_gaits_at_beta_062(tmp_pat
 def test_the_committed_atlas_the_surface_panel_and_a_walk_from_3_agree_at_beta_062() -> None:
     """The files the viewer's panels draw (not recomputed): the constraint ground's mass atlas
     at (0.62, 3 g), surface.json at 0.62, and a settled walk from 3.0 name the same gaits."""
-    from sim_core.paper.surface_types import SurfaceAtlas
+    from sim_core.contract.surface import SurfaceAtlas
 
     atlas = SurfaceAtlas.model_validate_json(
         (SURFACE_JSON.parent / "surface_atlas_mass_constraint.json").read_text()

@@ -9,9 +9,10 @@ from lab.calibrate import reachable
 from lab.objectives import Evaluation
 from lab.space import SEARCH_SPACE
 from sim_core import ModelParams
+from sim_core.contract.returnmap import ReturnMap
 from sim_core.model.params import PARAMETER_NAMES
 from sim_core.numerics.convergence import ConvergenceRow, convergence_check
-from sim_core.paper.protocols import ReturnMap, return_map
+from sim_core.paper.protocols import return_map
 
 
 def _ev(fast: list[float | None], slow: list[float | None], bis: list[float | None]) -> Evaluation:

@@ -13,7 +13,7 @@ from lab.finder_claims import (
     robustness,
     robustness_report,
 )
-from sim_core.paper.fixedpoints import Attractor, CellResult, FinderOutput
+from sim_core.contract.finder import Attractor, CellResult, FinderOutput
 
 
 def _state(d31: float, confirmed: str) -> Attractor:

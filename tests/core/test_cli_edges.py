@@ -292,7 +292,7 @@ def test_describe_words_every_kind_of_zero_and_band() -> None:
     """No "S/U", no "|d| >= 0.00 mrad": each zero in words, a band's smallest drift with its
     significant digits, and a legend of only the words used."""
     from sim_core.cli.surface import describe
-    from sim_core.paper.surface_types import DriftSurface, NearZero, SurfaceZero
+    from sim_core.contract.surface import DriftSurface, NearZero, SurfaceZero
 
     zeros = [
         SurfaceZero(beta=0.62, d31=1.77, lo=1.75, hi=1.8, stable=True, slope=-0.1, resolved=True),

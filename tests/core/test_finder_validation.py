@@ -9,7 +9,7 @@ from pathlib import Path
 import pytest
 
 from lab.finder_check import report, validate
-from sim_core.paper.fixedpoints import FinderConfig
+from sim_core.contract.finder import FinderConfig
 from sim_core.runs.backends import get_backend
 from sim_core.runs.cache import ResultCache
 
@@ -36,7 +36,7 @@ def test_every_reported_point_is_reached_and_every_reached_attractor_is_reported
 
 def test_an_unlisted_end_counts_as_missed_only_if_a_kick_comes_back_to_it() -> None:
     from lab.finder_check import BetaCheck
-    from sim_core.paper.fixedpoints import CellResult
+    from sim_core.contract.finder import CellResult
 
     empty = CellResult(beta=0.655, body_mass_g=3.0, slope_deg=0.0, attractors=[], borders=[],
                        ghosts=[], runs=[], sim_s=0.0)  # fmt: skip

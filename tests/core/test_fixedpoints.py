@@ -9,18 +9,10 @@ from typing import Any
 import numpy as np
 import pytest
 
+from sim_core.contract.finder import Cell, FinderConfig, Probe, RunFn
 from sim_core.model.gait import TAIL_DRIFT_SETTLED, settling
-from sim_core.paper.fixedpoints import (
-    Cell,
-    FinderConfig,
-    Probe,
-    RunFn,
-    _clusters,
-    find,
-    map_slope,
-    parting,
-    slowest_passage,
-)
+from sim_core.paper.finder import find
+from sim_core.paper.finder_runs import clusters_of, map_slope, parting, slowest_passage
 from tests.core.synthetic_gait import fake_runner
 
 CFG = FinderConfig()
@@ -80,7 +72,7 @@ def test_settled_rule() -> None:
 
 
 def test_pure_helpers() -> None:
-    assert [len(c.finals) for c in _clusters([6.27, 0.01, 2.9, 2.93, 1.9])] == [2, 1, 2]
+    assert [len(c.finals) for c in clusters_of([6.27, 0.01, 2.9, 2.93, 1.9])] == [2, 1, 2]
     x = 2.0 + 0.5 * 0.8 ** np.arange(60)  # approach with slope 0.8 per cycle
     slope, pairs = map_slope([x], 2.0)
     assert slope == pytest.approx(0.8**4, rel=1e-6) and pairs >= 5
@@ -183,7 +175,7 @@ def test_a_bisection_run_on_a_known_third_state_adds_no_second_copy() -> None:
 
 
 def test_a_short_run_re_run_longer_is_not_listed_as_unsettled() -> None:
-    from sim_core.paper.fixedpoints import CellResult, RunOutcome
+    from sim_core.contract.finder import CellResult, RunOutcome
 
     def out(x: float, dur: float, settled: bool) -> RunOutcome:
         why = "" if settled else "drifting"

@@ -9,10 +9,10 @@ this test says the documentation is out of date.
 
 import pytest
 
+from sim_core.contract.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
 from sim_core.model.gait import TAIL_DRIFT_SETTLED, angle_diff, settling
 from sim_core.model.runner import simulate_batch
 from sim_core.model.spec import RunResult, RunSpec
-from sim_core.paper.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
 
 TOLERANCE = 0.25  # rad, the acceptance (2.65-3.15 and 1.65-2.15)
 STARTS = {(0.62, 3.0), (0.62, 1.9), (0.70, 1.9), (0.70, 3.0)}

@@ -12,8 +12,9 @@ import mujoco
 import numpy as np
 import pytest
 
-from sim_core import ModelParams, RunSpec, build_model, simulate, simulate_batch
+from sim_core import ModelParams, RunSpec, simulate, simulate_batch
 from sim_core.model import ground
+from sim_core.research import build_model
 
 PENALTY = ModelParams.of(ground="penalty")
 REPO = Path(__file__).resolve().parents[2]

@@ -6,7 +6,7 @@ import mujoco
 import numpy as np
 import pytest
 
-from sim_core import ModelParams, build_model
+from sim_core import ModelParams
 from sim_core.model.legs import (
     forward_kinematics,
     inverse_kinematics,
@@ -15,6 +15,7 @@ from sim_core.model.legs import (
     stance_point,
     swing_point,
 )
+from sim_core.research import build_model
 
 P = ModelParams()
 GEO = leg_geometry(P)

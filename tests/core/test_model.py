@@ -4,8 +4,10 @@ import mujoco
 import numpy as np
 import pytest
 
-from sim_core import ModelParams, build_model, leg_names
+from sim_core import ModelParams
+from sim_core.contract import LEG_NAMES
 from sim_core.model.mjspec import gravity_vector
+from sim_core.research import build_model
 
 
 @pytest.fixture(scope="module")
@@ -15,7 +17,7 @@ def model() -> mujoco.MjModel:
 
 def test_masses_match_table_1(model: mujoco.MjModel) -> None:
     assert model.body("torso").mass[0] == pytest.approx(3.0e-3)
-    for leg in leg_names():
+    for leg in LEG_NAMES:
         assert model.body(f"{leg}_coxa").mass[0] == pytest.approx(0.05e-3)
         assert model.body(f"{leg}_femur").mass[0] == pytest.approx(0.03e-3)
         assert model.body(f"{leg}_tibia").mass[0] == pytest.approx(0.03e-3)
@@ -23,7 +25,7 @@ def test_masses_match_table_1(model: mujoco.MjModel) -> None:
 
 
 def test_link_lengths_match_table_1(model: mujoco.MjModel) -> None:
-    for leg in leg_names():
+    for leg in LEG_NAMES:
         # each child body sits one parent-link length along the parent's x axis
         assert np.linalg.norm(model.body(f"{leg}_femur").pos) == pytest.approx(0.02e-2)
         assert np.linalg.norm(model.body(f"{leg}_tibia").pos) == pytest.approx(0.2e-2)
@@ -38,7 +40,7 @@ def test_three_hinges_per_leg_and_a_pd_actuator_each(model: mujoco.MjModel) -> N
     assert model.nu == 18 and model.na == 18  # one PD servo per joint (feed-forward in act)
     assert all(model.jnt_type[1:] == mujoco.mjtJoint.mjJNT_HINGE)
     # joint 1 turns about the vertical, joints 2 and 3 about a horizontal axis
-    for leg in leg_names():
+    for leg in LEG_NAMES:
         assert abs(model.joint(f"{leg}_j1").axis[2]) == 1.0
         assert model.joint(f"{leg}_j2").axis[2] == 0.0
         assert model.joint(f"{leg}_j3").axis[2] == 0.0
@@ -55,7 +57,7 @@ def test_only_feet_can_touch_the_floor(model: mujoco.MjModel) -> None:
         is_foot = model.geom(g).name.endswith("_foot")
         assert bool(can) == is_foot, model.geom(g).name
     # feet never collide with each other
-    feet = [model.geom(f"{leg}_foot").id for leg in leg_names()]
+    feet = [model.geom(f"{leg}_foot").id for leg in LEG_NAMES]
     assert not (model.geom_contype[feet[0]] & model.geom_conaffinity[feet[1]])
 
 

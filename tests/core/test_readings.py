@@ -17,7 +17,7 @@ from lab.readings import (
     variants,
 )
 from sim_core import ModelParams, RunSpec, simulate
-from sim_core.paper.fixedpoints import FinderConfig
+from sim_core.contract.finder import FinderConfig
 from sim_core.runs.backends import InlineBackend
 from sim_core.runs.cache import ResultCache
 

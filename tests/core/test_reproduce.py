@@ -8,14 +8,15 @@ import numpy as np
 import pytest
 
 from sim_core import RunSpec
+from sim_core.contract.finder import Cell, FinderConfig
+from sim_core.contract.surface import DriftSurface
 from sim_core.docsections import markers
 from sim_core.model.gait import stance_intervals
 from sim_core.model.ramp import Ramp
-from sim_core.paper.analysis import range_ends, sweep_summary
+from sim_core.paper.analysis import branch_ranges, range_ends, sweep_summary
 from sim_core.paper.figures import ReproduceConfig
-from sim_core.paper.fixedpoints import Cell, FinderConfig, branch_ranges, find
+from sim_core.paper.finder import find
 from sim_core.paper.reproduce import DOC_BEGIN, DOC_END, reproduce, table_rows, update_doc
-from sim_core.paper.surface_types import DriftSurface
 from sim_core.runs.backends import InlineBackend, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import make_chunks, ramp_task, run_task

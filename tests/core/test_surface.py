@@ -15,6 +15,7 @@ from pydantic import ValidationError
 
 from sim_core import RunSpec, simulate
 from sim_core.contract import FinderOutput, pin_problem
+from sim_core.contract.surface import SurfaceConfig, SurfacePoint, SurfaceZero, grid
 from sim_core.model.cpg import advance_phases, coupling, pin
 from sim_core.model.gait import TWO_PI
 from sim_core.model.params import phi_aep
@@ -27,7 +28,6 @@ from sim_core.paper.surface import (
     zeros_of,
 )
 from sim_core.paper.surface_check import STABLE_TOL, check_beta
-from sim_core.paper.surface_types import SurfaceConfig, SurfacePoint, SurfaceZero, grid
 from sim_core.runs.cache import ResultCache
 
 REPO = Path(__file__).resolve().parents[2]

@@ -7,13 +7,13 @@ from pathlib import Path
 
 import pytest
 
+from sim_core.contract.surface import SurfaceConfig, SurfacePoint, grid
+from sim_core.contract.values import PAPER
 from sim_core.paper.surface import assemble, bisection_probes
 from sim_core.paper.surface_atlas import atlas_points, draw_atlas, region, surface_atlas
 from sim_core.paper.surface_check import robust_table
 from sim_core.paper.surface_figures import table_rows
 from sim_core.paper.surface_repro import free_runs_on_zeros, ghosts
-from sim_core.paper.surface_types import SurfaceConfig, SurfacePoint, grid
-from sim_core.paper.values import PAPER
 from sim_core.runs.cache import ResultCache
 from tests.core.test_surface import _pt
 

@@ -12,8 +12,8 @@ from lab.surface_search import (
     fold_of,
     read_surface,
 )
+from sim_core.contract.surface import SurfacePoint
 from sim_core.paper.surface import assemble
-from sim_core.paper.surface_types import SurfacePoint
 from tests.core.test_surface import _pt
 
 

@@ -8,10 +8,10 @@ from pathlib import Path
 
 import numpy as np
 
+from sim_core.contract.surface import AtlasPoint, AtlasWalk, SurfaceConfig
 from sim_core.model.gait import classify_gait
 from sim_core.paper.surface import assemble
 from sim_core.paper.surface_atlas import surface_atlas
-from sim_core.paper.surface_types import AtlasPoint, AtlasWalk, SurfaceConfig
 from sim_core.paper.surface_walks import (
     WalkConfig,
     certain_gaits,

@@ -9,7 +9,8 @@ from typing import Any
 
 from api_harness import Server, result_of, submit, wait_status
 
-from sim_core.contract import Cell, CellResult, FinderConfig, FinderOutput, find
+from sim_core import find
+from sim_core.contract import Cell, CellResult, FinderConfig, FinderOutput
 from sim_core.paper.search import task_runner
 from sim_core.runs.backends import InlineBackend
 from sim_core.runs.cache import ResultCache

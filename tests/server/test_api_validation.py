@@ -386,16 +386,14 @@ def test_a_huge_input_is_not_echoed_back(client: httpx.Client, body: dict[str, A
 
 
 def test_integrators_listed_as_the_core_has_them(client: httpx.Client) -> None:
-    import sim_core
+    from sim_core.contract import INTEGRATORS, ModelParams
 
     listed = client.get("/v1/integrators").json()
-    assert tuple(i["name"] for i in listed) == tuple(sim_core.INTEGRATORS)
-    assert [i["name"] for i in listed if i["default"]] == [
-        sim_core.ModelParams().numerics.integrator
-    ]
+    assert tuple(i["name"] for i in listed) == tuple(INTEGRATORS)
+    assert [i["name"] for i in listed if i["default"]] == [ModelParams().numerics.integrator]
     schema = client.get("/openapi.json").json()["components"]["schemas"]["RunJob"]
     text = json.dumps(schema["properties"]["integrator"])
-    assert all(name in text for name in sim_core.INTEGRATORS)  # discrete included
+    assert all(name in text for name in INTEGRATORS)  # discrete included
 
 
 def test_bounds_say_why_in_the_schema(client: httpx.Client) -> None:
@@ -406,12 +404,12 @@ def test_bounds_say_why_in_the_schema(client: httpx.Client) -> None:
 
 
 def test_model_parameters(client: httpx.Client) -> None:
-    import sim_core
+    from sim_core.contract import parameter_table
 
     r = client.get("/v1/model")
     assert r.status_code == 200
     rows = r.json()
-    assert [row["name"] for row in rows] == [row[0] for row in sim_core.parameter_table()]
+    assert [row["name"] for row in rows] == [row[0] for row in parameter_table()]
     assert {row["origin"] for row in rows} <= {"paper", "invented"}
 
 

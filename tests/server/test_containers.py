@@ -191,7 +191,7 @@ def test_the_image_holds_the_result_files_the_panels_read() -> None:
     the build context, the Dockerfile copies that folder there, and the code stays out of
     .dockerignore's reach; the rest of docs/ stays out."""
     from sim_core.contract import BIFURCATION_FILE, GROUNDS, SURFACE_FILE, surface_atlas_file
-    from sim_core.paper.results import ATLAS_AXES, SURFACE_PENALTY_FILE, results_dir
+    from sim_core.contract.results import ATLAS_AXES, SURFACE_PENALTY_FILE, results_dir
 
     patterns = (REPO / ".dockerignore").read_text().splitlines()
     figures = REPO / "docs" / "figures"

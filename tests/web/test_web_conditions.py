@@ -11,10 +11,10 @@ import re
 import shutil
 import threading
 import time
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from pathlib import Path
-from typing import Any, ClassVar
+from typing import Any, ClassVar, TypeVar
 
 import pytest
 
@@ -41,6 +41,7 @@ from web.surfaces import SurfaceFiles, pick_finder, pick_surface
 FIGURES = Path(__file__).resolve().parents[2] / "docs" / "figures"
 TODAY = Conditions("constraint", 3.0, 0.0)
 PAPER = Conditions("penalty", 3.0, 0.0)
+T = TypeVar("T")
 PAPER_6G = Conditions("penalty", 6.0, 0.0)
 
 
@@ -166,11 +167,15 @@ def test_the_surface_job_body_is_the_services_surface_kind() -> None:
 
 
 class _FakeApi(BaseHTTPRequestHandler):
-    """POST /v1/jobs, then GET the job (queued, running 50%, done) and its result."""
+    """POST /v1/jobs, then GET the job (queued, running 50% until the test releases it, done)
+    and its result. The test holds the job at 50% until it has seen that state: a job that
+    finished after a fixed number of polls raced the test's reading of it (under load the
+    reading thread could sleep through the whole running window)."""
 
     surface: ClassVar[dict[str, Any]] = {}
     polls = 0
     posted: ClassVar[list[dict[str, Any]]] = []
+    release: ClassVar[threading.Event] = threading.Event()
 
     def _send(self, body: dict[str, Any]) -> None:
         data = json.dumps(body).encode()
@@ -190,7 +195,7 @@ class _FakeApi(BaseHTTPRequestHandler):
             self._send({"job_id": "j1", "kind": "surface", "result": {"surface": self.surface}})
             return
         type(self).polls += 1
-        status = "running" if self.polls < 3 else "done"
+        status = "done" if self.release.is_set() else "running"
         self._send({"id": "j1", "kind": "surface", "status": status, "progress": 0.5})
 
     def log_message(self, *args: Any) -> None:
@@ -200,7 +205,7 @@ class _FakeApi(BaseHTTPRequestHandler):
 @pytest.fixture()
 def fake_api() -> Iterator[str]:
     server = ThreadingHTTPServer(("127.0.0.1", 0), _FakeApi)
-    _FakeApi.polls, _FakeApi.posted = 0, []
+    _FakeApi.polls, _FakeApi.posted, _FakeApi.release = 0, [], threading.Event()
     threading.Thread(target=server.serve_forever, daemon=True).start()
     try:
         yield f"http://127.0.0.1:{server.server_address[1]}"
@@ -208,11 +213,17 @@ def fake_api() -> Iterator[str]:
         server.shutdown()
 
 
-def _wait(cond: Any, timeout_s: float = 20.0) -> bool:
+def _poll(read: Callable[[], T], ok: Callable[[T], bool], what: str, timeout_s: float = 60.0) -> T:
+    """Read until `ok` holds (a thread's progress under load: generous, no fixed timing) and
+    return the value that passed; on timeout the message names the last value read."""
     deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline and not cond():
+    value = read()
+    while not ok(value):
+        if time.monotonic() > deadline:
+            raise AssertionError(f"{what} never held within {timeout_s:g} s; last read {value!r}")
         time.sleep(0.02)
-    return bool(cond())
+        value = read()
+    return value
 
 
 def test_a_surface_job_is_followed_then_drawn(tmp_path: Path, fake_api: str) -> None:
@@ -224,10 +235,16 @@ def test_a_surface_job_is_followed_then_drawn(tmp_path: Path, fake_api: str) -> 
     assert jobs.submit(fake_api, PAPER_6G)
     assert not jobs.submit(fake_api, PAPER_6G)  # one job per condition at a time
     seen = []
-    assert _wait(lambda: seen.append(pick_surface(files, jobs, PAPER_6G)) or seen[-1].surface)
-    notes = [p.note for p in seen if p.surface is None]
-    assert any(f"computing the drift surface for {PAPER_6G.label()}" in n and "50%" in n
-               for n in notes), notes  # fmt: skip
+
+    def pick() -> Any:
+        seen.append(pick_surface(files, jobs, PAPER_6G))
+        return seen[-1]
+
+    computing = f"computing the drift surface for {PAPER_6G.label()}"
+    _poll(pick, lambda p: p.surface is None and computing in p.note and "50%" in p.note,
+          f"a note {computing!r} at 50%")  # fmt: skip
+    _FakeApi.release.set()  # the job finishes now
+    _poll(pick, lambda p: p.surface is not None, "the job's surface drawn")
     assert not any(p.offer for p in seen)  # no second offer while it runs
     assert _FakeApi.posted == [surface_job_body(PAPER_6G)]
     assert seen[-1].surface == six

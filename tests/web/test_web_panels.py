@@ -253,7 +253,7 @@ def test_the_viewer_reads_the_results_folder_the_writers_fill(
     tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
     from sim_core.cli.main import main
-    from sim_core.paper import results
+    from sim_core.contract import results
     from web import paths
 
     assert paths.DEFAULT_BIFURCATION == results.RESULTS_DIR / results.BIFURCATION_FILE

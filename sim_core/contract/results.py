@@ -20,7 +20,7 @@ from pathlib import Path
 from typing import Literal, get_args
 
 RESULTS_ENV = "INSECT_GAIT_RESULTS"
-# the checkout this package sits in (sim_core/paper/results.py -> the repository root)
+# the checkout this package sits in (sim_core/contract/results.py -> the repository root)
 _CHECKOUT = Path(__file__).resolve().parents[2]
 # the finder's output over Fig. 8's betas (`insect-gait finder`); the viewer validates it
 BIFURCATION_FILE = "bifurcation.json"
