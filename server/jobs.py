@@ -1,4 +1,5 @@
-"""The job store: one SQLite file (WAL mode) is the queue, the job table and the result store.
+"""The job store: one SQLite file (WAL mode) is the queue, the job table and the result store
+(and the ledger of idempotency keys and tombstones, `server.ledger`).
 
 Why the job table is also the queue: the state a client sees and the state workers act on can
 then never disagree, even after `kill -9`. A job moves queued -> running -> done | failed, or to
@@ -24,15 +25,22 @@ from datetime import UTC, datetime
 from pathlib import Path
 from typing import Any, Literal
 
+from pydantic import BaseModel, ConfigDict, Field
+
+from server import ledger
+from server.ledger import TABLES as LEDGER_TABLES
+from server.ledger import Tombstone
 from server.status import ACTIVE, FINISHED, JobStatus, sql_list
 
 # 2: jobs.worker_deaths (a job whose worker died from outside runs again once); 3: jobs.restarts
 # (the server stopped while it ran), so that `requeues` counts every re-queue after a crash
 # (the server's or the worker's) while each kind of crash keeps its own limit, and
 # jobs.moving_since (when the attempt first reported progress: its rate is measured from there,
-# not from a start-up the job's size does not scale). An older file gains the columns on open
-# (`_MIGRATIONS`).
-SCHEMA_VERSION = 3
+# not from a start-up the job's size does not scale); 4: jobs.sims_* (the job's simulations:
+# asked for, computed, read from the result cache, and the backend), and the tables of
+# idempotency keys and tombstones (`server.ledger`). An older file gains the columns on open
+# (`_MIGRATIONS`; new tables are created by the schema's CREATE IF NOT EXISTS).
+SCHEMA_VERSION = 4
 # how many times a job may lose its worker to an outside kill and still be run again
 MAX_WORKER_DEATHS = 1
 
@@ -54,14 +62,18 @@ CREATE TABLE IF NOT EXISTS jobs (
     started_at  TEXT,
     finished_at TEXT,
     error       TEXT,
-    note        TEXT
+    note        TEXT,
+    sims_tasks  INTEGER,
+    sims_computed INTEGER,
+    sims_cached INTEGER,
+    sims_backend TEXT
 );
 CREATE INDEX IF NOT EXISTS jobs_status_seq ON jobs (status, seq);
 CREATE TABLE IF NOT EXISTS results (
     job_id TEXT PRIMARY KEY REFERENCES jobs (id) ON DELETE CASCADE,
     body   BLOB NOT NULL
 );
-"""
+{LEDGER_TABLES}"""
 
 # From version k to k + 1, each in one transaction. Version 2's `requeues` counted server
 # restarts only, and a worker death re-queued a job at most once (MAX_WORKER_DEATHS was 1 then).
@@ -72,11 +84,18 @@ _MIGRATIONS = {
         "ALTER TABLE jobs ADD COLUMN moving_since TEXT",
         "UPDATE jobs SET restarts = requeues, requeues = requeues + min(worker_deaths, 1)",
     ),
+    3: (
+        "ALTER TABLE jobs ADD COLUMN sims_tasks INTEGER",
+        "ALTER TABLE jobs ADD COLUMN sims_computed INTEGER",
+        "ALTER TABLE jobs ADD COLUMN sims_cached INTEGER",
+        "ALTER TABLE jobs ADD COLUMN sims_backend TEXT",
+    ),
 }
 
 _COLUMNS = (
     "id, kind, spec, status, progress, attempts, requeues, sim_seconds, created_at, started_at,"
-    " finished_at, error, note, moving_since"
+    " finished_at, error, note, moving_since, sims_tasks, sims_computed, sims_cached,"
+    " sims_backend"
 )
 _FINISHED_SQL = sql_list(FINISHED)
 Missing = Literal["missing"]  # what cancel and delete_finished report for an unknown id
@@ -84,6 +103,27 @@ Missing = Literal["missing"]  # what cancel and delete_finished report for an un
 
 def now_iso() -> str:
     return datetime.now(UTC).isoformat(timespec="milliseconds").replace("+00:00", "Z")
+
+
+class Simulations(BaseModel):
+    """A job's simulations (its last attempt's), as its record shows them: what it asked for,
+    computed and read back from the result cache, and where it computed them."""
+
+    model_config = ConfigDict(frozen=True)
+
+    tasks: int = Field(
+        description="distinct simulations the job asked for (a surface's refinement passes "
+        "each count theirs)"
+    )
+    computed: int = Field(description="simulations this attempt computed")
+    from_cache: int = Field(
+        description="simulations read back from the result cache instead: finished before by "
+        "another job, the command line, or an interrupted attempt of this job"
+    )
+    backend: str = Field(
+        description="where they were computed: inline (the worker process) or dask (the "
+        "cluster at the server's dask_address)"
+    )
 
 
 @dataclass(frozen=True)
@@ -104,10 +144,16 @@ class JobRow:
     error: str | None
     note: str | None
     moving_since: str | None = None  # when this attempt first reported progress above 0
+    simulations: Simulations | None = None  # what its last attempt simulated, once it ended
 
     @classmethod
     def from_sql(cls, row: sqlite3.Row) -> JobRow:
         """From a row selected as `_COLUMNS`."""
+        sims = None
+        if row["sims_tasks"] is not None:
+            sims = Simulations(tasks=int(row["sims_tasks"]), computed=int(row["sims_computed"]),
+                               from_cache=int(row["sims_cached"]),
+                               backend=str(row["sims_backend"]))  # fmt: skip
         return cls(
             id=str(row["id"]),
             kind=str(row["kind"]),
@@ -123,6 +169,7 @@ class JobRow:
             error=row["error"],
             note=row["note"],
             moving_since=row["moving_since"],
+            simulations=sims,
         )
 
 
@@ -137,6 +184,33 @@ class Claim:
 @dataclass(frozen=True)
 class QueueFull:
     queued: int
+
+
+@dataclass(frozen=True)
+class IdempotencyKey:
+    """A POST's Idempotency-Key with its body's hash (`ledger.body_hash`), remembered for
+    `ttl_s` seconds."""
+
+    key: str
+    digest: str
+    ttl_s: float
+
+
+@dataclass(frozen=True)
+class Replayed:
+    """A POST whose key made a job already: that job, or its tombstone if it was deleted."""
+
+    job: JobRow | None
+    gone: Tombstone | None
+    key_created_at: str
+
+
+@dataclass(frozen=True)
+class KeyConflict:
+    """A POST whose key made another job, from another body."""
+
+    job_id: str
+    key_created_at: str
 
 
 # Every write a worker makes holds only while its claim does: same attempt, still running.
@@ -213,11 +287,26 @@ class JobStore:
     # ---- API side ------------------------------------------------------------------------
 
     def submit(
-        self, kind: str, spec: dict[str, Any], sim_seconds: float, queue_limit: int
-    ) -> JobRow | QueueFull:
-        """Insert a queued job unless the queue is full; the check and insert are one lock."""
+        self,
+        kind: str,
+        spec: dict[str, Any],
+        sim_seconds: float,
+        queue_limit: int,
+        key: IdempotencyKey | None = None,
+    ) -> JobRow | QueueFull | Replayed | KeyConflict:
+        """Insert a queued job unless the queue is full or `key` made a job already (that job,
+        or a conflict if its body differs); the checks and the insert are one lock."""
         job_id = str(uuid.uuid4())
         with self._write() as conn:
+            if key is not None:
+                seen = ledger.find_key(conn, key.key, key.digest, key.ttl_s)
+                if seen is not None and not seen.same_body:
+                    return KeyConflict(seen.job_id, seen.created_at)
+                if seen is not None:
+                    row = conn.execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?",
+                                       (seen.job_id,)).fetchone()  # fmt: skip
+                    gone = None if row else ledger.tombstone(conn, seen.job_id, None)
+                    return Replayed(JobRow.from_sql(row) if row else None, gone, seen.created_at)
             queued = conn.execute(
                 "SELECT count(*) FROM jobs WHERE status = ?", (JobStatus.QUEUED,)
             ).fetchone()
@@ -228,6 +317,8 @@ class JobStore:
                 " VALUES (?, ?, ?, ?, ?, ?)",
                 (job_id, kind, json.dumps(spec), JobStatus.QUEUED, sim_seconds, now_iso()),
             )
+            if key is not None:
+                ledger.remember_key(conn, key.key, job_id, key.digest, now_iso())
         job = self.get(job_id)
         assert job is not None
         return job
@@ -273,37 +364,47 @@ class JobStore:
 
     def delete_finished(self, job_id: str) -> tuple[JobStatus | Missing, JobRow | None]:
         """-> (status or 'missing', the job as it was). Only finished jobs are deleted, with
-        their result (ON DELETE CASCADE)."""
+        their result (ON DELETE CASCADE), leaving a tombstone (`gone`)."""
         with self._write() as conn:
             row = conn.execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
             if row is None:
                 return "missing", None
             job = JobRow.from_sql(row)
             if job.status in FINISHED:
-                conn.execute("DELETE FROM jobs WHERE id = ?", (job_id,))
+                ledger.bury(conn, "id = ?", (job_id,), "by request (DELETE ?purge=true)",
+                            now_iso())  # fmt: skip
         return job.status, job
 
     def purge_finished(self, older_than_days: float | None, keep: int | None) -> int:
         """Retention: delete finished jobs finished more than `older_than_days` ago, and all
-        but the newest `keep` finished jobs. Queued and running jobs are never touched."""
+        but the newest `keep` finished jobs, each leaving a tombstone that names the rule.
+        Queued and running jobs are never touched."""
         deleted = 0
         with self._write() as conn:
             if older_than_days is not None:
-                cur = conn.execute(
-                    f"DELETE FROM jobs WHERE status IN ({_FINISHED_SQL})"
-                    " AND julianday(finished_at) < julianday('now') - ?",
-                    (older_than_days,),
-                )
-                deleted += cur.rowcount
+                deleted += ledger.bury(
+                    conn, f"status IN ({_FINISHED_SQL})"
+                    " AND julianday(finished_at) < julianday('now') - ?", (older_than_days,),
+                    f"by retention (finished more than retention_days = {older_than_days:g} "
+                    "days before)", now_iso(),
+                )  # fmt: skip
             if keep is not None:
-                cur = conn.execute(
-                    f"DELETE FROM jobs WHERE status IN ({_FINISHED_SQL})"
-                    " AND seq NOT IN (SELECT seq FROM jobs"
-                    f" WHERE status IN ({_FINISHED_SQL}) ORDER BY seq DESC LIMIT ?)",
-                    (keep,),
-                )
-                deleted += cur.rowcount
+                deleted += ledger.bury(
+                    conn, f"status IN ({_FINISHED_SQL}) AND seq NOT IN (SELECT seq FROM jobs"
+                    f" WHERE status IN ({_FINISHED_SQL}) ORDER BY seq DESC LIMIT ?)", (keep,),
+                    f"by retention (only the newest retention_count = {keep} finished jobs "
+                    "are kept)", now_iso(),
+                )  # fmt: skip
         return deleted
+
+    def gone(self, job_id: str, tombstone_days: float | None) -> Tombstone | None:
+        """Why `job_id` is not here if it was deleted less than `tombstone_days` ago."""
+        return ledger.tombstone(self._conn(), job_id, tombstone_days)
+
+    def forget_expired(self, key_ttl_s: float, tombstone_days: float | None) -> int:
+        """Housekeeping: idempotency keys past their time to live and old tombstones go."""
+        with self._write() as conn:
+            return ledger.forget(conn, key_ttl_s, tombstone_days)
 
     def running_jobs(self) -> list[JobRow]:
         """Every running job (for the estimates)."""
@@ -468,13 +569,17 @@ class JobStore:
         )
         return cur.rowcount == 1
 
-    def finish_done(self, claim: Claim, result: dict[str, Any]) -> bool:
-        """Store the result and mark done in one transaction, only if the claim still holds."""
+    def finish_done(
+        self, claim: Claim, result: dict[str, Any], sims: Simulations | None = None
+    ) -> bool:
+        """Store the result and mark done in one transaction, only if the claim still holds;
+        `sims`: what the job simulated (shown on its record)."""
         body = zlib.compress(json.dumps(result, allow_nan=False).encode(), 6)
         with self._write() as conn:
             cur = conn.execute(
-                f"UPDATE jobs SET status = ?, progress = 1, finished_at = ? WHERE {_FENCE}",
-                (JobStatus.DONE, now_iso(), *_fence(claim)),
+                f"UPDATE jobs SET status = ?, progress = 1, finished_at = ?, {_SIMS_SET}"
+                f" WHERE {_FENCE}",
+                (JobStatus.DONE, now_iso(), *_sims(sims), *_fence(claim)),
             )
             if cur.rowcount != 1:
                 return False
@@ -521,10 +626,20 @@ class JobStore:
             )  # fmt: skip
             return "failed"
 
-    def finish_failed(self, claim: Claim, error: str) -> bool:
+    def finish_failed(self, claim: Claim, error: str, sims: Simulations | None = None) -> bool:
         with self._write() as conn:
             cur = conn.execute(
-                f"UPDATE jobs SET status = ?, finished_at = ?, error = ? WHERE {_FENCE}",
-                (JobStatus.FAILED, now_iso(), error, *_fence(claim)),
+                f"UPDATE jobs SET status = ?, finished_at = ?, error = ?, {_SIMS_SET}"
+                f" WHERE {_FENCE}",
+                (JobStatus.FAILED, now_iso(), error, *_sims(sims), *_fence(claim)),
             )
         return cur.rowcount == 1
+
+
+_SIMS_SET = "sims_tasks = ?, sims_computed = ?, sims_cached = ?, sims_backend = ?"
+
+
+def _sims(sims: Simulations | None) -> tuple[int | str | None, ...]:
+    if sims is None:
+        return (None, None, None, None)
+    return (sims.tasks, sims.computed, sims.from_cache, sims.backend)

@@ -149,31 +149,25 @@ from .paper.values import (
 from .paper.values import (
     TRIPOD_BRANCH as TRIPOD_BRANCH,  # research: what the paper states (scored against)
 )
+
+# the runs' machinery: the REST service's jobs run their simulations through it (one result
+# cache for every door), the lab's studies too
 from .runs import (
     BACKENDS as BACKENDS,  # research: the backends' names (cached, resumable runs)
 )
-from .runs.backends import (
-    Backend as Backend,  # research: where cached tasks run (local pool, Dask, inline)
-)
-from .runs.backends import (
-    RunStats as RunStats,  # research: what a batch of tasks computed and read back
-)
-from .runs.backends import (
-    get_backend as get_backend,  # research: a backend by name
-)
-from .runs.backends import (
-    run_tasks as run_tasks,  # research: tasks through the result cache on a backend
-)
-from .runs.cache import (
-    ResultCache as ResultCache,  # research: the content-addressed result cache
-)
-from .runs.tasks import (
-    Task as Task,  # research: a run or a ramp as a cached task
-)
+from .runs import cache_max_bytes_of as cache_max_bytes_of
+from .runs import default_cache_dir as default_cache_dir
+from .runs import default_cache_max_bytes as default_cache_max_bytes
+from .runs.backends import Backend as Backend
+from .runs.backends import BackendUnavailable as BackendUnavailable
+from .runs.backends import RunStats as RunStats
+from .runs.backends import get_backend as get_backend
+from .runs.backends import run_tasks as run_tasks
+from .runs.cache import ResultCache as ResultCache
+from .runs.tasks import Task as Task
 from .runs.tasks import execute_chunk as execute_chunk
 from .runs.tasks import (
     ramp_task as ramp_task,  # research: a ramped run (a sweep) as a cached task
 )
-from .runs.tasks import (
-    run_task as run_task,  # research: a run as a cached task
-)
+from .runs.tasks import run_task as run_task
+from .runs.tasks import summary_of as summary_of
