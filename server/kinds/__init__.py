@@ -77,6 +77,7 @@ __all__ = [
     "ResultSpec",
     "execute",
     "open_compute",
+    "stored_form",
 ]
 
 
@@ -85,7 +86,12 @@ def execute(job: AnyJob, compute: Compute) -> dict[str, Any]:
     (which counts them); the result (its kind's `Result`, stamped with the job's provenance:
     every kind's, one function) as JSON-able data, a top-level null left out, checked finite
     and its floats tidied."""
-    outcome = KINDS[job.kind_name()].run(job, compute)
+    return stored_form(job, KINDS[job.kind_name()].run(job, compute))
+
+
+def stored_form(job: AnyJob, outcome: Result) -> dict[str, Any]:
+    """A runner's `outcome` as it is stored and served (`execute`): stamped, dumped, checked
+    finite and tidied."""
     outcome = outcome.model_copy(update={"provenance": job_provenance(job)})
     data = outcome.model_dump(mode="json")  # keeps NaN and inf as floats: checked below
     result = {k: v for k, v in data.items() if v is not None}
