@@ -130,8 +130,16 @@ class Settings(BaseSettings):
     @field_validator("cache_max_bytes", mode="before")
     @classmethod
     def _limit_words(cls, v: object) -> object:
-        # the environment's words, read as the command line reads them (0 / none: no limit)
+        # the environment's words, read as the command line reads them (0 / none: no limit);
+        # compose passes "" when the variable is unset: the default, as for the CLI
+        if isinstance(v, str) and not v.strip():
+            return default_cache_max_bytes()
         return cache_max_bytes_of(v) if isinstance(v, str) or v == 0 else v
+
+    @field_validator("tombstone_days", mode="before")
+    @classmethod
+    def _none_is_for_ever(cls, v: object) -> object:
+        return None if isinstance(v, str) and v.strip().lower() == "none" else v
 
     @field_validator("dask_address", mode="before")
     @classmethod
