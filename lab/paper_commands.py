@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sim_core import default_cache_dir
 from sim_core.cli import EXIT_USAGE, add_backend_args, backend_from_args
 from sim_core.contract import BIFURCATION_FILE, RESULTS_DIR
 
@@ -119,7 +120,9 @@ def _add_finder_check(sub: Any) -> None:
                    help="the finder runs over Fig. 8's beta grid (as reproduce, whose runs the "
                         "cache then holds) or over the checked betas alone (default "
                         "%(default)s)")  # fmt: skip
-    p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
+    p.add_argument("--cache", default=str(default_cache_dir()),
+                   help="task result cache folder (resumes; default: the installation's, shared "
+                   "with the CLI and the API)")  # fmt: skip
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_finder_check)

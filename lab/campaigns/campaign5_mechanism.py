@@ -33,6 +33,7 @@ from sim_core import (
     ModelParams,
     ResultCache,
     SurfaceConfig,
+    default_cache_dir,
     drift_surface,
     get_backend,
 )
@@ -109,7 +110,7 @@ def branch_end(surface: DriftSurface, window: tuple[float, float]) -> dict[str, 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="out/campaign5")
-    ap.add_argument("--cache", default="out/cache")
+    ap.add_argument("--cache", default=str(default_cache_dir()))
     ap.add_argument("--workers", type=int, default=2)
     a = ap.parse_args()
     out = Path(a.out)

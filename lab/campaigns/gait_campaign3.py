@@ -36,6 +36,7 @@ from sim_core import (
     RunSpec,
     Task,
     classify_gait,
+    default_cache_dir,
     get_backend,
     open_loop_drift,
     ramp_task,
@@ -522,7 +523,7 @@ def main(argv: list[str] | None = None) -> int:
     for x in (b, q):  # sweeps through sim_core.runs: cached, on the local pool or Dask
         x.add_argument("--backend", choices=["local", "dask", "inline"], default="local")
         x.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
-        x.add_argument("--cache", type=Path, default=Path("out/cache"))
+        x.add_argument("--cache", type=Path, default=default_cache_dir())
     for x in (f, m, r, s, b, q):
         x.add_argument("--set", nargs="*", default=[], help="name=value over STEP_ONE")
         x.add_argument("--nthread", type=int, default=2)

@@ -118,7 +118,7 @@ def test_run_tasks_keeps_a_bounded_cache_within_its_limit(tmp_path: Path) -> Non
     spec = RunSpec(beta=0.66, duration_s=0.2)
     limit = 6 * cache.path(old[0]).stat().st_size
     bounded = ResultCache(tmp_path, max_bytes=limit)
-    results, stats = run_tasks([run_task(spec)], bounded, InlineBackend(), progress=False)
+    _, stats = run_tasks([run_task(spec)], bounded, InlineBackend(), progress=False)
     assert stats.computed == 1 and bounded.usage().bytes <= limit
     assert bounded.path(run_task(spec)).exists() and not cache.path(old[0]).exists()
 

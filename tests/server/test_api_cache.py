@@ -58,8 +58,10 @@ def test_a_job_submitted_twice_is_served_from_the_cache(
         assert _result_bytes(c, second["id"]) == _result_bytes(c, first["id"])
         # the cache is the server's configured folder, one file per probe
         assert len(list((tmp_path / "cache").glob("*.json"))) == 6
-        print(f"\nsurface job of 6 probes: first {wall_first:.2f} s (worker {_seconds(first):.2f}"
-              f" s), resubmitted {wall_second:.2f} s (worker {_seconds(second):.3f} s)")
+        print(
+            f"\nsurface job of 6 probes: first {wall_first:.2f} s (worker {_seconds(first):.2f}"
+            f" s), resubmitted {wall_second:.2f} s (worker {_seconds(second):.3f} s)"
+        )
         assert _seconds(second) < _seconds(first) / 3
 
 
@@ -91,5 +93,7 @@ def test_a_job_whose_worker_is_killed_resumes_from_its_finished_simulations(
         assert whole["status"] == "done", whole["error"]
         assert whole["simulations"]["computed"] == 16 and whole["attempts"] == 1
         assert _result_bytes(c, whole["id"]) == resumed
-    print(f"\nkilled after {finished} of 16 runs were stored: the re-run read "
-          f"{sims['from_cache']} from the cache and computed {sims['computed']}")
+    print(
+        f"\nkilled after {finished} of 16 runs were stored: the re-run read "
+        f"{sims['from_cache']} from the cache and computed {sims['computed']}"
+    )

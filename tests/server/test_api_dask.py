@@ -104,5 +104,8 @@ def test_cancelling_a_dask_job_leaves_nothing_on_the_cluster(
         assert c.get(f"/v1/jobs/{job['id']}").json()["status"] == "cancelled"
     # the chunk that was running finishes on its worker thread and is dropped: let it end
     # before the cluster closes
-    wait_for(lambda: not any(w.state.executing_count for w in cluster.workers.values()),
-             timeout=120, every=0.2)
+    wait_for(
+        lambda: not any(w.state.executing_count for w in cluster.workers.values()),
+        timeout=120,
+        every=0.2,
+    )

@@ -119,8 +119,10 @@ def test_every_compose_profile_is_valid_and_loopback_only() -> None:
     """`docker compose config -q` for the default services and for each profile the file
     names (compose's own list), every published port on loopback."""
     compose = _tool("docker-compose")
-    listed = subprocess.run([compose, "-f", "docker-compose.yml", "config", "--profiles"],
-                            cwd=REPO, capture_output=True, text=True, timeout=60, check=True)  # fmt: skip
+    listed = subprocess.run(
+        [compose, "-f", "docker-compose.yml", "config", "--profiles"],
+        cwd=REPO, capture_output=True, text=True, timeout=60, check=True,
+    )  # fmt: skip
     profiles = listed.stdout.split()
     assert "cluster" in profiles
     for args in ([], *(["--profile", p] for p in profiles)):

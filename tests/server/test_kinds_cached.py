@@ -53,9 +53,9 @@ def _before_issue_54(job: AnyJob) -> dict[str, Any]:
             records = []
             for d0, r in zip(job.d31_init, results, strict=True):
                 rm = return_map_from_series(job.beta, [r.events.d31], lag=job.lag)
-                records += [{"d31_init": d0, "n": RETURN_MAP_SKIP + k, "d31_n": x, "d31_n_plus_lag": y}
-                            for k, (x, y) in enumerate(zip(rm.x.tolist(), rm.y.tolist(),
-                                                           strict=True))]  # fmt: skip
+                pairs = zip(rm.x.tolist(), rm.y.tolist(), strict=True)
+                records += [{"d31_init": d0, "n": RETURN_MAP_SKIP + k, "d31_n": x,
+                             "d31_n_plus_lag": y} for k, (x, y) in enumerate(pairs)]  # fmt: skip
             return stored(job, ReturnMapJobResult(beta=job.beta, lag=job.lag, records=records,
                                                   runs=summaries))  # fmt: skip
         runs = [r.to_dict() for r in results] if job.include_series else summaries
