@@ -20,198 +20,44 @@ import uuid
 import zlib
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
-from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any, Literal
-
-from pydantic import BaseModel, ConfigDict, Field
+from typing import Any
 
 from server import ledger
-from server.ledger import TABLES as LEDGER_TABLES
+from server.jobrows import (
+    COLUMNS,
+    FINISHED_SQL,
+    MIGRATIONS,
+    SCHEMA,
+    SCHEMA_VERSION,
+    Claim,
+    IdempotencyKey,
+    JobRow,
+    KeyConflict,
+    Missing,
+    QueueFull,
+    Replayed,
+    Simulations,
+    now_iso,
+)
 from server.ledger import Tombstone
 from server.status import ACTIVE, FINISHED, JobStatus, sql_list
 
-# 2: jobs.worker_deaths (a job whose worker died from outside runs again once); 3: jobs.restarts
-# (the server stopped while it ran), so that `requeues` counts every re-queue after a crash
-# (the server's or the worker's) while each kind of crash keeps its own limit, and
-# jobs.moving_since (when the attempt first reported progress: its rate is measured from there,
-# not from a start-up the job's size does not scale); 4: jobs.sims_* (the job's simulations:
-# asked for, computed, read from the result cache, and the backend), and the tables of
-# idempotency keys and tombstones (`server.ledger`). An older file gains the columns on open
-# (`_MIGRATIONS`; new tables are created by the schema's CREATE IF NOT EXISTS).
-SCHEMA_VERSION = 4
+__all__ = [
+    "SCHEMA_VERSION",
+    "Claim",
+    "IdempotencyKey",
+    "JobRow",
+    "JobStore",
+    "KeyConflict",
+    "QueueFull",
+    "Replayed",
+    "Simulations",
+    "now_iso",
+]
+
 # how many times a job may lose its worker to an outside kill and still be run again
 MAX_WORKER_DEATHS = 1
-
-_SCHEMA = f"""
-CREATE TABLE IF NOT EXISTS jobs (
-    seq         INTEGER PRIMARY KEY AUTOINCREMENT,
-    id          TEXT NOT NULL UNIQUE,
-    kind        TEXT NOT NULL,
-    spec        TEXT NOT NULL,
-    status      TEXT NOT NULL CHECK (status IN ({sql_list(JobStatus)})),
-    progress    REAL NOT NULL DEFAULT 0,
-    attempts    INTEGER NOT NULL DEFAULT 0,
-    requeues    INTEGER NOT NULL DEFAULT 0,
-    worker_deaths INTEGER NOT NULL DEFAULT 0,
-    restarts    INTEGER NOT NULL DEFAULT 0,
-    moving_since TEXT,
-    sim_seconds REAL NOT NULL,
-    created_at  TEXT NOT NULL,
-    started_at  TEXT,
-    finished_at TEXT,
-    error       TEXT,
-    note        TEXT,
-    sims_tasks  INTEGER,
-    sims_computed INTEGER,
-    sims_cached INTEGER,
-    sims_backend TEXT
-);
-CREATE INDEX IF NOT EXISTS jobs_status_seq ON jobs (status, seq);
-CREATE TABLE IF NOT EXISTS results (
-    job_id TEXT PRIMARY KEY REFERENCES jobs (id) ON DELETE CASCADE,
-    body   BLOB NOT NULL
-);
-{LEDGER_TABLES}"""
-
-# From version k to k + 1, each in one transaction. Version 2's `requeues` counted server
-# restarts only, and a worker death re-queued a job at most once (MAX_WORKER_DEATHS was 1 then).
-_MIGRATIONS = {
-    1: ("ALTER TABLE jobs ADD COLUMN worker_deaths INTEGER NOT NULL DEFAULT 0",),
-    2: (
-        "ALTER TABLE jobs ADD COLUMN restarts INTEGER NOT NULL DEFAULT 0",
-        "ALTER TABLE jobs ADD COLUMN moving_since TEXT",
-        "UPDATE jobs SET restarts = requeues, requeues = requeues + min(worker_deaths, 1)",
-    ),
-    3: (
-        "ALTER TABLE jobs ADD COLUMN sims_tasks INTEGER",
-        "ALTER TABLE jobs ADD COLUMN sims_computed INTEGER",
-        "ALTER TABLE jobs ADD COLUMN sims_cached INTEGER",
-        "ALTER TABLE jobs ADD COLUMN sims_backend TEXT",
-    ),
-}
-
-_COLUMNS = (
-    "id, kind, spec, status, progress, attempts, requeues, sim_seconds, created_at, started_at,"
-    " finished_at, error, note, moving_since, sims_tasks, sims_computed, sims_cached,"
-    " sims_backend"
-)
-_FINISHED_SQL = sql_list(FINISHED)
-Missing = Literal["missing"]  # what cancel and delete_finished report for an unknown id
-
-
-def now_iso() -> str:
-    return datetime.now(UTC).isoformat(timespec="milliseconds").replace("+00:00", "Z")
-
-
-class Simulations(BaseModel):
-    """A job's simulations (its last attempt's), as its record shows them: what it asked for,
-    computed and read back from the result cache, and where it computed them."""
-
-    model_config = ConfigDict(frozen=True)
-
-    tasks: int = Field(
-        description="distinct simulations the job asked for (a surface's refinement passes "
-        "each count theirs)"
-    )
-    computed: int = Field(description="simulations this attempt computed")
-    from_cache: int = Field(
-        description="simulations read back from the result cache instead: finished before by "
-        "another job, the command line, or an interrupted attempt of this job"
-    )
-    backend: str = Field(
-        description="where they were computed: inline (the worker process) or dask (the "
-        "cluster at the server's dask_address)"
-    )
-
-
-@dataclass(frozen=True)
-class JobRow:
-    """One row of the job table as the store returns it (times as ISO 8601 UTC text)."""
-
-    id: str
-    kind: str
-    spec: dict[str, Any]
-    status: JobStatus
-    progress: float
-    attempts: int
-    requeues: int
-    sim_seconds: float
-    created_at: str
-    started_at: str | None
-    finished_at: str | None
-    error: str | None
-    note: str | None
-    moving_since: str | None = None  # when this attempt first reported progress above 0
-    simulations: Simulations | None = None  # what its last attempt simulated, once it ended
-
-    @classmethod
-    def from_sql(cls, row: sqlite3.Row) -> JobRow:
-        """From a row selected as `_COLUMNS`."""
-        sims = None
-        if row["sims_tasks"] is not None:
-            sims = Simulations(tasks=int(row["sims_tasks"]), computed=int(row["sims_computed"]),
-                               from_cache=int(row["sims_cached"]),
-                               backend=str(row["sims_backend"]))  # fmt: skip
-        return cls(
-            id=str(row["id"]),
-            kind=str(row["kind"]),
-            spec=json.loads(row["spec"]),
-            status=JobStatus(row["status"]),
-            progress=float(row["progress"]),
-            attempts=int(row["attempts"]),
-            requeues=int(row["requeues"]),
-            sim_seconds=float(row["sim_seconds"]),
-            created_at=str(row["created_at"]),
-            started_at=row["started_at"],
-            finished_at=row["finished_at"],
-            error=row["error"],
-            note=row["note"],
-            moving_since=row["moving_since"],
-            simulations=sims,
-        )
-
-
-@dataclass(frozen=True)
-class Claim:
-    """A job handed to a worker; `attempt` is the fencing token for everything it writes."""
-
-    job_id: str
-    attempt: int
-
-
-@dataclass(frozen=True)
-class QueueFull:
-    queued: int
-
-
-@dataclass(frozen=True)
-class IdempotencyKey:
-    """A POST's Idempotency-Key with its body's hash (`ledger.body_hash`), remembered for
-    `ttl_s` seconds."""
-
-    key: str
-    digest: str
-    ttl_s: float
-
-
-@dataclass(frozen=True)
-class Replayed:
-    """A POST whose key made a job already: that job, or its tombstone if it was deleted."""
-
-    job: JobRow | None
-    gone: Tombstone | None
-    key_created_at: str
-
-
-@dataclass(frozen=True)
-class KeyConflict:
-    """A POST whose key made another job, from another body."""
-
-    job_id: str
-    key_created_at: str
-
 
 # Every write a worker makes holds only while its claim does: same attempt, still running.
 _FENCE = "id = ? AND attempts = ? AND status = ?"
@@ -222,7 +68,8 @@ def _fence(claim: Claim) -> tuple[str, int, JobStatus]:
 
 
 class JobStore:
-    """All SQL lives here. Safe to use from many threads (one connection per thread)."""
+    """The queries (the tables: `server.jobrows`; the keys and tombstones: `server.ledger`).
+    Safe to use from many threads (one connection per thread)."""
 
     def __init__(self, path: Path | str) -> None:
         self.path = Path(path)
@@ -269,7 +116,7 @@ class JobStore:
         mode = conn.execute("PRAGMA journal_mode = WAL").fetchone()[0]
         if str(mode).lower() != "wal":
             raise RuntimeError(f"could not switch {self.path} to WAL mode (got {mode!r})")
-        conn.executescript(_SCHEMA)
+        conn.executescript(SCHEMA)
         version = conn.execute("PRAGMA user_version").fetchone()[0]
         if version == 0:  # a new file: the schema above is the current one
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
@@ -280,7 +127,7 @@ class JobStore:
             )
         for step in range(version, SCHEMA_VERSION):  # columns with defaults, added in place
             with self._write() as w:
-                for sql in _MIGRATIONS[step]:
+                for sql in MIGRATIONS[step]:
                     w.execute(sql)
                 w.execute(f"PRAGMA user_version = {step + 1}")
 
@@ -303,7 +150,7 @@ class JobStore:
                 if seen is not None and not seen.same_body:
                     return KeyConflict(seen.job_id, seen.created_at)
                 if seen is not None:
-                    row = conn.execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?",
+                    row = conn.execute(f"SELECT {COLUMNS} FROM jobs WHERE id = ?",
                                        (seen.job_id,)).fetchone()  # fmt: skip
                     gone = None if row else ledger.tombstone(conn, seen.job_id, None)
                     return Replayed(JobRow.from_sql(row) if row else None, gone, seen.created_at)
@@ -324,9 +171,7 @@ class JobStore:
         return job
 
     def get(self, job_id: str) -> JobRow | None:
-        row = (
-            self._conn().execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
-        )
+        row = self._conn().execute(f"SELECT {COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
         return JobRow.from_sql(row) if row is not None else None
 
     def list_jobs(
@@ -337,7 +182,7 @@ class JobStore:
         where, args = ("WHERE status = ?", (status,)) if status else ("", ())
         total = conn.execute(f"SELECT count(*) FROM jobs {where}", args).fetchone()[0]
         rows = conn.execute(
-            f"SELECT {_COLUMNS} FROM jobs {where} ORDER BY seq DESC LIMIT ? OFFSET ?",
+            f"SELECT {COLUMNS} FROM jobs {where} ORDER BY seq DESC LIMIT ? OFFSET ?",
             (*args, limit, offset),
         ).fetchall()
         return [JobRow.from_sql(r) for r in rows], int(total)
@@ -366,7 +211,7 @@ class JobStore:
         """-> (status or 'missing', the job as it was). Only finished jobs are deleted, with
         their result (ON DELETE CASCADE), leaving a tombstone (`gone`)."""
         with self._write() as conn:
-            row = conn.execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
+            row = conn.execute(f"SELECT {COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
             if row is None:
                 return "missing", None
             job = JobRow.from_sql(row)
@@ -383,15 +228,15 @@ class JobStore:
         with self._write() as conn:
             if older_than_days is not None:
                 deleted += ledger.bury(
-                    conn, f"status IN ({_FINISHED_SQL})"
+                    conn, f"status IN ({FINISHED_SQL})"
                     " AND julianday(finished_at) < julianday('now') - ?", (older_than_days,),
                     f"by retention (finished more than retention_days = {older_than_days:g} "
                     "days before)", now_iso(),
                 )  # fmt: skip
             if keep is not None:
                 deleted += ledger.bury(
-                    conn, f"status IN ({_FINISHED_SQL}) AND seq NOT IN (SELECT seq FROM jobs"
-                    f" WHERE status IN ({_FINISHED_SQL}) ORDER BY seq DESC LIMIT ?)", (keep,),
+                    conn, f"status IN ({FINISHED_SQL}) AND seq NOT IN (SELECT seq FROM jobs"
+                    f" WHERE status IN ({FINISHED_SQL}) ORDER BY seq DESC LIMIT ?)", (keep,),
                     f"by retention (only the newest retention_count = {keep} finished jobs "
                     "are kept)", now_iso(),
                 )  # fmt: skip
@@ -409,7 +254,7 @@ class JobStore:
     def running_jobs(self) -> list[JobRow]:
         """Every running job (for the estimates)."""
         rows = self._conn().execute(
-            f"SELECT {_COLUMNS} FROM jobs WHERE status = ?", (JobStatus.RUNNING,)
+            f"SELECT {COLUMNS} FROM jobs WHERE status = ?", (JobStatus.RUNNING,)
         )
         return [JobRow.from_sql(r) for r in rows]
 
