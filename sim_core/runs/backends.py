@@ -249,6 +249,6 @@ def run_tasks(
             if on_progress is not None:
                 on_progress((stats.cached + stats.computed) / max(1, len(unique)))
     stats.compute_s = sum(float(r.get("compute_s", 0.0)) for r in results.values())
-    if stats.computed and cache.max_bytes is not None:
-        cache.trim()  # within its limit again, the results just used kept (the newest)
+    if stats.computed:
+        cache.maybe_trim()  # within its limit again, the results just used kept (the newest)
     return results, stats

@@ -71,6 +71,11 @@ class ResultCache:
     def __init__(self, root: Path | str, max_bytes: int | None = None) -> None:
         self.root = Path(root)
         self.max_bytes = max_bytes
+        # what the last scan found plus what this object wrote since, and when: `maybe_trim`
+        # scans the folder again only when that could be over the limit, or once a minute
+        # (other processes write too)
+        self._bytes_seen: int | None = None
+        self._scanned_at = 0.0
 
     def path(self, task: Task) -> Path:
         return self.root / f"{task.key}.json"
@@ -100,6 +105,8 @@ class ResultCache:
             with os.fdopen(fd, "w") as f:
                 f.write(text)
             os.replace(tmp, self.path(task))
+            if self._bytes_seen is not None:
+                self._bytes_seen += len(text)
         except BaseException:
             Path(tmp).unlink(missing_ok=True)
             raise
@@ -146,19 +153,30 @@ class ResultCache:
         results, temporary = self._scan()
         gone_tmp = _remove_stale(temporary)
         total = sum(s for _, s, _ in results)
-        if limit is None or total <= limit:
-            return Trimmed(0, 0, gone_tmp)
-        target = int(limit * LOW_WATER)
         n = freed = 0
-        for _, size, path in sorted(results, key=lambda r: r[0]):
-            if total - freed <= target:
-                break
-            try:
-                path.unlink()
-            except FileNotFoundError:  # another process trimmed it first
-                pass
-            n, freed = n + 1, freed + size
+        if limit is not None and total > limit:
+            target = int(limit * LOW_WATER)
+            for _, size, path in sorted(results, key=lambda r: r[0]):
+                if total - freed <= target:
+                    break
+                try:
+                    path.unlink()
+                except FileNotFoundError:  # another process trimmed it first
+                    pass
+                n, freed = n + 1, freed + size
+        self._bytes_seen, self._scanned_at = total - freed, time.monotonic()
         return Trimmed(n, freed, gone_tmp)
+
+    def maybe_trim(self, every_s: float = 60.0) -> Trimmed | None:
+        """`trim` to this cache's limit, unless the last scan (plus what this object wrote
+        since) is under it and younger than `every_s`: a loop of many small runs (the
+        finder's rounds) scans the folder about once a minute, not once a round."""
+        if self.max_bytes is None:
+            return None
+        fresh = time.monotonic() - self._scanned_at < every_s
+        if fresh and self._bytes_seen is not None and self._bytes_seen <= self.max_bytes:
+            return None
+        return self.trim()
 
     def clear(self) -> Trimmed:
         """Delete every result (and stale temporary files); writes in progress finish."""

@@ -168,3 +168,21 @@ def test_the_cache_command_shows_and_tidies_the_folder(
     assert cache.usage().entries == 0
     assert main(["cache", "info", "--max-bytes", "lots"]) == 2
     assert "--max-bytes" in capsys.readouterr().err
+
+
+def test_a_loop_of_small_runs_scans_the_folder_only_when_it_may_be_over(tmp_path: Path) -> None:
+    """`maybe_trim` (what run_tasks calls) rescans only when this cache's own writes could
+    have passed the limit, or a minute after its last scan (other processes write too)."""
+    cache = ResultCache(tmp_path, max_bytes=10_000)
+    _fill(cache, 3)
+    assert cache.maybe_trim() is not None  # never scanned: scans
+    assert cache.maybe_trim() is None  # just scanned, under the limit, nothing written
+    _fill(ResultCache(tmp_path), 20)  # another process writes: unseen until the minute is up
+    assert cache.maybe_trim() is None
+    assert cache.maybe_trim(every_s=0.0) is not None  # the minute is up: scanned and trimmed
+    assert cache.usage().bytes <= 10_000
+    for i in range(30, 60):  # this object's own writes count towards a rescan
+        cache.put(_fake(i), {"pad": "x" * 1000})
+    gone = cache.maybe_trim()
+    assert gone is not None and gone.entries > 0 and cache.usage().bytes <= 10_000
+    assert ResultCache(tmp_path).maybe_trim() is None  # no limit: never scans
