@@ -113,11 +113,13 @@ def banner(settings: Any) -> str:
 def settings_problem(exc: Any) -> str:
     """A settings ValidationError in one line, naming the flag and the environment variable
     that can set each field (pydantic's own text ends in a library URL)."""
+    flags = {"host": "--host", "port": "--port", "db_path": "--db", "workers": "--workers",
+             "cache_dir": "--cache", "dask_address": "--dask-address"}  # fmt: skip
     parts = []
     for err in exc.errors():
         name = ".".join(str(x) for x in err["loc"]) or "settings"
-        flag = {"db_path": "--db", "cache_dir": "--cache"}.get(name, f"--{name.replace('_', '-')}")
-        parts.append(f"{name} ({flag} or INSECT_GAIT_{name.upper()}): {err['msg']}")
+        by = f"{flags[name]} or " if name in flags else ""  # the others have no flag
+        parts.append(f"{name} ({by}INSECT_GAIT_{name.upper()}): {err['msg']}")
     return "; ".join(parts)
 
 
