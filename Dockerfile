@@ -3,7 +3,11 @@
 # install -e .` with the same warning filter, then `python -m sim_core.model.ground_build`, the
 # penalty ground's MuJoCo plugin), without the dev, cluster and lab extras (no optuna). They run
 # in a build stage with a C compiler; the image gets /app without it.
+# INSTALL_EXTRAS=cluster (a build argument) adds the cluster extra (dask.distributed): the image
+# of docker-compose.yml's `cluster` profile (its scheduler and workers, and the API that sends
+# them its jobs); empty by default, so the plain image stays `make install`'s.
 FROM python:3.11-slim AS build
+ARG INSTALL_EXTRAS=""
 
 ENV PIP_NO_CACHE_DIR=1 \
     PIP_DISABLE_PIP_VERSION_CHECK=1
@@ -20,6 +24,9 @@ COPY server ./server
 COPY web ./web
 RUN python -m venv .venv \
     && PYTHONWARNINGS="ignore:Editable installation" .venv/bin/pip install --quiet -e . \
+    && if [ -n "$INSTALL_EXTRAS" ]; then \
+        PYTHONWARNINGS="ignore:Editable installation" .venv/bin/pip install --quiet \
+            -e ".[$INSTALL_EXTRAS]"; fi \
     && .venv/bin/python -m sim_core.model.ground_build
 
 FROM python:3.11-slim
@@ -32,12 +39,13 @@ ENV PYTHONUNBUFFERED=1 \
     PATH="/app/.venv/bin:${PATH}" \
     INSECT_GAIT_HOST=0.0.0.0 \
     INSECT_GAIT_PORT=8000 \
-    INSECT_GAIT_DB_PATH=/data/insect-gait.sqlite3
+    INSECT_GAIT_DB_PATH=/data/insect-gait.sqlite3 \
+    INSECT_GAIT_CACHE_DIR=/cache
 
 RUN groupadd --system --gid 10001 app \
     && useradd --system --uid 10001 --gid app --home-dir /app --shell /usr/sbin/nologin app \
-    && mkdir -p /app /data \
-    && chown app:app /app /data
+    && mkdir -p /app /data /cache \
+    && chown app:app /app /data /cache
 
 WORKDIR /app
 USER 10001:10001
@@ -48,7 +56,9 @@ COPY --from=build --chown=10001:10001 /app /app
 # here /app/docs/figures); only the JSON files reach the build context (.dockerignore)
 COPY --chown=10001:10001 docs/figures ./docs/figures
 
-VOLUME ["/data"]
+# the jobs' database, and the result cache the API's jobs and `insect-gait` commands run in
+# the container share (INSECT_GAIT_CACHE_DIR)
+VOLUME ["/data", "/cache"]
 EXPOSE 8000 8080
 
 # The API's own health endpoint; python instead of curl, which the slim image lacks.

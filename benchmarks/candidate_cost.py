@@ -19,7 +19,9 @@ from pathlib import Path
 from typing import Any
 
 from lab.surface_search import FAST_OBJECTIVE_CONFIG, OBJECTIVE_CONFIG, evaluate_candidate
-from sim_core import ModelParams, ResultCache, SurfaceConfig, get_backend, named_params
+from sim_core import ModelParams, ResultCache, get_backend
+from sim_core.contract import SurfaceConfig
+from sim_core.research import named_params
 
 SETS = {"defaults": ModelParams(), "soft_legs": named_params("soft_legs")}
 READ = ("metachronal_fold", "tripod_fold", "metachronal_value", "tripod_value", "extra_zeros")

@@ -19,8 +19,9 @@ import time
 from pathlib import Path
 from typing import Any
 
-from sim_core import ReproduceConfig, get_backend
+from sim_core import get_backend
 from sim_core.paper.reproduce import reproduce
+from sim_core.research import ReproduceConfig
 
 
 def table_rows(table: str) -> dict[str, tuple[str, str]]:

@@ -8,6 +8,7 @@ import sys
 from pathlib import Path
 from typing import Any
 
+from sim_core import default_cache_dir
 from sim_core.cli import EXIT_USAGE
 from sim_core.contract import RESULTS_DIR
 
@@ -335,7 +336,9 @@ def _add_readings(sub: Any) -> None:
                    help="also a census with each calibrated parameter at 0.9x and 1.1x of "
                    "the setting's value: do the same states live, how far does a fold "
                    "move")  # fmt: skip
-    p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
+    p.add_argument("--cache", default=str(default_cache_dir()),
+                   help="task result cache folder (resumes; default: the installation's, shared "
+                   "with the CLI and the API)")  # fmt: skip
     p.add_argument("--backend", choices=["local", "dask"], default="local")
     p.add_argument("--workers", type=int, default=None)
     p.set_defaults(func=_cmd_readings)
@@ -354,7 +357,7 @@ def _cmd_readings(args: argparse.Namespace) -> int:
         table,
         variants,
     )
-    from sim_core.research import ResultCache, get_backend
+    from sim_core import ResultCache, get_backend
 
     if not 0 < args.duration_s <= 600 or not all(0.5 < b < 1.0 for b in args.betas):
         print("python -m lab readings: error: --duration-s in (0, 600], betas in (0.5, 1)",

@@ -26,18 +26,9 @@ import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
 
-from sim_core import ModelParams, find
+from sim_core import Backend, ModelParams, ResultCache, RunStats, find, run_tasks
 from sim_core.contract import TWO_PI, Cell, CellResult, FinderConfig, Probe, settling
-from sim_core.research import (
-    Backend,
-    ResultCache,
-    RunStats,
-    angle_diff,
-    initial_values,
-    probe_task,
-    run_tasks,
-    task_runner,
-)
+from sim_core.research import angle_diff, initial_values, probe_task, task_runner
 
 MATCH = 0.05  # rad, the tolerance
 Kick = tuple[float | None, bool]  # where a kick run ended (None: it failed), and if it settled

@@ -10,6 +10,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from sim_core import default_cache_dir
 from sim_core.cli import EXIT_USAGE, add_backend_args, backend_from_args
 from sim_core.contract import BIFURCATION_FILE, RESULTS_DIR
 
@@ -67,7 +68,8 @@ def _add_atlas(sub: Any) -> None:
 def _cmd_atlas(args: argparse.Namespace) -> int:
     import time
 
-    from sim_core.research import AtlasConfig, ResultCache, RunStats, run_atlas, write_atlas
+    from sim_core import ResultCache, RunStats
+    from sim_core.research import AtlasConfig, run_atlas, write_atlas
 
     prog = "python -m lab finder-atlas"
     cfg = AtlasConfig.quick(args.axis) if args.quick else AtlasConfig(args.axis)
@@ -119,7 +121,9 @@ def _add_finder_check(sub: Any) -> None:
                    help="the finder runs over Fig. 8's beta grid (as reproduce, whose runs the "
                         "cache then holds) or over the checked betas alone (default "
                         "%(default)s)")  # fmt: skip
-    p.add_argument("--cache", default="out/cache", help="task result cache folder (resumes)")
+    p.add_argument("--cache", default=str(default_cache_dir()),
+                   help="task result cache folder (resumes; default: the installation's, shared "
+                   "with the CLI and the API)")  # fmt: skip
     p.add_argument("--workers", type=int, default=None, help="processes (default: all cores)")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_finder_check)
@@ -129,7 +133,8 @@ def _cmd_finder_check(args: argparse.Namespace) -> int:
     import time
 
     from lab.finder_check import report, validate
-    from sim_core.research import ReproduceConfig, ResultCache, RunStats, get_backend
+    from sim_core import ResultCache, RunStats, get_backend
+    from sim_core.research import ReproduceConfig
 
     for b in args.beta:
         if not 0.5 < b < 1.0:

@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from sim_core import ModelParams, RunSpec, find
+from sim_core import Backend, ModelParams, ResultCache, RunSpec, find, run_task, run_tasks
 from sim_core.contract import (
     GROUND_ONLY,
     Cell,
@@ -33,12 +33,8 @@ from sim_core.contract import (
 from sim_core.research import (
     CALIBRATED,
     SCALES,
-    Backend,
-    ResultCache,
     cluster_finals,
     initial_values,
-    run_task,
-    run_tasks,
     scaled_values,
     task_runner,
 )

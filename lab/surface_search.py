@@ -29,9 +29,9 @@ from typing import Any
 import numpy as np
 
 from lab.space import Range
-from sim_core import ModelParams, drift_surface, nominal_speed
+from sim_core import Backend, ModelParams, ResultCache, drift_surface, nominal_speed, run_task
 from sim_core.contract import PARAMETER_NAMES, DriftSurface, SurfaceConfig, surface_grid
-from sim_core.research import Backend, ResultCache, grid_probes, probe_spec, run_task
+from sim_core.research import grid_probes, probe_spec
 
 # six betas around the paper's folds (0.645, 0.67), none on them; 0.62 and 0.70 are Fig. 5's
 OBJECTIVE_BETAS = (0.62, 0.635, 0.655, 0.665, 0.685, 0.70)

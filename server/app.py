@@ -25,6 +25,7 @@ from starlette.routing import Match
 from server.deps import R401, require_token
 from server.errors import content_type_error, humanize, method_not_allowed
 from server.jobs import JobStore
+from server.kinds import ComputeSettings
 from server.routes import jobs, meta
 from server.settings import Settings
 from server.workers import WorkerPool
@@ -74,6 +75,11 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         size=settings.workers,
         nthread=settings.threads_for_one_worker(),
         niceness=settings.worker_nice,
+        where=ComputeSettings(
+            cache_dir=settings.cache_dir,
+            cache_max_bytes=settings.cache_max_bytes,
+            dask_address=settings.dask_address,
+        ),
     )
     retention = Retention(store, settings)
 
@@ -181,7 +187,9 @@ def parse_failure(raw: bytes) -> str:
 
 class Retention:
     """Applies the retention settings (retention_days, retention_count) to finished jobs at
-    start-up and every retention_interval_s, in a thread of the API process."""
+    start-up and every retention_interval_s, in a thread of the API process; and forgets
+    idempotency keys past idempotency_ttl_s and tombstones past tombstone_days (a lookup
+    ignores expired ones anyway: this keeps the tables small)."""
 
     def __init__(self, store: JobStore, settings: Settings) -> None:
         self.store = store
@@ -196,14 +204,13 @@ class Retention:
 
     def apply(self) -> int:
         s = self.settings
-        n = self.store.purge_finished(s.retention_days, s.retention_count)
+        n = self.store.purge_finished(s.retention_days, s.retention_count) if self.enabled else 0
         if n:
             log.info("retention: deleted %d finished job(s)", n)
+        self.store.forget_expired(s.idempotency_ttl_s, s.tombstone_days)
         return n
 
     def start(self) -> None:
-        if not self.enabled:
-            return
         self.apply()
         self._thread = threading.Thread(target=self._run, name="job-retention", daemon=True)
         self._thread.start()

@@ -6,6 +6,7 @@ Flags override the environment (INSECT_GAIT_*), which overrides the defaults in 
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import sys
 from pathlib import Path
 from typing import Any
@@ -33,6 +34,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:
     parser.add_argument(
         "--workers", type=int, help="worker processes (default: cores - 1, at least 1)"
     )
+    parser.add_argument(
+        "--cache", type=Path,
+        help="result cache folder, shared with the CLI (default: INSECT_GAIT_CACHE_DIR, else "
+        "the installation's; `insect-gait cache info`)",
+    )  # fmt: skip
+    parser.add_argument(
+        "--dask-address",
+        help="a dask.distributed scheduler (tcp://host:8786) to run the jobs' simulations on "
+        "(default: INSECT_GAIT_DASK_ADDRESS, else the workers compute them)",
+    )
 
 
 def settings_from_args(args: argparse.Namespace) -> Any:
@@ -43,6 +54,8 @@ def settings_from_args(args: argparse.Namespace) -> Any:
         "port": args.port,
         "db_path": args.db,
         "workers": args.workers,
+        "cache_dir": getattr(args, "cache", None),
+        "dask_address": getattr(args, "dask_address", None),
     }
     return Settings(**{k: v for k, v in overrides.items() if v is not None})
 
@@ -59,6 +72,13 @@ def run_api(args: argparse.Namespace) -> int:
     except ValidationError as exc:
         print(f"insect-gait api: invalid settings: {settings_problem(exc)}", file=sys.stderr)
         return 2
+    if settings.dask_address and importlib.util.find_spec("distributed") is None:
+        print(
+            f"insect-gait api: --dask-address {settings.dask_address} needs dask.distributed "
+            "(pip install 'insect-gait[cluster]'; the image: build with INSTALL_EXTRAS=cluster)",
+            file=sys.stderr,
+        )
+        return 1
     if settings.port and port_taken(settings.host, settings.port):
         print(
             f"insect-gait api: port {settings.port} on {settings.host} is already in use "
@@ -82,20 +102,24 @@ def run_api(args: argparse.Namespace) -> int:
 def banner(settings: Any) -> str:
     """The line the server prints when it starts: where its docs are, its database, workers."""
     n = settings.workers
+    where = f", on the Dask cluster at {settings.dask_address}" if settings.dask_address else ""
     return (
         f"insect-gait api: http://{settings.host}:{settings.port}/docs "
-        f"(db {settings.db_path}, {n} worker{'' if n == 1 else 's'})"
+        f"(db {settings.db_path}, result cache {settings.cache_dir}, "
+        f"{n} worker{'' if n == 1 else 's'}{where})"
     )
 
 
 def settings_problem(exc: Any) -> str:
     """A settings ValidationError in one line, naming the flag and the environment variable
     that can set each field (pydantic's own text ends in a library URL)."""
+    flags = {"host": "--host", "port": "--port", "db_path": "--db", "workers": "--workers",
+             "cache_dir": "--cache", "dask_address": "--dask-address"}  # fmt: skip
     parts = []
     for err in exc.errors():
         name = ".".join(str(x) for x in err["loc"]) or "settings"
-        flag = {"db_path": "--db"}.get(name, f"--{name.replace('_', '-')}")
-        parts.append(f"{name} ({flag} or INSECT_GAIT_{name.upper()}): {err['msg']}")
+        by = f"{flags[name]} or " if name in flags else ""  # the others have no flag
+        parts.append(f"{name} ({by}INSECT_GAIT_{name.upper()}): {err['msg']}")
     return "; ".join(parts)
 
 

@@ -35,6 +35,12 @@ R400 = resp(
 )
 R401 = resp(401, Problem, "API token missing, malformed or wrong; the message says which")
 R404 = resp(404, Problem, "no such job")
+R410 = resp(
+    410,
+    Problem,
+    "the job was deleted (by retention or a purge): the message says when and why; its id "
+    "answers so for tombstone_days, then 404",
+)
 R409 = resp(409, Problem, "the job is not in a state that allows this")
 R422 = resp(422, ValidationProblem, "invalid input; the message names field and range")
 
@@ -93,10 +99,19 @@ TokenDep = Annotated[None, Depends(require_token)]
 JobId = Annotated[str, Path(min_length=1, max_length=64, description="job id from POST /v1/jobs")]
 
 
-def get_job_or_404(job_id: JobId, store: StoreDep) -> JobRow:
+def no_such_job(job_id: str, store: JobStore, settings: Settings) -> HTTPException:
+    """410 Gone saying when and why, for a job deleted not longer than tombstone_days ago;
+    else 404."""
+    gone = store.gone(job_id, settings.tombstone_days)
+    if gone is not None:
+        return HTTPException(status_code=410, detail=gone.sentence())
+    return HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
+
+
+def get_job_or_404(job_id: JobId, store: StoreDep, settings: SettingsDep) -> JobRow:
     job = store.get(job_id)
     if job is None:
-        raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
+        raise no_such_job(job_id, store, settings)
     return job
 
 

@@ -1,4 +1,5 @@
-"""The job store: one SQLite file (WAL mode) is the queue, the job table and the result store.
+"""The job store: one SQLite file (WAL mode) is the queue, the job table and the result store
+(and the ledger of idempotency keys and tombstones, `server.ledger`).
 
 Why the job table is also the queue: the state a client sees and the state workers act on can
 then never disagree, even after `kill -9`. A job moves queued -> running -> done | failed, or to
@@ -19,125 +20,44 @@ import uuid
 import zlib
 from collections.abc import Iterator
 from contextlib import contextmanager
-from dataclasses import dataclass
-from datetime import UTC, datetime
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
+from server import ledger
+from server.jobrows import (
+    COLUMNS,
+    FINISHED_SQL,
+    MIGRATIONS,
+    SCHEMA,
+    SCHEMA_VERSION,
+    Claim,
+    IdempotencyKey,
+    JobRow,
+    KeyConflict,
+    Missing,
+    QueueFull,
+    Replayed,
+    Simulations,
+    now_iso,
+)
+from server.ledger import Tombstone
 from server.status import ACTIVE, FINISHED, JobStatus, sql_list
 
-# 2: jobs.worker_deaths (a job whose worker died from outside runs again once); 3: jobs.restarts
-# (the server stopped while it ran), so that `requeues` counts every re-queue after a crash
-# (the server's or the worker's) while each kind of crash keeps its own limit, and
-# jobs.moving_since (when the attempt first reported progress: its rate is measured from there,
-# not from a start-up the job's size does not scale). An older file gains the columns on open
-# (`_MIGRATIONS`).
-SCHEMA_VERSION = 3
+__all__ = [
+    "SCHEMA_VERSION",
+    "Claim",
+    "IdempotencyKey",
+    "JobRow",
+    "JobStore",
+    "KeyConflict",
+    "QueueFull",
+    "Replayed",
+    "Simulations",
+    "now_iso",
+]
+
 # how many times a job may lose its worker to an outside kill and still be run again
 MAX_WORKER_DEATHS = 1
-
-_SCHEMA = f"""
-CREATE TABLE IF NOT EXISTS jobs (
-    seq         INTEGER PRIMARY KEY AUTOINCREMENT,
-    id          TEXT NOT NULL UNIQUE,
-    kind        TEXT NOT NULL,
-    spec        TEXT NOT NULL,
-    status      TEXT NOT NULL CHECK (status IN ({sql_list(JobStatus)})),
-    progress    REAL NOT NULL DEFAULT 0,
-    attempts    INTEGER NOT NULL DEFAULT 0,
-    requeues    INTEGER NOT NULL DEFAULT 0,
-    worker_deaths INTEGER NOT NULL DEFAULT 0,
-    restarts    INTEGER NOT NULL DEFAULT 0,
-    moving_since TEXT,
-    sim_seconds REAL NOT NULL,
-    created_at  TEXT NOT NULL,
-    started_at  TEXT,
-    finished_at TEXT,
-    error       TEXT,
-    note        TEXT
-);
-CREATE INDEX IF NOT EXISTS jobs_status_seq ON jobs (status, seq);
-CREATE TABLE IF NOT EXISTS results (
-    job_id TEXT PRIMARY KEY REFERENCES jobs (id) ON DELETE CASCADE,
-    body   BLOB NOT NULL
-);
-"""
-
-# From version k to k + 1, each in one transaction. Version 2's `requeues` counted server
-# restarts only, and a worker death re-queued a job at most once (MAX_WORKER_DEATHS was 1 then).
-_MIGRATIONS = {
-    1: ("ALTER TABLE jobs ADD COLUMN worker_deaths INTEGER NOT NULL DEFAULT 0",),
-    2: (
-        "ALTER TABLE jobs ADD COLUMN restarts INTEGER NOT NULL DEFAULT 0",
-        "ALTER TABLE jobs ADD COLUMN moving_since TEXT",
-        "UPDATE jobs SET restarts = requeues, requeues = requeues + min(worker_deaths, 1)",
-    ),
-}
-
-_COLUMNS = (
-    "id, kind, spec, status, progress, attempts, requeues, sim_seconds, created_at, started_at,"
-    " finished_at, error, note, moving_since"
-)
-_FINISHED_SQL = sql_list(FINISHED)
-Missing = Literal["missing"]  # what cancel and delete_finished report for an unknown id
-
-
-def now_iso() -> str:
-    return datetime.now(UTC).isoformat(timespec="milliseconds").replace("+00:00", "Z")
-
-
-@dataclass(frozen=True)
-class JobRow:
-    """One row of the job table as the store returns it (times as ISO 8601 UTC text)."""
-
-    id: str
-    kind: str
-    spec: dict[str, Any]
-    status: JobStatus
-    progress: float
-    attempts: int
-    requeues: int
-    sim_seconds: float
-    created_at: str
-    started_at: str | None
-    finished_at: str | None
-    error: str | None
-    note: str | None
-    moving_since: str | None = None  # when this attempt first reported progress above 0
-
-    @classmethod
-    def from_sql(cls, row: sqlite3.Row) -> JobRow:
-        """From a row selected as `_COLUMNS`."""
-        return cls(
-            id=str(row["id"]),
-            kind=str(row["kind"]),
-            spec=json.loads(row["spec"]),
-            status=JobStatus(row["status"]),
-            progress=float(row["progress"]),
-            attempts=int(row["attempts"]),
-            requeues=int(row["requeues"]),
-            sim_seconds=float(row["sim_seconds"]),
-            created_at=str(row["created_at"]),
-            started_at=row["started_at"],
-            finished_at=row["finished_at"],
-            error=row["error"],
-            note=row["note"],
-            moving_since=row["moving_since"],
-        )
-
-
-@dataclass(frozen=True)
-class Claim:
-    """A job handed to a worker; `attempt` is the fencing token for everything it writes."""
-
-    job_id: str
-    attempt: int
-
-
-@dataclass(frozen=True)
-class QueueFull:
-    queued: int
-
 
 # Every write a worker makes holds only while its claim does: same attempt, still running.
 _FENCE = "id = ? AND attempts = ? AND status = ?"
@@ -148,7 +68,8 @@ def _fence(claim: Claim) -> tuple[str, int, JobStatus]:
 
 
 class JobStore:
-    """All SQL lives here. Safe to use from many threads (one connection per thread)."""
+    """The queries (the tables: `server.jobrows`; the keys and tombstones: `server.ledger`).
+    Safe to use from many threads (one connection per thread)."""
 
     def __init__(self, path: Path | str) -> None:
         self.path = Path(path)
@@ -195,7 +116,7 @@ class JobStore:
         mode = conn.execute("PRAGMA journal_mode = WAL").fetchone()[0]
         if str(mode).lower() != "wal":
             raise RuntimeError(f"could not switch {self.path} to WAL mode (got {mode!r})")
-        conn.executescript(_SCHEMA)
+        conn.executescript(SCHEMA)
         version = conn.execute("PRAGMA user_version").fetchone()[0]
         if version == 0:  # a new file: the schema above is the current one
             conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
@@ -206,18 +127,33 @@ class JobStore:
             )
         for step in range(version, SCHEMA_VERSION):  # columns with defaults, added in place
             with self._write() as w:
-                for sql in _MIGRATIONS[step]:
+                for sql in MIGRATIONS[step]:
                     w.execute(sql)
                 w.execute(f"PRAGMA user_version = {step + 1}")
 
     # ---- API side ------------------------------------------------------------------------
 
     def submit(
-        self, kind: str, spec: dict[str, Any], sim_seconds: float, queue_limit: int
-    ) -> JobRow | QueueFull:
-        """Insert a queued job unless the queue is full; the check and insert are one lock."""
+        self,
+        kind: str,
+        spec: dict[str, Any],
+        sim_seconds: float,
+        queue_limit: int,
+        key: IdempotencyKey | None = None,
+    ) -> JobRow | QueueFull | Replayed | KeyConflict:
+        """Insert a queued job unless the queue is full or `key` made a job already (that job,
+        or a conflict if its body differs); the checks and the insert are one lock."""
         job_id = str(uuid.uuid4())
         with self._write() as conn:
+            if key is not None:
+                seen = ledger.find_key(conn, key.key, key.digest, key.ttl_s)
+                if seen is not None and not seen.same_body:
+                    return KeyConflict(seen.job_id, seen.created_at)
+                if seen is not None:
+                    row = conn.execute(f"SELECT {COLUMNS} FROM jobs WHERE id = ?",
+                                       (seen.job_id,)).fetchone()  # fmt: skip
+                    gone = None if row else ledger.tombstone(conn, seen.job_id, None)
+                    return Replayed(JobRow.from_sql(row) if row else None, gone, seen.created_at)
             queued = conn.execute(
                 "SELECT count(*) FROM jobs WHERE status = ?", (JobStatus.QUEUED,)
             ).fetchone()
@@ -228,14 +164,14 @@ class JobStore:
                 " VALUES (?, ?, ?, ?, ?, ?)",
                 (job_id, kind, json.dumps(spec), JobStatus.QUEUED, sim_seconds, now_iso()),
             )
+            if key is not None:
+                ledger.remember_key(conn, key.key, job_id, key.digest, now_iso())
         job = self.get(job_id)
         assert job is not None
         return job
 
     def get(self, job_id: str) -> JobRow | None:
-        row = (
-            self._conn().execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
-        )
+        row = self._conn().execute(f"SELECT {COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
         return JobRow.from_sql(row) if row is not None else None
 
     def list_jobs(
@@ -246,7 +182,7 @@ class JobStore:
         where, args = ("WHERE status = ?", (status,)) if status else ("", ())
         total = conn.execute(f"SELECT count(*) FROM jobs {where}", args).fetchone()[0]
         rows = conn.execute(
-            f"SELECT {_COLUMNS} FROM jobs {where} ORDER BY seq DESC LIMIT ? OFFSET ?",
+            f"SELECT {COLUMNS} FROM jobs {where} ORDER BY seq DESC LIMIT ? OFFSET ?",
             (*args, limit, offset),
         ).fetchall()
         return [JobRow.from_sql(r) for r in rows], int(total)
@@ -273,42 +209,52 @@ class JobStore:
 
     def delete_finished(self, job_id: str) -> tuple[JobStatus | Missing, JobRow | None]:
         """-> (status or 'missing', the job as it was). Only finished jobs are deleted, with
-        their result (ON DELETE CASCADE)."""
+        their result (ON DELETE CASCADE), leaving a tombstone (`gone`)."""
         with self._write() as conn:
-            row = conn.execute(f"SELECT {_COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
+            row = conn.execute(f"SELECT {COLUMNS} FROM jobs WHERE id = ?", (job_id,)).fetchone()
             if row is None:
                 return "missing", None
             job = JobRow.from_sql(row)
             if job.status in FINISHED:
-                conn.execute("DELETE FROM jobs WHERE id = ?", (job_id,))
+                ledger.bury(conn, "id = ?", (job_id,), "by request (DELETE ?purge=true)",
+                            now_iso())  # fmt: skip
         return job.status, job
 
     def purge_finished(self, older_than_days: float | None, keep: int | None) -> int:
         """Retention: delete finished jobs finished more than `older_than_days` ago, and all
-        but the newest `keep` finished jobs. Queued and running jobs are never touched."""
+        but the newest `keep` finished jobs, each leaving a tombstone that names the rule.
+        Queued and running jobs are never touched."""
         deleted = 0
         with self._write() as conn:
             if older_than_days is not None:
-                cur = conn.execute(
-                    f"DELETE FROM jobs WHERE status IN ({_FINISHED_SQL})"
-                    " AND julianday(finished_at) < julianday('now') - ?",
-                    (older_than_days,),
-                )
-                deleted += cur.rowcount
+                deleted += ledger.bury(
+                    conn, f"status IN ({FINISHED_SQL})"
+                    " AND julianday(finished_at) < julianday('now') - ?", (older_than_days,),
+                    f"by retention (finished more than retention_days = {older_than_days:g} "
+                    "days before)", now_iso(),
+                )  # fmt: skip
             if keep is not None:
-                cur = conn.execute(
-                    f"DELETE FROM jobs WHERE status IN ({_FINISHED_SQL})"
-                    " AND seq NOT IN (SELECT seq FROM jobs"
-                    f" WHERE status IN ({_FINISHED_SQL}) ORDER BY seq DESC LIMIT ?)",
-                    (keep,),
-                )
-                deleted += cur.rowcount
+                deleted += ledger.bury(
+                    conn, f"status IN ({FINISHED_SQL}) AND seq NOT IN (SELECT seq FROM jobs"
+                    f" WHERE status IN ({FINISHED_SQL}) ORDER BY seq DESC LIMIT ?)", (keep,),
+                    f"by retention (only the newest retention_count = {keep} finished jobs "
+                    "are kept)", now_iso(),
+                )  # fmt: skip
         return deleted
+
+    def gone(self, job_id: str, tombstone_days: float | None) -> Tombstone | None:
+        """Why `job_id` is not here if it was deleted less than `tombstone_days` ago."""
+        return ledger.tombstone(self._conn(), job_id, tombstone_days)
+
+    def forget_expired(self, key_ttl_s: float, tombstone_days: float | None) -> int:
+        """Housekeeping: idempotency keys past their time to live and old tombstones go."""
+        with self._write() as conn:
+            return ledger.forget(conn, key_ttl_s, tombstone_days)
 
     def running_jobs(self) -> list[JobRow]:
         """Every running job (for the estimates)."""
         rows = self._conn().execute(
-            f"SELECT {_COLUMNS} FROM jobs WHERE status = ?", (JobStatus.RUNNING,)
+            f"SELECT {COLUMNS} FROM jobs WHERE status = ?", (JobStatus.RUNNING,)
         )
         return [JobRow.from_sql(r) for r in rows]
 
@@ -468,13 +414,17 @@ class JobStore:
         )
         return cur.rowcount == 1
 
-    def finish_done(self, claim: Claim, result: dict[str, Any]) -> bool:
-        """Store the result and mark done in one transaction, only if the claim still holds."""
+    def finish_done(
+        self, claim: Claim, result: dict[str, Any], sims: Simulations | None = None
+    ) -> bool:
+        """Store the result and mark done in one transaction, only if the claim still holds;
+        `sims`: what the job simulated (shown on its record)."""
         body = zlib.compress(json.dumps(result, allow_nan=False).encode(), 6)
         with self._write() as conn:
             cur = conn.execute(
-                f"UPDATE jobs SET status = ?, progress = 1, finished_at = ? WHERE {_FENCE}",
-                (JobStatus.DONE, now_iso(), *_fence(claim)),
+                f"UPDATE jobs SET status = ?, progress = 1, finished_at = ?, {_SIMS_SET}"
+                f" WHERE {_FENCE}",
+                (JobStatus.DONE, now_iso(), *_sims(sims), *_fence(claim)),
             )
             if cur.rowcount != 1:
                 return False
@@ -521,10 +471,20 @@ class JobStore:
             )  # fmt: skip
             return "failed"
 
-    def finish_failed(self, claim: Claim, error: str) -> bool:
+    def finish_failed(self, claim: Claim, error: str, sims: Simulations | None = None) -> bool:
         with self._write() as conn:
             cur = conn.execute(
-                f"UPDATE jobs SET status = ?, finished_at = ?, error = ? WHERE {_FENCE}",
-                (JobStatus.FAILED, now_iso(), error, *_fence(claim)),
+                f"UPDATE jobs SET status = ?, finished_at = ?, error = ?, {_SIMS_SET}"
+                f" WHERE {_FENCE}",
+                (JobStatus.FAILED, now_iso(), error, *_sims(sims), *_fence(claim)),
             )
         return cur.rowcount == 1
+
+
+_SIMS_SET = "sims_tasks = ?, sims_computed = ?, sims_cached = ?, sims_backend = ?"
+
+
+def _sims(sims: Simulations | None) -> tuple[int | str | None, ...]:
+    if sims is None:
+        return (None, None, None, None)
+    return (sims.tasks, sims.computed, sims.from_cache, sims.backend)

@@ -6,6 +6,7 @@ from typing import Any, Literal
 
 from pydantic import BaseModel, Field
 
+from server.jobs import Simulations
 from server.kinds import ResultSpec
 from server.status import StatusValue
 
@@ -35,6 +36,12 @@ class Job(BaseModel):
         "(at most once); a clean shutdown's re-queue is not counted"
     )
     sim_seconds: float = Field(description="simulated seconds the job asks for, all runs")
+    simulations: Simulations | None = Field(
+        None,
+        description="once the job has ended (done or failed): its simulations, computed or "
+        "read back from the result cache the server shares with the command line; null before "
+        "(and for jobs stored by older servers)",
+    )
     eta_s: float | None = Field(
         None,
         description="running jobs: estimated seconds left, from the job's own progress rate "

@@ -12,6 +12,8 @@ from pathlib import Path
 from pydantic import Field, SecretStr, field_validator
 from pydantic_settings import BaseSettings, SettingsConfigDict
 
+from sim_core import cache_max_bytes_of, default_cache_dir, default_cache_max_bytes
+
 
 def _default_workers() -> int:
     """Leave one core to the live viewer and the API when they share the machine."""
@@ -80,6 +82,37 @@ class Settings(BaseSettings):
         le=86400.0,
         description="how often the retention rules are applied (also once at start-up)",
     )
+    cache_dir: Path = Field(
+        default_factory=default_cache_dir,
+        description="the result cache the jobs' simulations are kept in and read back from, "
+        "shared with the command line (`insect-gait cache info`); default: the "
+        "installation's (INSECT_GAIT_CACHE_DIR, else the checkout's out/cache)",
+    )
+    cache_max_bytes: int | None = Field(
+        default_factory=default_cache_max_bytes,
+        ge=0,
+        description="size limit of the cache, bytes: after a job the least recently used "
+        "results are evicted down to 90% of it; 0 or 'none' = no limit (default 2 GiB)",
+    )
+    dask_address: str | None = Field(
+        None,
+        description="a dask.distributed scheduler (tcp://host:8786): the workers send their "
+        "jobs' simulations there instead of computing them themselves (needs the cluster "
+        "extra); None = each worker computes its jobs",
+    )
+    idempotency_ttl_s: float = Field(
+        86400.0,
+        gt=0,
+        le=30 * 86400.0,
+        description="how long an Idempotency-Key is remembered: a POST with a key seen this "
+        "recently returns the job it created; after it, the key is forgotten",
+    )
+    tombstone_days: float | None = Field(
+        90.0,
+        gt=0,
+        description="how long the id of a deleted job (retention or purge) answers 410 Gone "
+        "saying when and why it went; after it, 404; None = for ever",
+    )
     api_token: SecretStr | None = Field(
         None, description="when set, mutating endpoints need 'Authorization: Bearer <token>'"
     )
@@ -92,6 +125,27 @@ class Settings(BaseSettings):
         # not "the token is the empty string".
         if v is None or (isinstance(v, str) and not v.strip()):
             return None
+        return v
+
+    @field_validator("cache_max_bytes", mode="before")
+    @classmethod
+    def _limit_words(cls, v: object) -> object:
+        # the environment's words, read as the command line reads them (0 / none: no limit);
+        # compose passes "" when the variable is unset: the default, as for the CLI
+        if isinstance(v, str) and not v.strip():
+            return default_cache_max_bytes()
+        return cache_max_bytes_of(v) if isinstance(v, str) or v == 0 else v
+
+    @field_validator("tombstone_days", mode="before")
+    @classmethod
+    def _none_is_for_ever(cls, v: object) -> object:
+        return None if isinstance(v, str) and v.strip().lower() == "none" else v
+
+    @field_validator("dask_address", mode="before")
+    @classmethod
+    def _empty_address_is_none(cls, v: object) -> object:
+        if v is None or (isinstance(v, str) and not v.strip()):
+            return None  # compose passes INSECT_GAIT_DASK_ADDRESS="" outside its profile
         return v
 
     def threads_for_one_worker(self) -> int:

@@ -11,7 +11,11 @@ Shape: the supervisor (a thread in the API process, doing no simulation) claims 
 job for each idle worker and sends the worker its id over a pipe. The worker reads the spec,
 simulates, writes progress and the result to SQLite itself (fenced by the claim) and answers
 "finished". Cancel = the API marks the job cancelled; the supervisor sees a busy worker's job
-cancelled, SIGKILLs that worker and starts a fresh one. A worker that dies on its own (segfault,
+cancelled, SIGKILLs that worker and starts a fresh one (on the Dask path the worker's client dies
+with it, and the scheduler forgets a dead client's futures: the job's chunks not yet started
+never run, a chunk already running finishes on its cluster worker and is dropped). Each job's
+simulations go through the shared result cache (`server.kinds.compute`), so a job killed mid-way
+and run again starts from the chunks it had finished. A worker that dies on its own (segfault,
 out of memory) fails only its own job. Workers die with the API process (PR_SET_PDEATHSIG plus a
 parent watchdog), so after `kill -9` no orphan keeps simulating.
 """
@@ -34,7 +38,9 @@ from multiprocessing.process import BaseProcess
 from pathlib import Path
 from typing import Any
 
-from server.jobs import Claim, JobStore
+from server.jobs import Claim, JobStore, Simulations
+from server.kinds.compute import Compute, ComputeSettings
+from server.settings import Settings
 from server.status import JobStatus
 
 log = logging.getLogger("insect_gait.server.workers")
@@ -93,9 +99,16 @@ def lower_priority(niceness: int) -> int:
 
 
 def worker_main(
-    conn: Connection, db_path: str, nthread: int, parent_pid: int, niceness: int = 0
+    conn: Connection,
+    db_path: str,
+    nthread: int,
+    parent_pid: int,
+    niceness: int = 0,
+    where: ComputeSettings | None = None,
 ) -> None:
-    """Loop: receive (job_id, attempt), run it, answer. Exits on None or a closed pipe."""
+    """Loop: receive (job_id, attempt), run it, answer. Exits on None or a closed pipe.
+    `where`: the result cache and the backend every job's simulations go through (default:
+    the installation's cache, computed here)."""
     _die_with_parent(parent_pid)
     lower_priority(niceness)
     # Ctrl-C and `kill 0` (make run) signal the whole group; the API process decides what
@@ -104,7 +117,9 @@ def worker_main(
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, signal.SIG_IGN)
     from server.errors import exception_message, sanitize
-    from server.kinds import JOB_SPEC_ADAPTER, JobFailed, execute
+    from server.kinds import JOB_SPEC_ADAPTER, JobFailed, execute, open_compute
+
+    where = where or ComputeSettings(cache_dir=Settings().cache_dir)
 
     with contextlib.suppress(Exception):
         # warm the engine (MuJoCo, numba) before the first job arrives; `import sim_core`
@@ -130,25 +145,36 @@ def worker_main(
                 last = now
                 store.set_progress(claim, fraction)
 
+        compute: Compute | None = None
         try:
             raw = store.spec_of(claim.job_id)
             if raw is None:
                 raise JobFailed("the job disappeared from the database")
             job = JOB_SPEC_ADAPTER.validate_python(raw)
-            result = execute(job, progress, nthread)
-            if not store.finish_done(claim, result):
+            compute = open_compute(where, progress, nthread)
+            result = execute(job, compute)
+            if not store.finish_done(claim, result, compute.counts()):
                 log.info("job %s finished but was cancelled or re-queued meanwhile", claim.job_id)
         except JobFailed as exc:
-            store.finish_failed(claim, sanitize(str(exc)))
+            store.finish_failed(claim, sanitize(str(exc)), _counts(compute))
         except Exception as exc:
             # the client gets the type and message, never paths or a traceback; the operator
             # gets the traceback in the server's log
             print(f"job {claim.job_id} failed:\n{traceback.format_exc()}", file=sys.stderr)
-            store.finish_failed(claim, exception_message(exc))
+            store.finish_failed(claim, exception_message(exc), _counts(compute))
+        finally:
+            if compute is not None:
+                with contextlib.suppress(Exception):  # a cluster gone already: nothing to close
+                    compute.backend.close()
         try:
             conn.send(("finished", claim.job_id))
         except (BrokenPipeError, OSError):
             return
+
+
+def _counts(compute: Compute | None) -> Simulations | None:
+    """What a job simulated before it failed (None: it never reached its simulations)."""
+    return None if compute is None else compute.counts()
 
 
 # ---- inside the API process ---------------------------------------------------------------
@@ -180,6 +206,7 @@ class WorkerPool:
     size: int
     nthread: int
     niceness: int = 0
+    where: ComputeSettings | None = None  # the jobs' result cache and backend
     _workers: list[_Worker] = field(default_factory=list)
     _thread: threading.Thread | None = None
     _stop: threading.Event = field(default_factory=threading.Event)
@@ -230,7 +257,7 @@ class WorkerPool:
         parent, child = self._ctx.Pipe(duplex=True)
         proc = self._ctx.Process(
             target=worker_main,
-            args=(child, str(self.db_path), self.nthread, os.getpid(), self.niceness),
+            args=(child, str(self.db_path), self.nthread, os.getpid(), self.niceness, self.where),
             name="insect-gait-worker",
             daemon=True,
         )

@@ -25,5 +25,19 @@ from .paper.surface import drift_surface as drift_surface
 from .paper.surface_atlas import surface_atlas as surface_atlas
 from .paper.surface_walks import WalkConfig as WalkConfig
 from .paper.sweep import sweep as sweep
+
+# the runs' machinery: the REST service's jobs run their simulations through it (one result
+# cache for every door: issue 54)
+from .runs import cache_max_bytes_of as cache_max_bytes_of
+from .runs import default_cache_dir as default_cache_dir
+from .runs import default_cache_max_bytes as default_cache_max_bytes
+from .runs.backends import Backend as Backend
+from .runs.backends import BackendUnavailable as BackendUnavailable
+from .runs.backends import RunStats as RunStats
+from .runs.backends import get_backend as get_backend
+from .runs.backends import run_tasks as run_tasks
+from .runs.cache import ResultCache as ResultCache
 from .runs.tasks import Task as Task
 from .runs.tasks import execute_chunk as execute_chunk
+from .runs.tasks import run_task as run_task
+from .runs.tasks import summary_of as summary_of

@@ -94,16 +94,4 @@ from .paper.surface import (
     probe_spec as probe_spec,  # a surface probe's pinned run (read back cached)
 )
 from .runs import BACKENDS as BACKENDS  # the backends' names (cached, resumable runs)
-from .runs.backends import (
-    Backend as Backend,  # where cached tasks run (local pool, Dask, inline)
-)
-from .runs.backends import (
-    RunStats as RunStats,  # what a batch of tasks computed and read back
-)
-from .runs.backends import get_backend as get_backend  # a backend by name
-from .runs.backends import (
-    run_tasks as run_tasks,  # tasks through the result cache on a backend
-)
-from .runs.cache import ResultCache as ResultCache  # the content-addressed result cache
 from .runs.tasks import ramp_task as ramp_task  # a ramped run (a sweep) as a cached task
-from .runs.tasks import run_task as run_task  # a run as a cached task

@@ -22,9 +22,16 @@ from pathlib import Path
 from typing import Any
 
 from lab.surface_search import METACHRONAL_WINDOW, TRIPOD_WINDOW, geometry
-from sim_core import ModelParams, RunSpec, drift_surface, nominal_speed, simulate_batch
+from sim_core import (
+    ModelParams,
+    ResultCache,
+    RunSpec,
+    drift_surface,
+    get_backend,
+    nominal_speed,
+    simulate_batch,
+)
 from sim_core.contract import DriftSurface, SurfaceConfig, surface_grid
-from sim_core.research import ResultCache, get_backend
 
 BETAS = surface_grid(0.60, 0.72, 0.01)
 STARTS = {"tripod side": 3.0, "metachronal side": 1.9}

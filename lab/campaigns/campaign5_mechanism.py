@@ -28,9 +28,8 @@ from typing import Any
 
 import numpy as np
 
-from sim_core import ModelParams, drift_surface
+from sim_core import ModelParams, ResultCache, default_cache_dir, drift_surface, get_backend
 from sim_core.contract import DriftSurface, SurfaceConfig, surface_grid
-from sim_core.research import ResultCache, get_backend
 
 JUMP_BETAS = (0.62, 0.645, 0.70)
 JUMP_CONFIG = SurfaceConfig(d31_grid=surface_grid(1.5, 3.3, 0.05), average_s=2.0)
@@ -103,7 +102,7 @@ def branch_end(surface: DriftSurface, window: tuple[float, float]) -> dict[str, 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--out", default="out/campaign5")
-    ap.add_argument("--cache", default="out/cache")
+    ap.add_argument("--cache", default=str(default_cache_dir()))
     ap.add_argument("--workers", type=int, default=2)
     a = ap.parse_args()
     out = Path(a.out)

@@ -37,9 +37,8 @@ from lab.surface_search import (
     fold_of,
     geometry,
 )
-from sim_core import ModelParams
+from sim_core import ModelParams, ResultCache, get_backend
 from sim_core.contract import PARAMETER_NAMES
-from sim_core.research import ResultCache, get_backend
 
 STUDY = "campaign5"
 

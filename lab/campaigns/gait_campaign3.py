@@ -29,16 +29,20 @@ from typing import Any
 import numpy as np
 
 from lab.campaigns.gait_campaign2 import binned_legs, crossings, row, table_finals
-from sim_core import ModelParams, RunSpec, Task, simulate_batch, sweep
-from sim_core.contract import Ramp, classify_gait
-from sim_core.research import (
+from sim_core import (
     Backend,
+    ModelParams,
     ResultCache,
+    RunSpec,
+    Task,
+    default_cache_dir,
     get_backend,
-    open_loop_drift,
-    ramp_task,
     run_tasks,
+    simulate_batch,
+    sweep,
 )
+from sim_core.contract import Ramp, classify_gait
+from sim_core.research import open_loop_drift, ramp_task
 
 # The step-one candidate of issue 22 (fact 7, first row): lift joints 0.6x as stiff with
 # damping on their own velocity (1 ms lag), a 0.5 mm lower stance, centre of mass 1 mm forward.
@@ -517,7 +521,7 @@ def main(argv: list[str] | None = None) -> int:
     for x in (b, q):  # sweeps through sim_core.runs: cached, on the local pool or Dask
         x.add_argument("--backend", choices=["local", "dask", "inline"], default="local")
         x.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
-        x.add_argument("--cache", type=Path, default=Path("out/cache"))
+        x.add_argument("--cache", type=Path, default=default_cache_dir())
     for x in (f, m, r, s, b, q):
         x.add_argument("--set", nargs="*", default=[], help="name=value over STEP_ONE")
         x.add_argument("--nthread", type=int, default=2)

@@ -22,9 +22,9 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
-from sim_core import drift_surface
+from sim_core import ResultCache, drift_surface, get_backend
 from sim_core.contract import DriftSurface, SurfaceConfig
-from sim_core.research import ResultCache, get_backend, named_params
+from sim_core.research import named_params
 
 BETAS = [round(0.60 + 0.01 * k, 2) for k in range(13)]
 STUDIES = Path("docs/studies")

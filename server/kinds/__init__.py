@@ -18,8 +18,9 @@ from typing import TYPE_CHECKING, Annotated, Any, TypeAlias, Union
 
 from pydantic import Field, TypeAdapter
 
-from server.kinds.base import JobFailed, Kind, Physics, Progress, Result
+from server.kinds.base import JobFailed, Kind, Physics, Result
 from server.kinds.bounds import tidy
+from server.kinds.compute import Compute, ComputeSettings, open_compute
 from server.kinds.provenance import job_provenance
 
 # The registry: one line per kind, in the order the request union (and so OpenAPI) lists them.
@@ -68,19 +69,29 @@ __all__ = [
     "RECORD_COLUMNS",
     "AnyJob",
     "AnyResult",
+    "Compute",
+    "ComputeSettings",
     "JobFailed",
     "JobSpec",
     "Kind",
     "ResultSpec",
     "execute",
+    "open_compute",
+    "stored_form",
 ]
 
 
-def execute(job: AnyJob, progress: Progress, nthread: int) -> dict[str, Any]:
-    """Run `job` by its kind's runner (in a worker process); the result (its kind's `Result`,
-    stamped with the job's provenance: every kind's, one function) as JSON-able data, a
-    top-level null left out, checked finite and its floats tidied."""
-    outcome = KINDS[job.kind_name()].run(job, progress, nthread)
+def execute(job: AnyJob, compute: Compute) -> dict[str, Any]:
+    """Run `job` by its kind's runner (in a worker process), its simulations through `compute`
+    (which counts them); the result (its kind's `Result`, stamped with the job's provenance:
+    every kind's, one function) as JSON-able data, a top-level null left out, checked finite
+    and its floats tidied."""
+    return stored_form(job, KINDS[job.kind_name()].run(job, compute))
+
+
+def stored_form(job: AnyJob, outcome: Result) -> dict[str, Any]:
+    """A runner's `outcome` as it is stored and served (`execute`): stamped, dumped, checked
+    finite and tidied."""
     outcome = outcome.model_copy(update={"provenance": job_provenance(job)})
     data = outcome.model_dump(mode="json")  # keeps NaN and inf as floats: checked below
     result = {k: v for k, v in data.items() if v is not None}

@@ -10,10 +10,10 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 from pydantic import Field, ValidationInfo, field_validator
 
 import sim_core
-from server.kinds.base import Kind, Progress, Result
+from server.kinds.base import Kind, Result
 from server.kinds.bounds import SWEEP_RANGES, in_range, range_text
 from server.kinds.common import paper_transitions
-from server.kinds.progress import ChunkProgress
+from server.kinds.compute import Compute
 from server.kinds.surface import Held
 from sim_core.contract import AXIS_PARAM, AtlasAxis, SurfaceAtlas, SurfaceConfig
 
@@ -99,17 +99,17 @@ class AtlasJobResult(Result):
     atlas: SurfaceAtlas = Field(description="the gait atlas read from drift surfaces")
 
 
-def run(job: AtlasJob, progress: Progress, nthread: int) -> AtlasJobResult:
-    """The atlas by the core's `surface_atlas` in this worker (a private cache), with one flat
-    row per (beta, value)."""
+def run(job: AtlasJob, compute: Compute) -> AtlasJobResult:
+    """The atlas by the core's `surface_atlas`, its probes and walks through the shared cache
+    (the keys of `insect-gait atlas`), with one flat row per (beta, value)."""
     sim = sim_core
     at = sim.Condition(job.body_mass_g, job.slope_deg)
-    moving = ChunkProgress(progress, job.run_count())  # moves inside each chunk of probes
+    moving = compute.moving(job.run_count())  # moves inside each chunk of probes run here
     atlas = sim.surface_atlas(
         job.axis, sorted(set(job.betas)), sorted(set(job.values)), config=job.config(),
         params=job.model_params(), at=at, numerics=job.spec_numerics(), refine=job.refine,
         walks=sim.WalkConfig() if job.walks else None, progress=False,
-        on_progress=moving.on_progress, executor=moving.executor,
+        on_progress=moving.on_progress, **compute.core(moving),
     )  # fmt: skip
     rows = [
         {"beta": p.beta, "axis": job.axis, "value": p.value, "region": p.region,

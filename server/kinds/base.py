@@ -46,6 +46,8 @@ from sim_core.contract import (
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
+    from server.kinds.compute import Compute
+
 Progress = Callable[[float], None]
 
 
@@ -272,7 +274,7 @@ class Result(BaseModel):
 
 
 J = TypeVar("J", bound=Physics)
-Runner = Callable[[J, Progress, int], Result]
+Runner = Callable[[J, "Compute"], Result]
 Draw = Callable[["Figure", dict[str, Any], dict[str, Any]], None]
 
 
@@ -281,10 +283,12 @@ class Kind(Generic[J]):
     """One job kind, as its module `server/kinds/<name>.py` exports it (`KIND`).
 
     model: the request model (a `Physics` subclass with `kind: Literal["<name>"]`).
-    run: `run(job, progress, nthread) -> result`, called in a worker process only: the kind's
+    run: `run(job, compute) -> result`, called in a worker process only: the kind's
         `Result` (a `records` list of flat rows, which the CSV export and the figure read, plus
-        whatever else the kind keeps); it raises `JobFailed` rather than return numbers from a
-        failed simulation.
+        whatever else the kind keeps); its simulations go through `compute`
+        (`server.kinds.compute`: the shared result cache, on this worker or a cluster), which
+        also carries the job's progress; it raises `JobFailed` rather than return numbers from
+        a failed simulation.
     result: the kind's `Result` model (its schema is the result's in OpenAPI).
     tables: the kind's other tables, kept under the result's `series` when asked for (name ->
         columns; the CSV export's `table`); none for most kinds.

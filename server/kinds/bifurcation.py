@@ -9,9 +9,10 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field
 
-from server.kinds.base import BetaRange, Kind, Progress, Result
+from server.kinds.base import BetaRange, Kind, Result
 from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
 from server.kinds.common import conditions, d31_axis, paper_ranges, paper_transitions
+from server.kinds.compute import Compute
 from server.kinds.finder import (
     FINDER_COLUMNS,
     FINDER_DEFAULTS,
@@ -98,12 +99,13 @@ class BifurcationJobResult(Result):
     finder: FinderOutput = Field(description="the settled fixed-point finder's output")
 
 
-def run(job: BifurcationJob, progress: Progress, nthread: int) -> BifurcationJobResult:
+def run(job: BifurcationJob, compute: Compute) -> BifurcationJobResult:
     """Fig. 8 from settled walking: the fixed-point finder (`find`, the function `reproduce`
-    uses) at every beta of the grid; its typed output (`FinderOutput`) plus flat rows."""
+    uses) at every beta of the grid, its runs through the shared cache; its typed output
+    (`FinderOutput`) plus flat rows."""
     cells = [Cell(beta=b, body_mass_g=job.body_mass_g, slope_deg=job.slope_deg)
              for b in job.beta_range.values()]  # fmt: skip
-    found = find(cells, job.finder_config(), finder_runner(job, progress, nthread))
+    found = find(cells, job.finder_config(), finder_runner(job, compute))
     out = FinderOutput(source="REST bifurcation job: the settled fixed-point finder",
                        config=asdict(job.finder_config()), cells=found)  # fmt: skip
     return BifurcationJobResult(finder=out, records=finder_rows(found))

@@ -72,6 +72,18 @@ def failed(job: Physics, failures: list[tuple[str, RunFailure]], total: int) -> 
     )
 
 
+def check_runs(job: Physics, labels: list[str], summaries: list[dict[str, Any]]) -> None:
+    """Raise the job's failure (`failed`) if any run stopped early: `labels` name the runs,
+    `summaries` are their summaries (`RunResult.summary`, whose `failure` is a dict)."""
+    failures = [
+        (label, RunFailure(**s["failure"]))
+        for label, s in zip(labels, summaries, strict=True)
+        if s.get("failure")
+    ]
+    if failures:
+        raise failed(job, failures, len(summaries))
+
+
 def summary_row(d31_init: float, summary: dict[str, Any]) -> dict[str, Any]:
     """One run's summary as a flat row (SUMMARY_COLUMNS)."""
     row = {"d31_init": d31_init}
@@ -80,10 +92,11 @@ def summary_row(d31_init: float, summary: dict[str, Any]) -> dict[str, Any]:
     return row
 
 
-def warnings_of(results: list[Any]) -> list[str]:
-    """Every distinct warning of the job's runs (`RunMeasures.warnings`), in first-seen order:
-    what the numbers say about themselves, e.g. a duty factor off beta at a coarse step."""
-    return list(dict.fromkeys(w for r in results for w in r.measures.warnings))
+def warnings_of(summaries: list[dict[str, Any]]) -> list[str]:
+    """Every distinct warning of the job's runs (their summaries' `warnings`, from
+    `RunMeasures`), in first-seen order: what the numbers say about themselves, e.g. a duty
+    factor off beta at a coarse step."""
+    return list(dict.fromkeys(w for s in summaries for w in s.get("warnings") or ()))
 
 
 def d31_axis(ax: Axes, axis: str = "y") -> None:

@@ -1,5 +1,5 @@
-"""What the finder kinds (bifurcation, atlas) share: their request base, the finder's runs as
-`simulate_batch` rounds, its output as flat rows, and those rows drawn against beta."""
+"""What the finder kinds (bifurcation) share: their request base, the finder's runs as cached
+task rounds, its output as flat rows, and those rows drawn against beta."""
 
 from __future__ import annotations
 
@@ -7,8 +7,9 @@ from collections.abc import Callable
 from typing import TYPE_CHECKING, Any
 
 import sim_core
-from server.kinds.base import Physics, Progress
+from server.kinds.base import Physics
 from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
+from server.kinds.compute import Compute
 from server.kinds.progress import ChunkProgress
 from sim_core.contract import Cell, CellResult, FinderConfig, Probe
 
@@ -62,32 +63,34 @@ class Finder(Physics):
 FinderRun = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
 
 
-def finder_runner(job: Finder, progress: Progress, nthread: int) -> FinderRun:
-    """The finder's `run`: each round as one `simulate_batch` (this worker's threads), with
+def finder_runner(job: Finder, compute: Compute) -> FinderRun:
+    """The finder's `run`: each round's runs as tasks through the shared cache (a run with the
+    default numerics has the key `reproduce`'s finder gives it: `sim_core.probe_task`), with
     the job's numerics; progress as the share of the job's estimated simulated time done,
-    moving inside a round too (the batch's own progress), never back, at most `CAP`."""
+    moving inside a round too, never back, at most `CAP`."""
     budget = max(job.total_sim_seconds(), 1e-9)
     done = 0.0
-    shown = ChunkProgress(progress, runs=1)  # only its monotone, capped `show`
+    shown = ChunkProgress(compute.progress, runs=1)  # only its monotone, capped `show`
+    params = job.model_params()
 
     def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
         nonlocal done
-        specs = [
-            sim_core.RunSpec(**p.spec_fields(), **c.spec_fields(), **job.numerics_fields())
+        tasks = [
+            sim_core.run_task(
+                sim_core.RunSpec(**p.spec_fields(), **c.spec_fields(), **job.numerics_fields()),
+                params,
+            )
             for c, p in batch
         ]
         asked, before = sum(p.duration_s for _, p in batch), done
-        results = sim_core.simulate_batch(
-            specs, job.model_params(), nthread=nthread,
-            progress=lambda f: shown.show((before + f * asked) / budget),
-        )  # fmt: skip
-        ran = [
-            r.measures.duration_s or p.duration_s for (_, p), r in zip(batch, results, strict=True)
-        ]
-        done += sum(ran)
+        results = compute.run(tasks, lambda f: shown.show((before + f * asked) / budget))
+        # what `find` reads of a run (`fixedpoints._run_of`): its Delta31 series, its error
+        # and how long it ran (less than asked where it stopped settled)
+        done += sum(
+            r.get("duration_s") or p.duration_s for (_, p), r in zip(batch, results, strict=True)
+        )
         shown.show(done / budget)
-        return [{"d31": r.events.d31.tolist(), "error": r.error, "duration_s": s}
-                for r, s in zip(results, ran, strict=True)]  # fmt: skip
+        return results
 
     return run
 

@@ -8,7 +8,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from pydantic import Field, ValidationInfo, field_validator
 
 import sim_core
-from server.kinds.base import Kind, Physics, Progress, Result, run_cost_problem
+from server.kinds.base import Kind, Physics, Result, run_cost_problem
 from server.kinds.bounds import (
     BETA_BOUNDS,
     BETA_DEFAULT,
@@ -20,6 +20,7 @@ from server.kinds.bounds import (
     range_text,
 )
 from server.kinds.common import d31_axis, failed, paper_transitions
+from server.kinds.compute import Compute
 from sim_core.contract import RampParam
 
 if TYPE_CHECKING:
@@ -136,11 +137,13 @@ class HysteresisJobResult(Result):
     )
 
 
-def run(job: HysteresisJob, progress: Progress, nthread: int) -> HysteresisJobResult:
-    """Fig. 6a / 9: one run ramping `parameter` start -> turn -> start; Delta31 against the
+def run(job: HysteresisJob, compute: Compute) -> HysteresisJobResult:
+    """Fig. 6a / 9: one run ramping `parameter` start -> turn -> start (the core's `sweep`, a
+    ramp task through the shared cache, the key `reproduce`'s ramps have); Delta31 against the
     value at every leg-1 touchdown, and the transitions on each leg of the ramp."""
     sim = sim_core
     spec = sim.RunSpec(**job.run_fields())
+    moving = compute.moving(1)
     res = sim.sweep(
         spec,
         parameter=job.parameter,
@@ -148,7 +151,8 @@ def run(job: HysteresisJob, progress: Progress, nthread: int) -> HysteresisJobRe
         hold_s=job.hold_s,
         ramp_s=job.ramp_s,
         params=job.model_params(),
-        progress=progress,
+        progress=moving.on_progress,
+        **compute.core(moving),
     )
     if res.failure is not None:
         raise failed(job, [("the sweep run", res.failure)], 1)
@@ -157,7 +161,6 @@ def run(job: HysteresisJob, progress: Progress, nthread: int) -> HysteresisJobRe
         {"time_s": t, "leg": "first" if t < turn_t else "second", "value": v, "d31": d}
         for t, v, d in zip(res.times_s, res.values, res.d31, strict=True)
     ]
-    progress(1.0)
     return HysteresisJobResult(
         parameter=job.parameter, start=job.start, turn=job.turn, summary=res.summary,
         records=records,

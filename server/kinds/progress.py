@@ -34,10 +34,13 @@ class ChunkProgress:
         report: the job's progress callback (the worker's, throttled there).
         runs: the runs the job is sized at; 1 / runs is the share per run until the core's
             first report measures it.
+        nthread: threads each chunk's physics steps on (`execute_chunk`; the numbers do not
+            depend on it).
     """
 
     report: Progress
     runs: int
+    nthread: int = 1
     done: float = 0.0  # the core's last report, 0..1
     per_run: float = field(init=False)
     shown: float = 0.0
@@ -64,4 +67,6 @@ class ChunkProgress:
         """Run `chunk` as the core would (`execute_chunk`), moving the progress as it runs."""
         self._chunk = len(chunk)
         base, span = self.done, len(chunk) * self.per_run
-        return sim_core.execute_chunk(chunk, lambda f: self.show(base + f * span))
+        return sim_core.execute_chunk(
+            chunk, lambda f: self.show(base + f * span), nthread=self.nthread
+        )

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field
 
-from server.kinds.base import Kind, Progress, Result, Timed
+from server.kinds.base import Kind, Result, Timed
 from server.kinds.bounds import (
     D31,
     TWO_PI,
@@ -17,6 +17,7 @@ from server.kinds.bounds import (
     d31_list,
 )
 from server.kinds.common import d31_axis
+from server.kinds.compute import Compute
 from server.kinds.run import simulate_each
 from sim_core import return_map_from_series
 from sim_core.contract import RETURN_MAP_SKIP
@@ -48,18 +49,18 @@ class ReturnMapJobResult(Result):
     runs: list[dict[str, Any]] = Field(description="each run's summary (RunResult.summary)")
 
 
-def run(job: ReturnMapJob, progress: Progress, nthread: int) -> ReturnMapJobResult:
+def run(job: ReturnMapJob, compute: Compute) -> ReturnMapJobResult:
     """The paper's Fig. 7 construction, the core's own (`return_map_from_series`, as in
     `reproduce`): Delta31 at touchdown n against touchdown n + lag, the first
-    RETURN_MAP_SKIP touchdowns of each run dropped; `n` counts from the run's first touchdown."""
-    results = simulate_each(job, progress, nthread)
+    RETURN_MAP_SKIP touchdowns of each run dropped; `n` counts from the run's first touchdown.
+    The runs go through the shared cache (`simulate_each`)."""
+    runs = simulate_each(job, compute)
     records: list[dict[str, Any]] = []
-    for d0, res in zip(job.d31_init, results, strict=True):
-        rm = return_map_from_series(job.beta, [res.events.d31], lag=job.lag)
+    for d0, summary in zip(job.d31_init, runs, strict=True):
+        rm = return_map_from_series(job.beta, [summary["d31"]], lag=job.lag)
         for k, (x, y) in enumerate(zip(rm.x.tolist(), rm.y.tolist(), strict=True)):
             records.append({"d31_init": d0, "n": RETURN_MAP_SKIP + k, "d31_n": x,
                             "d31_n_plus_lag": y})  # fmt: skip
-    runs = [r.summary() for r in results]
     return ReturnMapJobResult(beta=job.beta, lag=job.lag, records=records, runs=runs)
 
 

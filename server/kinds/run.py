@@ -8,15 +8,16 @@ from typing import TYPE_CHECKING, Any, Literal
 from pydantic import BaseModel, Field
 
 import sim_core
-from server.kinds.base import Kind, Progress, Record, Result, Timed
+from server.kinds.base import Kind, Record, Result, Timed
 from server.kinds.bounds import D31, core_default, core_field, d31_list
 from server.kinds.common import (
     SUMMARY_COLUMNS,
+    check_runs,
     d31_axis,
-    failed,
     summary_row,
     warnings_of,
 )
+from server.kinds.compute import Compute
 from sim_core.contract import LEG_NAMES
 
 if TYPE_CHECKING:
@@ -50,20 +51,34 @@ class RunJob(Timed):
         return self.include_series
 
 
-def simulate_each(
-    job: RunJob | ReturnMapJob, progress: Progress, nthread: int
-) -> list[sim_core.RunResult]:
-    """One run per d31_init of a `run` or `return_map` job, one batch call; `JobFailed` naming
-    every run that failed."""
+def simulate_each(job: RunJob | ReturnMapJob, compute: Compute) -> list[dict[str, Any]]:
+    """Each run's summary (`RunResult.summary`), one run per d31_init of a `run` or
+    `return_map` job, every run a task through the shared cache; `JobFailed` naming every run
+    that failed."""
+    params = job.model_params()
     specs = [sim_core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
-    results = sim_core.simulate_batch(specs, job.model_params(), nthread=nthread, progress=progress)
-    failures = [
-        (f"run {i + 1} of {len(results)} (d31_init = {d:.4g})", r.failure)
-        for i, (d, r) in enumerate(zip(job.d31_init, results, strict=True))
-        if r.failure is not None
-    ]
-    if failures:
-        raise failed(job, failures, len(results))
+    summaries = [sim_core.summary_of(r)
+                 for r in compute.run([sim_core.run_task(s, params) for s in specs])]  # fmt: skip
+    check_runs(job, run_labels(job), summaries)
+    return summaries
+
+
+def run_labels(job: RunJob | ReturnMapJob) -> list[str]:
+    """Each run's name in a failure message."""
+    n = len(job.d31_init)
+    return [f"run {i + 1} of {n} (d31_init = {d:.4g})" for i, d in enumerate(job.d31_init)]
+
+
+def simulate_with_series(job: RunJob, compute: Compute) -> list[sim_core.RunResult]:
+    """Each run's result, with its time series, one batch call in this worker. Not through
+    the cache: a task keeps a run's summary and events, not its sampled series (storing them
+    would change what every cached task holds), so a job with include_series is computed each
+    time, on this worker, and counted as computed."""
+    specs = [sim_core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
+    results = sim_core.simulate_batch(specs, job.model_params(), nthread=compute.nthread,
+                                      progress=compute.progress)  # fmt: skip
+    compute.computed_elsewhere(len(specs))
+    check_runs(job, run_labels(job), [r.summary() for r in results])
     return results
 
 
@@ -89,14 +104,19 @@ class RunJobResult(Result):
     series: SeriesTables | None = Field(None, description="with include_series only")
 
 
-def run(job: RunJob, progress: Progress, nthread: int) -> RunJobResult:
-    results = simulate_each(job, progress, nthread)
-    runs = [r.to_dict() if job.include_series else r.summary() for r in results]
-    records = [summary_row(d, r.summary()) for d, r in zip(job.d31_init, results, strict=True)]
+def run(job: RunJob, compute: Compute) -> RunJobResult:
+    """Each run's summary (through the shared cache) or, with include_series, its whole
+    record (computed here: `simulate_with_series`), and one summary row per run."""
+    if job.include_series:
+        results = simulate_with_series(job, compute)
+        runs, summaries = [r.to_dict() for r in results], [r.summary() for r in results]
+    else:
+        runs = summaries = simulate_each(job, compute)
+    records = [summary_row(d, r) for d, r in zip(job.d31_init, summaries, strict=True)]
     return RunJobResult(
         runs=runs,
         records=records,
-        warnings=warnings_of(results),
+        warnings=warnings_of(summaries),
         series=series_tables(job.d31_init, runs) if job.include_series else None,
     )
 

@@ -9,9 +9,9 @@ from typing import TYPE_CHECKING, Any, Literal
 from pydantic import Field, ValidationInfo, field_validator
 
 import sim_core
-from server.kinds.base import BetaRange, Kind, Physics, Progress, Result
+from server.kinds.base import BetaRange, Kind, Physics, Result
 from server.kinds.bounds import bounded, core_bounds, core_default
-from server.kinds.progress import ChunkProgress
+from server.kinds.compute import Compute
 from sim_core.contract import DriftSurface, SurfaceConfig, pin_problem, surface_grid
 
 if TYPE_CHECKING:
@@ -94,17 +94,17 @@ class SurfaceJobResult(Result):
     surface: DriftSurface = Field(description="the drift surface over the beta grid")
 
 
-def run(job: SurfaceJob, progress: Progress, nthread: int) -> SurfaceJobResult:
-    """The surface by the core's `drift_surface`, in this worker (a private cache: the job's
-    probes are its own), refined (`refine`) as `insect-gait surface` refines it, with flat
-    rows: one per probe, zero and near-zero band. Progress moves inside each chunk of probes
-    (`ChunkProgress`), not only when one ends."""
-    moving = ChunkProgress(progress, job.run_count())
+def run(job: SurfaceJob, compute: Compute) -> SurfaceJobResult:
+    """The surface by the core's `drift_surface`, its probes through the shared cache (the
+    same keys as `insect-gait surface`'s, so either reads the other's back), refined
+    (`refine`) as `insect-gait surface` refines it, with flat rows: one per probe, zero and
+    near-zero band. Progress moves inside each chunk of probes run here (`ChunkProgress`)."""
+    moving = compute.moving(job.run_count())
     s = sim_core.drift_surface(
         job.beta_range.values(), config=job.config(), params=job.model_params(),
         body_mass_g=job.body_mass_g, slope_deg=job.slope_deg, numerics=job.spec_numerics(),
         refine=job.refine, progress=False, on_progress=moving.on_progress,
-        executor=moving.executor,
+        **compute.core(moving),
     )  # fmt: skip
     rows: list[dict[str, Any]] = [
         {

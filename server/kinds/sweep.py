@@ -8,17 +8,18 @@ from typing import TYPE_CHECKING, Any, Literal
 from pydantic import Field
 
 import sim_core
-from server.kinds.base import BetaRange, Kind, Progress, Result, Timed
+from server.kinds.base import BetaRange, Kind, Result, Timed
 from server.kinds.bounds import D31, core_default, d31_list
 from server.kinds.common import (
     SUMMARY_COLUMNS,
+    check_runs,
     conditions,
     d31_axis,
-    failed,
     paper_transitions,
     summary_row,
     warnings_of,
 )
+from server.kinds.compute import Compute
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
@@ -35,21 +36,16 @@ class SweepJob(Timed):
         return len(self.d31_init) * self.beta_range.steps
 
 
-def _grid(
-    job: SweepJob, progress: Progress, nthread: int
-) -> list[tuple[float, float, sim_core.RunResult]]:
-    """Every (beta, d31_init) of the job's grid as independent runs, one batch call."""
+def _grid(job: SweepJob, compute: Compute) -> list[tuple[float, float, dict[str, Any]]]:
+    """Every (beta, d31_init) of the job's grid as independent runs, each a task through the
+    shared cache: (beta, d31_init, the run's summary)."""
     pairs = [(b, d) for b in job.beta_range.values() for d in job.d31_init]
     specs = sim_core.spec_grid(job.beta_range.values(), job.d31_init, **job.run_fields())
-    results = sim_core.simulate_batch(specs, job.model_params(), nthread=nthread, progress=progress)
-    failures = [
-        (f"beta {b:.4g}, d31_init {d:.4g}", r.failure)
-        for (b, d), r in zip(pairs, results, strict=True)
-        if r.failure is not None
-    ]
-    if failures:
-        raise failed(job, failures, len(results))
-    return [(b, d, r) for (b, d), r in zip(pairs, results, strict=True)]
+    params = job.model_params()
+    summaries = [sim_core.summary_of(r)
+                 for r in compute.run([sim_core.run_task(s, params) for s in specs])]  # fmt: skip
+    check_runs(job, [f"beta {b:.4g}, d31_init {d:.4g}" for b, d in pairs], summaries)
+    return [(b, d, s) for (b, d), s in zip(pairs, summaries, strict=True)]
 
 
 class SweepJobResult(Result):
@@ -59,15 +55,15 @@ class SweepJobResult(Result):
     warnings: list[str] = Field(description="what the runs' numbers say about themselves")
 
 
-def run(job: SweepJob, progress: Progress, nthread: int) -> SweepJobResult:
+def run(job: SweepJob, compute: Compute) -> SweepJobResult:
     """Final Delta31 and gait for every beta of the grid and every initial Delta31."""
     records = []
-    grid = _grid(job, progress, nthread)
-    for beta, d0, res in grid:
-        row = summary_row(d0, res.summary())
+    grid = _grid(job, compute)
+    for beta, d0, summary in grid:
+        row = summary_row(d0, summary)
         row["beta"] = beta
         records.append(row)
-    return SweepJobResult(records=records, warnings=warnings_of([r for _, _, r in grid]))
+    return SweepJobResult(records=records, warnings=warnings_of([s for _, _, s in grid]))
 
 
 def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:

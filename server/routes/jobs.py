@@ -11,14 +11,15 @@ from __future__ import annotations
 from datetime import UTC, datetime
 from typing import Annotated, Any, Literal
 
-from fastapi import APIRouter, HTTPException, Query, Response
+from fastapi import APIRouter, Header, HTTPException, Query, Response
 from fastapi.responses import JSONResponse
 
-from server import figures
+from server import figures, ledger
 from server.deps import (
     R400,
     R404,
     R409,
+    R410,
     R422,
     JobDep,
     JobId,
@@ -26,10 +27,11 @@ from server.deps import (
     SettingsDep,
     StoreDep,
     get_job_or_404,
+    no_such_job,
 )
 from server.errors import limit_error, sanitize
 from server.estimates import eta_of, retry_after_s, wall_per_sim_second
-from server.jobs import JobRow, JobStore, QueueFull
+from server.jobs import IdempotencyKey, JobRow, JobStore, KeyConflict, QueueFull, Replayed
 from server.kinds import KINDS, RECORD_COLUMNS, JobSpec
 from server.kinds.provenance import stamped
 from server.schemas import Job, JobLinks, JobPage, JobResult, Problem
@@ -61,6 +63,7 @@ def job_out(job: JobRow, store: JobStore | None = None) -> Job:
         attempts=job.attempts,
         requeues=job.requeues,
         sim_seconds=job.sim_seconds,
+        simulations=job.simulations,
         eta_s=eta,
         spec=job.spec,
         links=JobLinks(self=base, result=f"{base}/result", figure=f"{base}/figure.png"),
@@ -74,6 +77,17 @@ def require_done(job: JobRow) -> None:
             status_code=409,
             detail=f"job {job.id} is {job.status}, results exist only for done jobs{why}",
         )
+
+
+def key_issue(msg: str) -> dict[str, Any]:
+    """A 422 item about the Idempotency-Key header, in the shape of the others."""
+    return {"loc": ["header", "Idempotency-Key"], "field": "Idempotency-Key",
+            "msg": f"Idempotency-Key: {msg}", "type": "idempotency_key"}  # fmt: skip
+
+
+def resp_410_key() -> dict[int | str, dict[str, Any]]:
+    return {410: {"model": Problem, "description": "the Idempotency-Key queued a job that has "
+                  "since been deleted (the message says when and why)"}}  # fmt: skip
 
 
 def retry_after(store: JobStore, settings: Settings) -> int:
@@ -92,14 +106,36 @@ def retry_after(store: JobStore, settings: Settings) -> int:
     response_model=Job,
     responses={
         **R400,
+        **resp_410_key(),
         **R422,
         429: {"model": Problem, "description": "queue full; see Retry-After"},
     },
     summary="Queue a simulation job",
 )
 def submit_job(
-    spec: JobSpec, response: Response, store: StoreDep, pool: PoolDep, settings: SettingsDep
+    spec: JobSpec,
+    response: Response,
+    store: StoreDep,
+    pool: PoolDep,
+    settings: SettingsDep,
+    idempotency_key: Annotated[
+        str | None,
+        Header(
+            alias="Idempotency-Key",
+            description="any unique string (a UUID): a POST repeated with the same key and "
+            "body within idempotency_ttl_s returns the job the first one queued (202, header "
+            "Idempotent-Replayed: true) instead of queueing a second; the same key with "
+            "another body is refused (422)",
+        ),
+    ] = None,
 ) -> Any:
+    key = None
+    if idempotency_key is not None:
+        problem = ledger.key_problem(idempotency_key)
+        if problem:
+            return JSONResponse(status_code=422, content={"detail": [key_issue(problem)]})
+        digest = ledger.body_hash(spec.model_dump(mode="json"))  # its `kind` included
+        key = IdempotencyKey(idempotency_key, digest, settings.idempotency_ttl_s)
     problems = []
     runs = spec.run_count()
     if runs > settings.max_runs_per_job:
@@ -142,7 +178,22 @@ def submit_job(
         )
     if problems:
         return JSONResponse(status_code=422, content={"detail": problems})
-    out = store.submit(spec.kind_name(), spec.model_dump(mode="json"), total, settings.queue_limit)
+    out = store.submit(
+        spec.kind_name(), spec.model_dump(mode="json"), total, settings.queue_limit, key
+    )
+    if isinstance(out, KeyConflict):
+        return JSONResponse(status_code=422, content={"detail": [key_issue(
+            f"this Idempotency-Key was sent at {out.key_created_at} with another job spec "
+            f"(it queued job {out.job_id}); a key names one request: send a new key for a new "
+            "job, or the same spec to get that job back")]})  # fmt: skip
+    if isinstance(out, Replayed):
+        if out.job is None:
+            gone = out.gone.sentence() if out.gone else "its job no longer exists"
+            raise HTTPException(status_code=410, detail=f"this Idempotency-Key queued a job "
+                                f"at {out.key_created_at}, since deleted: {gone}")  # fmt: skip
+        response.headers["Location"] = f"/v1/jobs/{out.job.id}"
+        response.headers["Idempotent-Replayed"] = "true"
+        return job_out(out.job, store)
     if isinstance(out, QueueFull):
         retry = retry_after(store, settings)
         return JSONResponse(
@@ -174,7 +225,7 @@ def list_jobs(
     }
 
 
-@router.get("/{job_id}", response_model=Job, responses={**R404, **R422})
+@router.get("/{job_id}", response_model=Job, responses={**R404, **R410, **R422})
 def get_job(job: JobDep, store: StoreDep) -> Any:
     return job_out(job, store)
 
@@ -190,6 +241,7 @@ def get_job(job: JobDep, store: StoreDep) -> Any:
         },
         **R404,
         **R409,
+        **R410,
         **R422,
     },
     summary="Result of a done job",
@@ -197,6 +249,7 @@ def get_job(job: JobDep, store: StoreDep) -> Any:
 def get_result(
     job_id: JobId,
     store: StoreDep,
+    settings: SettingsDep,
     format: Annotated[Literal["json", "csv"], Query(description="json or csv")] = "json",
     table: Annotated[
         Literal["records", "d31", "samples"],
@@ -208,7 +261,7 @@ def get_result(
     ] = "records",
 ) -> Response:
     # looked up here, not as a dependency: a bad query parameter is a 422 before a 404
-    job = get_job_or_404(job_id, store)
+    job = get_job_or_404(job_id, store, settings)
     require_done(job)
     result = store.result(job_id)
     if result is None:
@@ -240,13 +293,14 @@ def get_result(
         200: {"description": "PNG figure", "content": {"image/png": {}}},
         **R404,
         **R409,
+        **R410,
         **R422,
     },
     response_class=Response,
     summary="Figure of a done job",
 )
-def get_figure(job_id: JobId, store: StoreDep) -> Response:
-    job = get_job_or_404(job_id, store)
+def get_figure(job_id: JobId, store: StoreDep, settings: SettingsDep) -> Response:
+    job = get_job_or_404(job_id, store, settings)
     require_done(job)
     result = store.result(job_id)
     if result is None:
@@ -257,13 +311,14 @@ def get_figure(job_id: JobId, store: StoreDep) -> Response:
 @write_router.delete(
     "/{job_id}",
     response_model=Job,
-    responses={**R404, **R409, **R422},
+    responses={**R404, **R409, **R410, **R422},
     summary="Cancel a queued or running job; with ?purge=true delete a finished one",
 )
 def delete_job(
     job_id: JobId,
     store: StoreDep,
     pool: PoolDep,
+    settings: SettingsDep,
     purge: Annotated[
         bool,
         Query(
@@ -275,7 +330,7 @@ def delete_job(
     if purge:
         status, gone = store.delete_finished(job_id)
         if gone is None:
-            raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
+            raise no_such_job(job_id, store, settings)
         if status not in FINISHED:
             raise HTTPException(
                 status_code=409,
@@ -285,7 +340,7 @@ def delete_job(
         return job_out(gone)
     previous, job = store.cancel(job_id)
     if job is None:
-        raise HTTPException(status_code=404, detail=f"no job with id {job_id!r}")
+        raise no_such_job(job_id, store, settings)
     if previous in FINISHED and previous is not JobStatus.CANCELLED:
         raise HTTPException(
             status_code=409,

@@ -10,17 +10,19 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import Any
 
-from sim_core.cli.common import EXIT_USAGE, doc_to_update, out_folder
+from sim_core.cli.common import EXIT_USAGE, UsageError, doc_to_update, out_folder
 from sim_core.contract.results import BIFURCATION_FILE, RESULTS_DIR, RESULTS_ENV
+from sim_core.runs import CACHE_DIR_ENV, default_cache_dir, default_cache_max_bytes
 
 
 def add_backend_args(p: Any, backends: Sequence[str]) -> None:
     """Where the runs go and where they are kept: shared by `reproduce`, `finder`, `atlas` and
     the lab's commands."""
-    p.add_argument("--cache", default="out/cache",
+    p.add_argument("--cache", default=str(default_cache_dir()),
                    help="folder that keeps every finished simulation, so that the same command "
-                   "run again resumes and reads them back (default %(default)s, under the "
-                   "current folder)")  # fmt: skip
+                   "run again resumes and reads them back; shared with the REST service's jobs "
+                   f"(default %(default)s: ${CACHE_DIR_ENV}, else the installation's; "
+                   "`insect-gait cache info`)")  # fmt: skip
     p.add_argument("--backend", choices=list(backends), default="local",
                    help="local: process pool on this machine; dask: dask.distributed")  # fmt: skip
     p.add_argument("--address", default=None, help="dask scheduler, e.g. tcp://host:8786")
@@ -51,6 +53,18 @@ def backend_from_args(args: argparse.Namespace, prog: str) -> Any:
         print(f"{prog}: finished runs are cached in {args.cache} (--cache): the same command "
               "again reads them back", file=sys.stderr)  # fmt: skip
     return backend
+
+
+def cache_from_args(args: argparse.Namespace) -> Any:
+    """The `ResultCache` at --cache, with the installation's size limit
+    ($INSECT_GAIT_CACHE_MAX_BYTES): a command's new results push the least recently used out."""
+    from sim_core.runs.cache import ResultCache
+
+    try:
+        limit = default_cache_max_bytes()
+    except ValueError as exc:
+        raise UsageError(str(exc)) from None
+    return ResultCache(args.cache, max_bytes=limit)
 
 
 def _add_reproduce(sub: Any) -> None:
@@ -89,6 +103,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     backend = backend_from_args(args, prog)
     if backend is None:
         return EXIT_USAGE
+    cache = cache_from_args(args)
     try:
         report = reproduce(args.figure, cfg, out, Path(args.cache), backend, doc=doc,
                            progress=not args.no_progress)  # fmt: skip
@@ -98,6 +113,7 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
         return 130
     finally:
         backend.close()
+    cache.trim()  # reproduce keeps its own cache object; the limit holds once it is done
     print(report.table)
     s = report.stats
     print(f"\nwall time {report.wall_s:.1f} s; {s.computed} of {s.tasks} simulations computed, "
@@ -132,7 +148,6 @@ def _cmd_finder(args: argparse.Namespace) -> int:
     from sim_core.paper.finder import find
     from sim_core.paper.search import task_runner
     from sim_core.runs.backends import RunStats
-    from sim_core.runs.cache import ResultCache
 
     prog = "insect-gait finder"
     cfg = ReproduceConfig()
@@ -149,7 +164,7 @@ def _cmd_finder(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     try:
         bar = False if args.no_progress else "finder"
-        run = task_runner(ResultCache(args.cache), backend, None, chunk_size=cfg.chunk_size,
+        run = task_runner(cache_from_args(args), backend, None, chunk_size=cfg.chunk_size,
                           progress=bar, stats=stats)  # fmt: skip
         cells = find([Cell(b) for b in betas], cfg.finder, run)
     except KeyboardInterrupt:

@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE, UsageError, one_line, out_file, out_folder
-from sim_core.cli.paper import add_backend_args, backend_from_args
+from sim_core.cli.paper import add_backend_args, backend_from_args, cache_from_args
 from sim_core.contract import GROUND_HELP
 from sim_core.contract.results import BIFURCATION_FILE, RESULTS_DIR
 
@@ -204,7 +204,6 @@ def _run(
 
     from sim_core.model.params import ModelParams
     from sim_core.paper.surface import drift_surface
-    from sim_core.runs.cache import ResultCache
 
     cfg = _config(args)
     if sample is not None:
@@ -219,7 +218,7 @@ def _run(
     try:
         return drift_surface(
             sorted(args.beta),
-            cache=ResultCache(args.cache),
+            cache=cache_from_args(args),
             backend=backend,
             config=cfg,
             params=ModelParams.of(ground=args.ground),
@@ -327,7 +326,6 @@ def _cmd_robust(args: argparse.Namespace, prog: str) -> int:
     import time
 
     from sim_core.paper.surface_check import ROBUST_BETAS, robust_surfaces, robust_table
-    from sim_core.runs.cache import ResultCache
 
     betas = ROBUST_BETAS if args.beta == list(CHECK_BETAS) else tuple(sorted(args.beta))
     cfg = _config(args)
@@ -338,7 +336,7 @@ def _cmd_robust(args: argparse.Namespace, prog: str) -> int:
         return EXIT_USAGE
     t0 = time.perf_counter()
     try:
-        surfaces = robust_surfaces(betas, cache=ResultCache(args.cache), backend=backend,
+        surfaces = robust_surfaces(betas, cache=cache_from_args(args), backend=backend,
                                    config=cfg, progress=not args.no_progress)  # fmt: skip
     except KeyboardInterrupt:
         _say_interrupted(prog, args.cache)
@@ -362,7 +360,6 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     from sim_core.paper.surface_atlas import draw_atlas, surface_atlas
     from sim_core.paper.surface_walks import WalkConfig
     from sim_core.runs.backends import RunStats
-    from sim_core.runs.cache import ResultCache
 
     prog = "insect-gait atlas"
     values = args.values or list(ATLAS_VALUES[args.axis])
@@ -381,7 +378,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
             args.axis,
             sorted(args.beta),
             values,
-            cache=ResultCache(args.cache),
+            cache=cache_from_args(args),
             backend=backend,
             config=cfg,
             params=ModelParams.of(ground=args.ground),

@@ -18,6 +18,8 @@ from sim_core.model.params import ModelParams
 from sim_core.model.ramp import RAMP_PARAMS, Ramp, RampParam
 from sim_core.model.spec import RunFailure, RunSpec
 from sim_core.paper.analysis import sweep_summary
+from sim_core.runs.backends import Backend, Executor, InlineBackend, RunStats, run_tasks
+from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk, ramp_task
 
 
@@ -56,6 +58,10 @@ def sweep(
     ramp_s: float,
     params: ModelParams | None = None,
     progress: Callable[[float], None] | None = None,
+    cache: ResultCache | None = None,
+    backend: Backend | None = None,
+    stats: RunStats | None = None,
+    executor: Executor = execute_chunk,
 ) -> SweepResult:
     """Hold `start`'s value of `parameter` for `hold_s`, ramp to `turn` in `ramp_s`, back in
     `ramp_s`, hold again; `start.duration_s` is replaced by the schedule's length.
@@ -67,7 +73,12 @@ def sweep(
         hold_s: seconds held at the start value before and after the ramps.
         ramp_s: seconds for each ramp leg.
         params: model parameters (defaults if None).
-        progress: called with the share of the sweep done (0..1), about every 1%.
+        progress: called with the share of the sweep done (0..1), about every 1% (with a
+            cache: when the run is done; `executor` may report inside it).
+        cache, backend: where the run's result is kept and read back (None: nowhere, the run
+            is computed here) and where it runs (None: in this process); `stats`, if given,
+            counts it as computed or read from the cache; `executor` runs it
+            (`execute_chunk`), as in `run_tasks`.
 
     Raises:
         ValueError: an unknown parameter, or a start or turn value outside RunSpec's range.
@@ -76,7 +87,15 @@ def sweep(
         raise ValueError(f"cannot sweep {parameter!r}; choose from {list(RAMP_PARAMS)}")
     begin = float(getattr(start, parameter))
     ramp = Ramp(param=parameter, start=begin, turn=turn, hold_s=hold_s, ramp_s=ramp_s)
-    (res,) = execute_chunk([ramp_task(ramp, start, params)], progress)
+    task = ramp_task(ramp, start, params)
+    if cache is None:
+        (res,) = execute_chunk([task], progress)
+    else:
+        results, st = run_tasks([task], cache, backend or InlineBackend(), progress=False,
+                                executor=executor, on_progress=progress)  # fmt: skip
+        if stats is not None:
+            stats.add(st)
+        res = results[task.key]
     summary = sweep_summary(
         res["d31_times_s"],
         res["value"],

@@ -199,6 +199,13 @@ class RunStats:
     cached: int = 0
     compute_s: float = 0.0  # summed single-core compute time of every result used
 
+    def add(self, other: RunStats) -> None:
+        """Count `other`'s tasks in these (a job or a study of several `run_tasks` calls)."""
+        self.tasks += other.tasks
+        self.computed += other.computed
+        self.cached += other.cached
+        self.compute_s += other.compute_s
+
 
 def run_tasks(
     tasks: Sequence[Task],
@@ -212,7 +219,8 @@ def run_tasks(
     """Results of every task by key: from the cache, or computed on `backend` and cached;
     `on_progress`, if given, hears the share of tasks done (0..1) after every chunk (a job's
     progress, where `progress` draws a bar on a terminal, labelled with it if it is a str,
-    else "reproduce")."""
+    else "reproduce"). A cache with a limit is trimmed after new results were stored: the
+    least recently used results go, the ones this call used are the newest."""
     from tqdm import tqdm
 
     unique = list({t.key: t for t in tasks}.values())
@@ -241,4 +249,6 @@ def run_tasks(
             if on_progress is not None:
                 on_progress((stats.cached + stats.computed) / max(1, len(unique)))
     stats.compute_s = sum(float(r.get("compute_s", 0.0)) for r in results.values())
+    if stats.computed:
+        cache.maybe_trim()  # within its limit again, the results just used kept (the newest)
     return results, stats

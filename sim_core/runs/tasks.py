@@ -106,15 +106,19 @@ def _finite(x: float | None) -> float | None:
 
 
 def execute_chunk(
-    tasks: Sequence[Task], progress: Callable[[float], None] | None = None
+    tasks: Sequence[Task], progress: Callable[[float], None] | None = None, *, nthread: int = 1
 ) -> list[dict[str, Any]]:
-    """Run compatible tasks as one single-threaded batch; one JSON-able dict per task.
+    """Run compatible tasks as one batch; one JSON-able dict per task: the run's summary
+    (`RunResult.summary`, read back by `summary_of`) plus `EXTRA_KEYS`.
 
     progress, if given, is called with the share of the chunk's simulated time done (0..1),
     about every 1% (`BatchRunner.run`).
 
-    Single-threaded on purpose: parallelism comes from running many chunks at once (a process
-    pool or cluster workers), which also parallelises the controller, not only the physics.
+    Single-threaded by default, on purpose: parallelism comes from running many chunks at once
+    (a process pool or cluster workers), which also parallelises the controller, not only the
+    physics. `nthread` > 1 steps the batch's physics on that many threads: for a caller that
+    runs its chunks one after another in a process given several cores (a service worker);
+    each simulation steps alone on its thread, so the numbers are the same.
     """
     if not tasks:
         return []
@@ -124,7 +128,7 @@ def execute_chunk(
     params = tasks[0].model_params()
     t0 = time.perf_counter()
     # always recorded, so that a result never depends on which tasks share its batch
-    runner = BatchRunner(specs, params, nthread=1, record=True)
+    runner = BatchRunner(specs, params, nthread=nthread, record=True)
     ramps = [(i, t.ramp) for i, t in enumerate(tasks) if t.ramp is not None]
     set_ramps = RampDriver(ramps, runner.control_dt)
     set_ramps(runner)  # the values of the first period
@@ -157,6 +161,20 @@ def execute_chunk(
             item["liftoffs_s"] = [t.tolist() for t in ev.liftoffs_s]
         out.append(item)
     return out
+
+
+# What a task's result holds besides its run's summary (`RunResult.summary`): its leg-1
+# touchdown times and compute time always, a surface probe's and a ramp's own records
+EXTRA_KEYS = frozenset(
+    {"d31_times_s", "compute_s", "touchdowns_s", "touchdown_phases", "value", "heading_deg",
+     "liftoffs_s"}
+)  # fmt: skip
+
+
+def summary_of(result: dict[str, Any]) -> dict[str, Any]:
+    """A task's result (`execute_chunk`) as its run's `RunResult.summary()`, in its order (a
+    non-finite measure is null: JSON has no NaN)."""
+    return {k: v for k, v in result.items() if k not in EXTRA_KEYS}
 
 
 def make_chunks(tasks: Sequence[Task], chunk_size: int, workers: int = 1) -> list[list[Task]]:

@@ -3,10 +3,12 @@ and a time, never numbers (89.9 deg uphill used to exit 0 at -730 cm/s with 0 to
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
-from server.kinds import JobFailed, execute
+from server.kinds import ComputeSettings, JobFailed, execute, open_compute
 from server.kinds.run import RunJob
 from sim_core import RunSpec, simulate, simulate_batch
 from sim_core.cli.main import main
@@ -41,10 +43,10 @@ def test_the_cli_fails_the_89_9_degree_run(capsys: pytest.CaptureFixture[str]) -
     assert '"kind": "sliding_back"' in out and '"speed_cm_s": null' in out
 
 
-def test_the_api_job_fails_the_89_9_degree_run() -> None:
+def test_the_api_job_fails_the_89_9_degree_run(tmp_path: Path) -> None:
     job = RunJob(beta=0.66, slope_deg=89.9, duration_s=1.0, d31_init=[2.0])
     with pytest.raises(JobFailed) as exc:
-        execute(job, lambda _: None, 1)
+        execute(job, open_compute(ComputeSettings(cache_dir=tmp_path), lambda _: None, 1))
     text = str(exc.value)
     assert "slid backwards" in text and "run stopped at t = 0.25" in text
     assert "smaller dt_s will not help" in text

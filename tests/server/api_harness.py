@@ -158,13 +158,17 @@ class Server:
 
 @pytest.fixture
 def make_server(tmp_path: Path) -> Iterator[Callable[..., Server]]:
-    """Factory: make_server(workers=1, queue_limit=..., db=...) -> a started Server."""
+    """Factory: make_server(workers=1, queue_limit=..., db=...) -> a started Server; settings
+    as keywords (their INSECT_GAIT_* variables), the result cache under the test's tmp_path."""
     started: list[Server] = []
 
     def make(db: Path | None = None, start: bool = True, **settings: Any) -> Server:
         env = {f"INSECT_GAIT_{k.upper()}": str(v) for k, v in settings.items()}
         env.setdefault("INSECT_GAIT_WORKERS", "1")
         env.setdefault("INSECT_GAIT_LOG_LEVEL", "warning")
+        # the test's own result cache (every server of one test shares it), never the
+        # checkout's: a test that times a job or kills it mid-way must see it compute
+        env.setdefault("INSECT_GAIT_CACHE_DIR", str(tmp_path / "cache"))
         server = Server(
             db=db or tmp_path / "jobs.sqlite3",
             port=free_port(),

@@ -130,3 +130,28 @@ def test_insect_gait_entry_point_knows_api() -> None:
     out = subprocess.run([str(exe), "api", "--help"], capture_output=True, text=True, timeout=60)
     assert out.returncode == 0, out.stderr
     assert "--db" in out.stdout and "--port" in out.stdout
+
+
+def test_the_cache_and_the_cluster_by_flag_or_environment(
+    monkeypatch: pytest.MonkeyPatch, tmp_path: Path
+) -> None:
+    """--cache and --dask-address win over INSECT_GAIT_CACHE_DIR / INSECT_GAIT_DASK_ADDRESS,
+    which win over the defaults (the installation's cache, which the CLI uses too; no
+    cluster); compose's empty address means none."""
+    from sim_core import default_cache_dir
+
+    monkeypatch.delenv("INSECT_GAIT_CACHE_DIR", raising=False)
+    monkeypatch.setenv("INSECT_GAIT_DASK_ADDRESS", "")
+    plain = settings_from_args(_parser().parse_args(["api"]))
+    assert plain.cache_dir == default_cache_dir() and plain.dask_address is None
+    monkeypatch.setenv("INSECT_GAIT_CACHE_DIR", str(tmp_path / "env"))
+    monkeypatch.setenv("INSECT_GAIT_DASK_ADDRESS", "tcp://env:8786")
+    env = settings_from_args(_parser().parse_args(["api"]))
+    assert env.cache_dir == tmp_path / "env" and env.dask_address == "tcp://env:8786"
+    flags = ["api", "--cache", str(tmp_path / "flag"), "--dask-address", "tcp://flag:8786"]
+    s = settings_from_args(_parser().parse_args(flags))
+    assert s.cache_dir == tmp_path / "flag" and s.dask_address == "tcp://flag:8786"
+    from server.cli import banner
+
+    words = banner(s)
+    assert "on the Dask cluster at tcp://flag:8786" in words and str(tmp_path / "flag") in words

@@ -79,9 +79,12 @@ def test_submit_poll_result_csv_figure(make_server: Callable[..., Server]) -> No
         # a finished job is deleted, with its result, only when asked to purge
         r = c.delete(f"/v1/jobs/{job['id']}", params={"purge": "true"})
         assert r.status_code == 200 and r.json()["status"] == "done"
-        assert c.get(f"/v1/jobs/{job['id']}").status_code == 404
-        assert c.get(f"/v1/jobs/{job['id']}/result").status_code == 404
-        assert c.delete(f"/v1/jobs/{job['id']}", params={"purge": "true"}).status_code == 404
+        # its id answers 410 Gone, saying when and why it went (a tombstone), not a bare 404
+        for r in (c.get(f"/v1/jobs/{job['id']}"), c.get(f"/v1/jobs/{job['id']}/result"),
+                  c.delete(f"/v1/jobs/{job['id']}", params={"purge": "true"})):  # fmt: skip
+            assert r.status_code == 410, r.text
+            assert "was deleted at" in r.json()["detail"] and "by request" in r.json()["detail"]
+        assert c.get("/v1/jobs/no-such-job").status_code == 404
 
 
 def test_return_map_pairs_follow_the_runs(make_server: Callable[..., Server]) -> None:

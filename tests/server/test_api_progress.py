@@ -4,11 +4,12 @@ done. Run in this process with a recording callback (the worker's callback, unth
 
 from __future__ import annotations
 
+from pathlib import Path
 from typing import Any
 
 import pytest
 
-from server.kinds import JOB_SPEC_ADAPTER, execute
+from server.kinds import JOB_SPEC_ADAPTER, ComputeSettings, execute, open_compute
 from server.kinds.progress import CAP, ChunkProgress
 
 SMALL_GRID = {"d31_lo": 2.0, "d31_hi": 2.4, "d31_step": 0.2, "refine": False}
@@ -25,9 +26,10 @@ JOBS = {
 
 
 @pytest.mark.parametrize("kind", sorted(JOBS))
-def test_progress_moves_inside_a_single_chunk(kind: str) -> None:
+def test_progress_moves_inside_a_single_chunk(kind: str, tmp_path: Path) -> None:
     seen: list[float] = []
-    result: dict[str, Any] = execute(JOB_SPEC_ADAPTER.validate_python(JOBS[kind]), seen.append, 1)
+    compute = open_compute(ComputeSettings(cache_dir=tmp_path), seen.append, 1)
+    result: dict[str, Any] = execute(JOB_SPEC_ADAPTER.validate_python(JOBS[kind]), compute)
     assert result["records"]
     assert seen == sorted(seen) and max(seen) <= CAP, seen  # never back, never 1 early
     early = [x for x in seen if 0 < x < 0.5]

@@ -11,7 +11,15 @@ import annotated_types as at
 import pytest
 
 from server import errors, estimates
-from server.jobs import SCHEMA_VERSION, JobRow, JobStore, QueueFull
+from server.jobs import (
+    SCHEMA_VERSION,
+    IdempotencyKey,
+    JobRow,
+    JobStore,
+    QueueFull,
+    Replayed,
+    Simulations,
+)
 from server.kinds import bounds, common
 from server.kinds.bounds import D31
 from server.kinds.run import RunJob
@@ -326,3 +334,43 @@ def test_sweep_size_counts_grid_times_list() -> None:
     assert job.run_count() == 10
     assert job.total_sim_seconds() == pytest.approx(10 * job.duration_s)
     assert job.beta_range.values()[0] == 0.6 and job.beta_range.values()[-1] == pytest.approx(0.7)
+
+
+def test_a_version_3_store_gains_the_counts_and_the_ledger(tmp_path: Path) -> None:
+    """Version 4 adds the job's simulation counts (null for jobs stored before) and the tables
+    of idempotency keys and tombstones; an old file gains them on open, its jobs intact."""
+    path = tmp_path / "v3.sqlite3"
+    with sqlite3.connect(path) as conn:
+        conn.executescript(
+            "CREATE TABLE jobs (seq INTEGER PRIMARY KEY AUTOINCREMENT, id TEXT NOT NULL UNIQUE,"
+            " kind TEXT NOT NULL, spec TEXT NOT NULL, status TEXT NOT NULL, progress REAL NOT"
+            " NULL DEFAULT 0, attempts INTEGER NOT NULL DEFAULT 0, requeues INTEGER NOT NULL"
+            " DEFAULT 0, worker_deaths INTEGER NOT NULL DEFAULT 0, restarts INTEGER NOT NULL"
+            " DEFAULT 0, moving_since TEXT, sim_seconds REAL NOT NULL, created_at TEXT NOT NULL,"
+            " started_at TEXT, finished_at TEXT, error TEXT, note TEXT);"
+            " CREATE TABLE results (job_id TEXT PRIMARY KEY REFERENCES jobs (id) ON DELETE"
+            " CASCADE, body BLOB NOT NULL); PRAGMA user_version = 3;"
+        )
+        conn.execute("INSERT INTO jobs (id, kind, spec, status, sim_seconds, created_at) VALUES"
+                     " ('old', 'run', '{}', 'done', 1.0, '2026-11-28T00:00:00Z')")  # fmt: skip
+    s = JobStore(path)
+    s.init()
+    with sqlite3.connect(path) as conn:
+        assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 4
+    old = s.get("old")
+    assert old is not None and old.status is JobStatus.DONE and old.simulations is None
+    # the new parts work on the migrated file: counts on finish, keys, tombstones
+    key = IdempotencyKey("k", "digest", 60.0)
+    made = s.submit("run", {"kind": "run"}, 1.0, 10, key)
+    assert isinstance(made, JobRow)
+    again = s.submit("run", {"kind": "run"}, 1.0, 10, key)
+    assert isinstance(again, Replayed) and again.job is not None and again.job.id == made.id
+    claim = s.claim_next()
+    assert claim is not None and claim.job_id == made.id
+    sims = Simulations(tasks=3, computed=1, from_cache=2, backend="inline")
+    assert s.finish_done(claim, {"records": []}, sims)
+    done = s.get(made.id)
+    assert done is not None and done.simulations == sims
+    assert s.delete_finished("old")[0] == "done" and s.get("old") is None
+    gone = s.gone("old", None)
+    assert gone is not None and gone.kind == "run" and "by request" in gone.sentence()

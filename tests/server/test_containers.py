@@ -97,19 +97,74 @@ def test_compose_config_is_valid_and_loopback_only() -> None:
 # ---- the compose stack's wiring (issue 55: the viewer posts to the API, the panels have data) --
 
 
-def _compose_config() -> dict[str, Any]:
-    """docker-compose.yml as compose itself reads it (compose-go: interpolated, normalised)."""
+def _compose_config(*args: str, **env: str) -> dict[str, Any]:
+    """docker-compose.yml as compose itself reads it (compose-go: interpolated, normalised),
+    with `args` before `config` (a profile) and `env` set."""
+    base = {k: v for k, v in os.environ.items() if not k.startswith("INSECT_GAIT_")}
     out = subprocess.run(
-        [_tool("docker-compose"), "-f", "docker-compose.yml", "config", "--format", "json"],
+        [_tool("docker-compose"), "-f", "docker-compose.yml", *args, "config", "--format",
+         "json"],
         cwd=REPO,
         capture_output=True,
         text=True,
         timeout=60,
-        env={**os.environ, "INSECT_GAIT_API_TOKEN": ""},
+        env={**base, "INSECT_GAIT_API_TOKEN": "", **env},
         check=True,
-    )
+    )  # fmt: skip
     config: dict[str, Any] = json.loads(out.stdout)
     return config
+
+
+def test_every_compose_profile_is_valid_and_loopback_only() -> None:
+    """`docker compose config -q` for the default services and for each profile the file
+    names (compose's own list), every published port on loopback."""
+    compose = _tool("docker-compose")
+    listed = subprocess.run(
+        [compose, "-f", "docker-compose.yml", "config", "--profiles"],
+        cwd=REPO, capture_output=True, text=True, timeout=60, check=True,
+    )  # fmt: skip
+    profiles = listed.stdout.split()
+    assert "cluster" in profiles
+    for args in ([], *(["--profile", p] for p in profiles)):
+        quiet = subprocess.run([compose, "-f", "docker-compose.yml", *args, "config", "-q"],
+                               cwd=REPO, capture_output=True, text=True, timeout=60,
+                               env={**os.environ, "INSECT_GAIT_API_TOKEN": ""})  # fmt: skip
+        assert quiet.returncode == 0, (args, quiet.stdout + quiet.stderr)
+        for name, svc in _compose_config(*args)["services"].items():
+            for port in svc.get("ports", []):
+                assert port["host_ip"] == "127.0.0.1", (args, name, port)
+
+
+def test_the_cluster_profile_wires_the_api_to_a_scheduler_and_workers() -> None:
+    """The `cluster` profile: a scheduler and workers from one image with the cluster extra,
+    the workers pointed at the scheduler's service and port; with INSECT_GAIT_DASK_ADDRESS
+    set, the API is built with the extra and told the address; without it, the API's image is
+    the plain one and it computes itself. The API keeps the result cache in a volume."""
+    import tomllib
+
+    extras = tomllib.loads((REPO / "pyproject.toml").read_text())["project"]
+    assert "cluster" in extras["optional-dependencies"]
+    assert 'ARG INSTALL_EXTRAS=""' in (REPO / "Dockerfile").read_text()
+    plain = _compose_config("--profile", "cluster")["services"]
+    address = "tcp://scheduler:8786"
+    wired = _compose_config("--profile", "cluster", INSECT_GAIT_DASK_ADDRESS=address)["services"]
+    assert set(plain) == set(wired) == {"api", "viewer", "scheduler", "dask-worker"}
+    sched, worker = wired["scheduler"], wired["dask-worker"]
+    assert sched["build"]["args"]["INSTALL_EXTRAS"] == "cluster"
+    assert worker["image"] == sched["image"] != wired["api"]["image"]
+    assert worker.get("pull_policy") == "never" and "scheduler" in worker["depends_on"]
+    assert sched["command"][:2] == ["dask", "scheduler"]
+    port = _flag(sched["command"], "--port")
+    assert worker["command"][:3] == ["dask", "worker", f"tcp://scheduler:{port}"]
+    assert port in sched["expose"] and address.endswith(f":{port}")
+    assert int(worker["deploy"]["replicas"]) >= 1
+    api_env = wired["api"]["environment"]
+    assert api_env["INSECT_GAIT_DASK_ADDRESS"] == address
+    assert wired["api"]["build"]["args"]["INSTALL_EXTRAS"] == "cluster"
+    assert plain["api"]["environment"]["INSECT_GAIT_DASK_ADDRESS"] == ""
+    assert plain["api"]["build"]["args"]["INSTALL_EXTRAS"] == ""
+    cache = api_env["INSECT_GAIT_CACHE_DIR"]
+    assert any(v["type"] == "volume" and v["target"] == cache for v in wired["api"]["volumes"])
 
 
 def _flag(command: list[str], name: str) -> str:
