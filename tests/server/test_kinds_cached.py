@@ -22,7 +22,8 @@ from server.kinds.hysteresis import HysteresisJob, HysteresisJobResult
 from server.kinds.return_map import ReturnMapJob, ReturnMapJobResult
 from server.kinds.run import RunJob, RunJobResult, series_tables
 from server.kinds.sweep import SweepJob, SweepJobResult
-from sim_core.contract import RETURN_MAP_SKIP, Cell, FinderOutput, find, return_map_from_series
+from sim_core import find, research, return_map_from_series
+from sim_core.contract import RETURN_MAP_SKIP, Cell, FinderOutput
 
 SHORT = {"beta": 0.66, "duration_s": 0.4}
 JOBS: dict[str, dict[str, Any]] = {
@@ -133,11 +134,12 @@ def test_a_finder_job_with_default_numerics_shares_reproduces_keys(tmp_path: Pat
     execute(job, open_compute(ComputeSettings(cache_dir=tmp_path), lambda _: None, 1))
     cells = [Cell(beta=b, body_mass_g=3.0, slope_deg=0.0) for b in (0.62, 0.66)]
     probes = [(c, p) for c in cells for p in _first_round(job)]
-    keys = {sim_core.probe_task(c, p, job.model_params()).key for c, p in probes}
+    keys = {research.probe_task(c, p, job.model_params()).key for c, p in probes}
     assert keys <= {p.stem for p in tmp_path.glob("*.json")}
 
 
 def _first_round(job: Any) -> list[Any]:
-    from sim_core.contract import Probe, initial_values
+    from sim_core.contract import Probe
+    from sim_core.research import initial_values
 
     return [Probe(float(x), job.duration_s) for x in initial_values(job.starts)]
