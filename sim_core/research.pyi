@@ -88,6 +88,9 @@ from .paper.search import (
     task_runner as task_runner,  # `find`'s runs as cached tasks on a backend
 )
 from .paper.surface import (
+    assemble as assemble,  # a surface from its probes (re-read under another rule)
+)
+from .paper.surface import (
     grid_probes as grid_probes,  # a drift surface's first-pass probes
 )
 from .paper.surface import (
