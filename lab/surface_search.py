@@ -23,29 +23,30 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
 
 from lab.space import Range
 from sim_core import Backend, ModelParams, ResultCache, drift_surface, nominal_speed, run_task
-from sim_core.contract import PARAMETER_NAMES, DriftSurface, SurfaceConfig, surface_grid
+from sim_core.contract import (
+    PARAMETER_NAMES,
+    SHORT_PROBES,
+    DriftSurface,
+    SurfaceConfig,
+    surface_grid,
+)
 from sim_core.research import grid_probes, probe_spec
 
 # six betas around the paper's folds (0.645, 0.67), none on them; 0.62 and 0.70 are Fig. 5's
 OBJECTIVE_BETAS = (0.62, 0.635, 0.655, 0.665, 0.685, 0.70)
 # 21 D values 0.1 apart, one pass (no bisection): 126 probes x 1.5 s = 189 simulated s
 OBJECTIVE_CONFIG = SurfaceConfig(d31_grid=surface_grid(1.4, 3.4, 0.1))
-# the same probes at half the cost (issue 54): 0.25 s of settling and 0.5 s of averaging
-# instead of 0.5 s + 1 s (126 x 0.75 s = 94.5 simulated s). Read from the same 766 runs of
-# the longer protocol, the drift moved by 0.075 mrad per cycle (median; 0.32 at 90%) and
-# flipped no sign beyond the 0.3 mrad floor: a pinned walk started on its family member D has
-# settled by 0.2-0.25 s (settling 0.2 s and 0.5 s differ by as little); candidates' scores on
-# both: `benchmarks/candidate_cost.py`, docs/NUMERICS.md. Campaign 5 keeps OBJECTIVE_CONFIG.
-FAST_OBJECTIVE_CONFIG = SurfaceConfig(
-    d31_grid=OBJECTIVE_CONFIG.d31_grid, settle_s=0.25, average_s=0.5, block_s=0.25
-)
+# the same probes at half the cost (issue 54): the short probes (0.25 s settle + 0.5 s,
+# `SHORT_PROBES`), 126 x 0.75 = 94.5 simulated s; candidates' scores on both:
+# `benchmarks/candidate_cost.py`, docs/NUMERICS.md. Campaign 5 keeps OBJECTIVE_CONFIG.
+FAST_OBJECTIVE_CONFIG = replace(SHORT_PROBES, d31_grid=OBJECTIVE_CONFIG.d31_grid)
 PAPER_METACHRONAL_FOLD = 0.645  # the metachronal gait exists from here up (paper, Fig. 8)
 PAPER_TRIPOD_FOLD = 0.67  # the tripod exists from here down
 METACHRONAL_SIDE = (1.75, 2.6)  # where d turns negative above the fore wall when it holds

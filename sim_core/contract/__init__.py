@@ -64,7 +64,13 @@ from sim_core.contract.results import (
     surface_atlas_file,
 )
 from sim_core.contract.returnmap import RETURN_MAP_SKIP, ReturnMap
-from sim_core.contract.surface import REGION_COLOURS, DriftSurface, SurfaceAtlas, SurfaceConfig
+from sim_core.contract.surface import (
+    REGION_COLOURS,
+    SHORT_PROBES,
+    DriftSurface,
+    SurfaceAtlas,
+    SurfaceConfig,
+)
 from sim_core.contract.surface import grid as surface_grid
 from sim_core.contract.values import PAPER, PaperValues  # what the paper states: beside ours
 from sim_core.model.anatomy import LEG_NAMES

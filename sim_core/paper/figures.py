@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from sim_core.contract.finder import Cell, FinderConfig, Probe
-from sim_core.contract.surface import SurfaceConfig, grid
+from sim_core.contract.surface import SHORT_PROBES, SurfaceConfig, grid
 from sim_core.contract.values import FIGURES, METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
 from sim_core.model.gait import (
     angle_diff,
@@ -67,17 +67,8 @@ class ReproduceConfig:
     surface_betas: tuple[float, ...] = (
         0.60, 0.61, *(round(0.62 + 0.005 * k, 3) for k in range(13)), 0.69, 0.70, 0.71, 0.72,
     )  # fmt: skip
-    # the probes settle 0.25 s (not 0.5) and average 0.5 s (first pass, bisection; not 1 s)
-    # and 1.5 s (the last pass; not 2.5 s): read from the same runs of the longer protocol,
-    # the drift moved by 0.075 mrad per cycle (median of 766 probes; 11% beyond the 0.3 mrad
-    # floor, no sign flipped beyond it) and 0.05 (349 last-pass probes; 4%, one sign), below
-    # the physics step's own 2.4 mrad (dt/2): a pinned walk started on its family member D has
-    # settled by 0.2 s (docs/NUMERICS.md, "reproduce within 5 minutes")
-    surface: SurfaceConfig = field(
-        default_factory=lambda: SurfaceConfig(
-            settle_s=0.25, average_s=0.5, block_s=0.25, refine_average_s=1.5
-        )
-    )
+    # short probes (`contract.surface.SHORT_PROBES`: measured there against the longer ones)
+    surface: SurfaceConfig = SHORT_PROBES
     # the mechanism figure's surface on the paper's ground (`surface_repro.MECHANISM_BETAS`):
     # its first pass only, no bisection or last pass: the figure draws the drift's curves and
     # no row reads its zeros (the refinement was 3/4 of its cost, at twice a constraint-ground
