@@ -4,13 +4,14 @@ The loop thread builds each file from the simulation's record when a browser ask
 queues an `Export` request) and hands the bytes to that browser (viser's
 `ClientHandle.send_file_download`). The REST bodies are what `POST /v1/jobs` takes
 (docs/API.md): a `run` job at the current settings and, when a ramp is set up, the
-`hysteresis` job that runs the same ramp (`Ramp`'s fields are the job's).
+`hysteresis` job that runs the same ramp (the job holds the contract's `Ramp`, as `ramp`).
 """
 
 from __future__ import annotations
 
 import bisect
 import csv
+import dataclasses
 import html
 import io
 import json
@@ -144,16 +145,12 @@ def run_job(s: Settings) -> dict[str, Any]:
 
 
 def hysteresis_job(s: Settings, ramp: Ramp) -> dict[str, Any]:
-    """The same ramp as a `hysteresis` job (the contract's `Ramp`'s fields are the job's): the
-    held parameters are the current ones, the ramped one starts at the ramp's start."""
+    """The same ramp as a `hysteresis` job (the job holds the contract's `Ramp`, as `ramp`):
+    the held parameters are the current ones, the ramped one starts at the ramp's start."""
     spec = run_spec(s, **{ramp.param: ramp.start})
     return {
         "kind": "hysteresis",
-        "parameter": ramp.param,
-        "start": ramp.start,
-        "turn": ramp.turn,
-        "hold_s": ramp.hold_s,
-        "ramp_s": ramp.ramp_s,
+        "ramp": dataclasses.asdict(ramp),
         **_fields(spec, (*HELD_FIELDS, "d31_init")),
         "ground": s.ground,
     }

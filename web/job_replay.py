@@ -114,10 +114,12 @@ def _run_replay(
 
 def _hysteresis_replay(job_id: str, spec: dict[str, Any], body: dict[str, Any]) -> Replay | None:
     rows = body.get("records") or []
+    # the job's `ramp` (the contract's `Ramp`); a job stored before it was one kept it flat
+    r = spec.get("ramp") or {**spec, "param": spec.get("parameter")}
     try:
         ramp = Ramp(
-            spec["parameter"], float(spec["start"]), float(spec["turn"]),
-            float(spec["hold_s"]), float(spec["ramp_s"]),
+            r["param"], float(r["start"]), float(r["turn"]), float(r["hold_s"]),
+            float(r["ramp_s"]),
         )  # fmt: skip
     except (KeyError, TypeError, ValueError):
         return None

@@ -45,6 +45,7 @@ def _load(name: str) -> Kind[Any]:
 KINDS: dict[str, Kind[Any]] = {name: _load(name) for name in NAMES}
 KIND_MODELS: dict[str, type[Physics]] = {name: k.model for name, k in KINDS.items()}
 RECORD_COLUMNS: dict[str, tuple[str, ...]] = {name: k.columns for name, k in KINDS.items()}
+KIND_RESULTS: dict[str, type[Result]] = {name: k.result for name, k in KINDS.items()}
 
 # A request: one of the kinds' models, told apart by `kind`. Built from the registry at run
 # time, so type checkers see the models' common base.
@@ -60,13 +61,16 @@ if TYPE_CHECKING:
 else:
     AnyResult = Union[tuple(k.result for k in KINDS.values())]  # noqa: UP007
 ResultSpec = Annotated[AnyResult, Field(discriminator="kind")]
+RESULT_ADAPTER: TypeAdapter[AnyResult] = TypeAdapter(ResultSpec)
 
 __all__ = [
     "JOB_SPEC_ADAPTER",
     "KINDS",
     "KIND_MODELS",
+    "KIND_RESULTS",
     "NAMES",
     "RECORD_COLUMNS",
+    "RESULT_ADAPTER",
     "AnyJob",
     "AnyResult",
     "Compute",

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Annotated, Any, Literal
 from pydantic import Field, ValidationInfo, field_validator
 
 import sim_core
-from server.kinds.base import Kind, Result
+from server.kinds.base import Kind, Result, Row
 from server.kinds.bounds import SWEEP_RANGES, in_range, range_text
 from server.kinds.common import paper_transitions
 from server.kinds.compute import Compute
@@ -20,17 +20,19 @@ from sim_core.contract import AXIS_PARAM, AtlasAxis, SurfaceAtlas, SurfaceConfig
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-COLUMNS = (
-    "beta",
-    "axis",
-    "value",
-    "region",
-    "stable_d31",
-    "gaits",
-    "unresolved",
-    "undecided",
-    "found_by",
-)
+
+class AtlasRow(Row):
+    """One (beta, value) cell of the atlas."""
+
+    beta: float = Field(description="duty factor")
+    axis: AtlasAxis = Field(description="the second axis: mass or slope")
+    value: float = Field(description="its value (g for mass, deg for slope)")
+    region: str = Field(description="what the stable states make of the two gaits")
+    stable_d31: str = Field(description="the stable states' Delta31, rad, space-separated")
+    gaits: str = Field(description="their gaits, space-separated")
+    unresolved: int = Field(description="zeros or near-zero bands left unresolved here")
+    undecided: bool = Field(description="an unresolved zero could change the region")
+    found_by: str = Field(description="what found the stable states (surface, walks)")
 
 
 class AtlasJob(Held):
@@ -96,6 +98,7 @@ class AtlasJobResult(Result):
     """An atlas job's result: the core's typed atlas and one row per (beta, value)."""
 
     kind: Literal["atlas"] = "atlas"
+    records: list[AtlasRow]
     atlas: SurfaceAtlas = Field(description="the gait atlas read from drift surfaces")
 
 
@@ -139,4 +142,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.legend(fontsize="small", loc="best")
 
 
-KIND = Kind(model=AtlasJob, run=run, result=AtlasJobResult, columns=COLUMNS, draw=draw)
+KIND = Kind(model=AtlasJob, run=run, result=AtlasJobResult, row=AtlasRow, draw=draw)

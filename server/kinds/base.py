@@ -12,7 +12,7 @@ engine.
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING, Any, Generic, TypeVar
 
@@ -251,8 +251,12 @@ class BetaRange(Strict):
         return [tidy(self.start + (self.stop - self.start) * i / (n - 1)) for i in range(n)]
 
 
-# One flat row of a kind's `records` (its `columns`): what the CSV export and the figure read.
-Record = dict[str, float | int | str | bool | None]
+class Row(BaseModel):
+    """One flat row of a kind's `records` (or of another of its tables): what the CSV export
+    and the figure read. Each kind declares its row model; its fields are the table's columns
+    (`Kind.columns`), so a column is declared once, with its type."""
+
+    model_config = ConfigDict(extra="forbid")
 
 
 class Result(BaseModel):
@@ -262,8 +266,8 @@ class Result(BaseModel):
 
     model_config = ConfigDict(extra="forbid")
 
-    records: list[Record] = Field(
-        description="one flat row per run, grid point or sample (the kind's columns; the CSV "
+    records: Sequence[Row] = Field(
+        description="one flat row per run, grid point or sample (the kind's row model; the CSV "
         "export with table=records)"
     )
     provenance: Provenance | None = Field(
@@ -290,9 +294,10 @@ class Kind(Generic[J]):
         also carries the job's progress; it raises `JobFailed` rather than return numbers from
         a failed simulation.
     result: the kind's `Result` model (its schema is the result's in OpenAPI).
+    row: the model of one row of `records`: its fields are the table's columns (`columns`, so
+        that an empty table still has its header).
     tables: the kind's other tables, kept under the result's `series` when asked for (name ->
-        columns; the CSV export's `table`); none for most kinds.
-    columns: the columns of `records`, so that an empty table still has its header.
+        row model; the CSV export's `table`); none for most kinds.
     draw: `draw(fig, spec, result)` draws the kind's figure on a matplotlib Figure (6.4 x 4.8
         in unless it resizes it), from the stored spec and result.
     """
@@ -300,10 +305,20 @@ class Kind(Generic[J]):
     model: type[J]
     run: Runner[J]
     result: type[Result]
-    columns: tuple[str, ...]
+    row: type[Row]
     draw: Draw
-    tables: dict[str, tuple[str, ...]] = field(default_factory=dict)
+    tables: dict[str, type[Row]] = field(default_factory=dict)
 
     @property
     def name(self) -> str:
         return self.model.kind_name()
+
+    @property
+    def columns(self) -> tuple[str, ...]:
+        """The columns of `records`: its row model's fields, in their order."""
+        return tuple(self.row.model_fields)
+
+    def table_columns(self, table: str) -> tuple[str, ...]:
+        """The columns of another table (`tables`), none for a table the kind has not."""
+        row = self.tables.get(table)
+        return () if row is None else tuple(row.model_fields)

@@ -14,9 +14,9 @@ from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
 from server.kinds.common import conditions, d31_axis, paper_ranges, paper_transitions
 from server.kinds.compute import Compute
 from server.kinds.finder import (
-    FINDER_COLUMNS,
     FINDER_DEFAULTS,
     Finder,
+    FinderRow,
     draw_finder_points,
     finder_rows,
     finder_runner,
@@ -96,6 +96,7 @@ class BifurcationJobResult(Result):
     """A bifurcation job's result: the finder's typed output and one row per point."""
 
     kind: Literal["bifurcation"] = "bifurcation"
+    records: list[FinderRow]
     finder: FinderOutput = Field(description="the settled fixed-point finder's output")
 
 
@@ -126,6 +127,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.grid(alpha=0.3)
 
 
-KIND = Kind(
-    model=BifurcationJob, run=run, result=BifurcationJobResult, columns=FINDER_COLUMNS, draw=draw
-)
+KIND = Kind(model=BifurcationJob, run=run, result=BifurcationJobResult, row=FinderRow, draw=draw)

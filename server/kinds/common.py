@@ -8,10 +8,11 @@ neither MuJoCo nor matplotlib.
 from __future__ import annotations
 
 import math
-from dataclasses import fields
 from typing import TYPE_CHECKING, Any
 
-from server.kinds.base import JobFailed, Physics
+from pydantic import Field, create_model
+
+from server.kinds.base import JobFailed, Physics, Row
 from server.kinds.bounds import TWO_PI
 from sim_core.contract import (
     DEFAULT_DT_S,
@@ -21,7 +22,7 @@ from sim_core.contract import (
     PAPER,
     Integrator,
     RunFailure,
-    RunMeasures,
+    RunSummary,
     resolve_numerics,
 )
 
@@ -29,14 +30,26 @@ if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
 SUMMARY_ONLY = ("d31", "error", "diverged", "failure", "warnings")  # not columns of a row
-# Columns of a run's summary row (`summary_row`): the run and sweep kinds' records, i.e. the
-# start, beta and every measure of `RunResult.summary` (read from `RunMeasures`' fields)
-SUMMARY_COLUMNS = (
-    "d31_init",
-    "beta",
-    *(f.name for f in fields(RunMeasures) if f.name not in SUMMARY_ONLY),
-    "n_touchdowns",
-)
+
+# A run's summary row (`summary_row`), the run and sweep kinds' records: the start, beta and
+# every measure of the core's `RunSummary` (so of `RunMeasures`: a new measure is a new
+# column with no edit here), and the touchdowns counted.
+if TYPE_CHECKING:  # generated below; type checkers see a row model whose fields they skip
+
+    class RunRow(Row):
+        """One run's summary as a flat row."""
+
+else:
+    RunRow = create_model(
+        "RunRow",
+        __base__=Row,
+        __doc__="One run's summary as a flat row: its start, beta and every measure.",
+        d31_init=(float, Field(description="the run's initial Delta31, rad")),
+        **{n: (f.annotation, f) for n, f in RunSummary.model_fields.items()
+           if n not in SUMMARY_ONLY},
+        n_touchdowns=(int, Field(description="leg-1 touchdowns, so Delta31 samples")),
+    )  # fmt: skip
+SUMMARY_COLUMNS = tuple(RunRow.model_fields)
 
 
 def advice(job: Physics, failures: list[RunFailure]) -> str:

@@ -4,10 +4,12 @@ task rounds, its output as flat rows, and those rows drawn against beta."""
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, Literal
+
+from pydantic import Field
 
 import sim_core
-from server.kinds.base import Physics
+from server.kinds.base import Physics, Row
 from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
 from server.kinds.compute import Compute
 from server.kinds.progress import ChunkProgress
@@ -16,8 +18,23 @@ from sim_core.contract import Cell, CellResult, FinderConfig, Probe
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-FINDER_COLUMNS = ("beta", "body_mass_g", "slope_deg", "kind", "d31", "gait", "starts", "slope",
-                  "drift")  # fmt: skip
+
+class FinderRow(Row):
+    """One point the finder reports: stable, one-sided, unstable, ghost or not settled."""
+
+    beta: float = Field(description="duty factor")
+    body_mass_g: float = Field(description="body mass, g")
+    slope_deg: float = Field(description="slope, deg")
+    kind: Literal["stable", "one-sided", "unstable", "ghost", "not settled"] = Field(
+        description="what the point is"
+    )
+    d31: float | None = Field(description="its Delta31, rad (not settled: the run's final)")
+    gait: str | None = Field(description="an attractor's gait")
+    starts: int | None = Field(description="an attractor's spread starts that end there")
+    slope: float | None = Field(description="the n -> n+4 map's slope at it")
+    drift: float | None = Field(description="drift per cycle, rad")
+
+
 FINDER_DEFAULTS = FinderConfig()
 
 

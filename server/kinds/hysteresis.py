@@ -1,48 +1,98 @@
-"""`hysteresis`: the paper's Figs. 6a and 9 protocol in one run, a parameter ramped from `start`
-to `turn` and back, Delta31 recorded against the value it had at each touchdown."""
+"""`hysteresis`: the paper's Figs. 6a and 9 protocol in one run, the core's `Ramp` (a parameter
+ramped from `start` to `turn` and back), Delta31 recorded against the value it had at each
+touchdown."""
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING, Any, Literal
+import dataclasses
+from typing import TYPE_CHECKING, Annotated, Any, Literal, get_type_hints
 
-from pydantic import Field, ValidationInfo, field_validator
+from pydantic import (
+    BeforeValidator,
+    Field,
+    ValidationError,
+    ValidationInfo,
+    create_model,
+    field_validator,
+    model_validator,
+)
 
 import sim_core
-from server.kinds.base import Kind, Physics, Result, run_cost_problem
+from server.kinds.base import Kind, Physics, Result, Row, Strict, run_cost_problem
 from server.kinds.bounds import (
     BETA_BOUNDS,
     BETA_DEFAULT,
     D31,
     DURATION_BOUNDS,
     SWEEP_RANGES,
+    Bounds,
     bounded,
     in_range,
     range_text,
 )
 from server.kinds.common import d31_axis, failed, paper_transitions
 from server.kinds.compute import Compute
-from sim_core.contract import RampParam
+from sim_core.contract import Ramp, RampParam, SweepSummary
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-COLUMNS = ("time_s", "leg", "value", "d31")
-SweptParameter = RampParam
 MAX_SWEEP_S = DURATION_BOUNDS["le"]
+# the schedule's own bounds: a hold long enough to settle, each leg at most one run's share
+HOLD_BOUNDS: Bounds = {"gt": 0.0, "le": 60.0}
+RAMP_BOUNDS: Bounds = {"gt": 0.0, "le": 280.0}
+RAMP_HELP = (
+    "the sweep's schedule, the core's `Ramp`: hold `param` at `start` for `hold_s`, ramp it to "
+    "`turn` in `ramp_s`, back to `start` in `ramp_s`, hold again. param: beta, body_mass_g or "
+    "slope_deg (its `start` wins over the job's field of that name); start, turn: in the range "
+    "of the swept field ("
+    + ", ".join(f"{k} {range_text('x', **b)}" for k, b in SWEEP_RANGES.items())
+    + "), turn != start (Fig. 6a: beta 0.70 -> 0.62); "
+    + range_text("hold_s", **HOLD_BOUNDS)
+    + " s; "
+    + range_text("ramp_s", **RAMP_BOUNDS)
+    + f" s; 2 x hold_s + 2 x ramp_s <= {MAX_SWEEP_S:g} s"
+)
+# The request's shape before the ramp was the core's `Ramp` (issue 53): flat fields, `parameter`
+# for `param`, with these defaults. Accepted for one release (docs/API.md, "Changelog"); a job
+# stored in that shape by an older server still runs.
+FLAT_FIELDS = ("parameter", "start", "turn", "hold_s", "ramp_s")
+FLAT_DEFAULTS: dict[str, Any] = {"parameter": "beta", "hold_s": 5.0, "ramp_s": 30.0}
+
+# The core's `Ramp` as a strict model, generated from its fields (strict mode refuses a plain
+# dict for a dataclass, and a dataclass has no `extra="forbid"`): what a request's `ramp` is
+# checked against before it becomes the core's `Ramp`.
+_RAMP_TYPES = get_type_hints(Ramp)
+RampFields = create_model(
+    "RampFields",
+    __base__=Strict,
+    **{f.name: (_RAMP_TYPES[f.name], ...) for f in dataclasses.fields(Ramp)},  # type: ignore[call-overload]
+)
+
+
+def _a_ramp(value: Any) -> Any:
+    """A request's `ramp` (a JSON object) as the core's `Ramp`, its fields checked strictly
+    (no strings for numbers, no NaN, no unknown field): the 422 names the field."""
+    if isinstance(value, Ramp):
+        return value
+    try:
+        checked = RampFields.model_validate(value)
+    except ValidationError as exc:
+        raise ValueError("; ".join(
+            f"ramp.{'.'.join(str(x) for x in e['loc'])}: {e['msg']}" if e["loc"] else e["msg"]
+            for e in exc.errors()
+        )) from None  # fmt: skip
+    return Ramp(**dict(checked))
 
 
 class HysteresisJob(Physics):
-    """The paper's Figs. 6a and 9 protocol in one run: hold `parameter` at `start` for
-    `hold_s`, ramp it to `turn` in `ramp_s`, back to `start` in `ramp_s`, hold again, and record
-    Delta31 at every leg-1 touchdown against the value it had then (`sim_core.sweep`)."""
+    """The paper's Figs. 6a and 9 protocol in one run: the core's `Ramp` (`ramp`: hold
+    `param` at `start` for `hold_s`, ramp it to `turn` in `ramp_s`, back to `start` in
+    `ramp_s`, hold again), recording Delta31 at every leg-1 touchdown against the value it had
+    then (`sim_core.sweep`). Deprecated for one release: the flat fields `parameter`, `start`,
+    `turn`, `hold_s`, `ramp_s` instead of `ramp` (docs/API.md, "Changelog")."""
 
     kind: Literal["hysteresis"] = "hysteresis"
-    parameter: SweptParameter = Field(
-        "beta",
-        description="the RunSpec field that is ramped: beta, body_mass_g or slope_deg; "
-        "its start value is `start` (which wins over a field of the same name)",
-        json_schema_extra={"allowed": "beta, body_mass_g, slope_deg"},
-    )
     beta: float = bounded(
         BETA_DEFAULT,
         "beta",
@@ -55,55 +105,46 @@ class HysteresisJob(Physics):
         "paper's sweeps start); allowed: 0 <= d31_init <= 2*pi (6.283185)",
         json_schema_extra={"allowed": "0 <= d31_init <= 2*pi (6.283185)"},
     )
-    start: float = Field(
-        ...,
-        allow_inf_nan=False,
-        description="value held first and last (Fig. 6a: beta 0.70); allowed: the range of "
-        "the swept field ("
-        + ", ".join(f"{k} {range_text('x', **b)}" for k, b in SWEEP_RANGES.items())
-        + ")",
+    ramp: Annotated[Ramp, BeforeValidator(_a_ramp)] = Field(
+        description=RAMP_HELP, json_schema_extra={"allowed": RAMP_HELP}
     )
-    turn: float = Field(
-        ...,
-        allow_inf_nan=False,
-        description="value the ramp turns at (Fig. 6a: beta 0.62); same range as start, != start",
-    )
-    hold_s: float = bounded(5.0, "hold_s", "seconds held at start, before and after", gt=0.0,
-                            le=60.0)  # fmt: skip
-    ramp_s: float = bounded(
-        30.0, "ramp_s", "seconds for each leg of the ramp (start -> turn, turn -> start)",
-        gt=0.0, le=280.0, validate_default=True,
-    )  # fmt: skip
 
-    @field_validator("start", "turn")
+    @model_validator(mode="before")
     @classmethod
-    def _within_the_parameter_range(cls, v: float, info: ValidationInfo) -> float:
-        param = info.data.get("parameter")
-        if param is None:
-            return v
-        bounds = SWEEP_RANGES[param]
-        if not in_range(v, bounds):
-            raise ValueError(
-                f"{info.field_name} ({v:g}) is outside the range of {param}: "
-                f"{range_text(param, **bounds)}"
-            )
-        if info.field_name == "turn" and "start" in info.data and v == info.data["start"]:
-            raise ValueError(f"turn ({v:g}) must differ from start: nothing would be swept")
-        return v
+    def _flat_fields_as_a_ramp(cls, data: Any) -> Any:
+        """The deprecated flat shape (FLAT_FIELDS) read as a `ramp`, with its old defaults."""
+        if not isinstance(data, dict) or not any(k in data for k in FLAT_FIELDS):
+            return data
+        if "ramp" in data:
+            given = ", ".join(k for k in FLAT_FIELDS if k in data)
+            raise ValueError(f"give the schedule as `ramp` only; {given} are its deprecated "
+                             "flat form, not accepted beside it")  # fmt: skip
+        flat = FLAT_DEFAULTS | {k: data[k] for k in FLAT_FIELDS if k in data}
+        ramp = {"param": flat.pop("parameter"), **flat}
+        return {k: v for k, v in data.items() if k not in FLAT_FIELDS} | {"ramp": ramp}
 
-    @field_validator("ramp_s")
+    @field_validator("ramp")
     @classmethod
-    def _schedule_fits_one_run(cls, v: float, info: ValidationInfo) -> float:
-        hold = info.data.get("hold_s")
-        if hold is not None and 2 * hold + 2 * v > MAX_SWEEP_S:
+    def _a_sweep_one_run_can_hold(cls, v: Ramp, info: ValidationInfo) -> Ramp:
+        bounds = SWEEP_RANGES[v.param]
+        for name, x in (("start", v.start), ("turn", v.turn)):
+            if not in_range(x, bounds):
+                raise ValueError(f"ramp.{name} ({x:g}) is outside the range of {v.param}: "
+                                 f"{range_text(v.param, **bounds)}")  # fmt: skip
+        if v.turn == v.start:
+            raise ValueError(f"ramp.turn ({v.turn:g}) must differ from ramp.start: nothing "
+                             "would be swept")  # fmt: skip
+        for name, x, b in (("hold_s", v.hold_s, HOLD_BOUNDS), ("ramp_s", v.ramp_s, RAMP_BOUNDS)):
+            if not in_range(x, b):
+                raise ValueError(f"ramp.{name} ({x:g}) is outside {range_text(name, **b)}")
+        if v.duration_s > MAX_SWEEP_S:
             raise ValueError(
-                f"the sweep lasts 2 x hold_s + 2 x ramp_s = {2 * hold + 2 * v:g} s; at most "
+                f"the sweep lasts 2 x hold_s + 2 x ramp_s = {v.duration_s:g} s; at most "
                 f"{MAX_SWEEP_S:g} s (one run's limit)"
             )
-        if hold is not None:
-            problem = run_cost_problem(2 * hold + 2 * v, info)
-            if problem:
-                raise ValueError(problem)
+        problem = run_cost_problem(v.duration_s, info)
+        if problem:
+            raise ValueError(problem)
         return v
 
     def run_count(self) -> int:
@@ -111,27 +152,40 @@ class HysteresisJob(Physics):
 
     def varied_conditions(self) -> tuple[str, ...]:
         """A ramped mass or slope is the rows' `value`, not the job's field."""
-        return (self.parameter,)
+        return (self.ramp.param,)
 
     def sim_seconds_per_run(self) -> float:
-        return 2.0 * self.hold_s + 2.0 * self.ramp_s
+        return self.ramp.duration_s
 
     def run_fields(self) -> dict[str, Any]:
         """The RunSpec of the sweep's start (its duration is set by the schedule)."""
         out = {**self.physics_fields(), "beta": self.beta, "d31_init": self.d31_init}
-        out[self.parameter] = self.start
+        out[self.ramp.param] = self.ramp.start
         out["duration_s"] = self.sim_seconds_per_run()
         return out
+
+
+class HysteresisRow(Row):
+    """Delta31 at one leg-1 touchdown of the sweep, against the ramped value then."""
+
+    time_s: float = Field(description="when, s from the sweep's start")
+    leg: Literal["first", "second"] = Field(
+        description="the ramp's leg: first (start -> turn, the first hold included) or second "
+        "(turn -> start, the last hold included)"
+    )
+    value: float = Field(description="the ramped parameter's value then")
+    d31: float = Field(description="Delta31 just after the touchdown, rad")
 
 
 class HysteresisJobResult(Result):
     """A hysteresis job's result: Delta31 at every leg-1 touchdown against the ramped value."""
 
     kind: Literal["hysteresis"] = "hysteresis"
+    records: list[HysteresisRow]
     parameter: RampParam = Field(description="the ramped parameter")
     start: float = Field(description="its value at the start and the end")
     turn: float = Field(description="its value at the turn")
-    summary: dict[str, Any] = Field(
+    summary: SweepSummary = Field(
         description="transitions on each leg of the ramp, the loop's width and whether it is a "
         "hysteresis loop (the core's sweep summary)"
     )
@@ -144,25 +198,26 @@ def run(job: HysteresisJob, compute: Compute) -> HysteresisJobResult:
     sim = sim_core
     spec = sim.RunSpec(**job.run_fields())
     moving = compute.moving(1)
+    ramp = job.ramp
     res = sim.sweep(
         spec,
-        parameter=job.parameter,
-        turn=job.turn,
-        hold_s=job.hold_s,
-        ramp_s=job.ramp_s,
+        parameter=ramp.param,
+        turn=ramp.turn,
+        hold_s=ramp.hold_s,
+        ramp_s=ramp.ramp_s,
         params=job.model_params(),
         progress=moving.on_progress,
         **compute.core(moving),
     )
     if res.failure is not None:
         raise failed(job, [("the sweep run", res.failure)], 1)
-    turn_t = job.hold_s + job.ramp_s
+    turn_t = ramp.turn_time_s
     records = [
         {"time_s": t, "leg": "first" if t < turn_t else "second", "value": v, "d31": d}
         for t, v, d in zip(res.times_s, res.values, res.d31, strict=True)
     ]
     return HysteresisJobResult(
-        parameter=job.parameter, start=job.start, turn=job.turn, summary=res.summary,
+        parameter=ramp.param, start=ramp.start, turn=ramp.turn, summary=res.summary,
         records=records,
     )  # fmt: skip
 
@@ -187,9 +242,9 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.set_xlabel(parameter)
     ax.set_ylabel("Δ31 (rad)")
     d31_axis(ax)
-    ax.set_title(f"hysteresis sweep: {spec.get('start')} → {spec.get('turn')} → back")
+    ax.set_title(f"hysteresis sweep: {result.get('start')} → {result.get('turn')} → back")
     ax.legend(fontsize="small")
     ax.grid(alpha=0.3)
 
 
-KIND = Kind(model=HysteresisJob, run=run, result=HysteresisJobResult, columns=COLUMNS, draw=draw)
+KIND = Kind(model=HysteresisJob, run=run, result=HysteresisJobResult, row=HysteresisRow, draw=draw)

@@ -7,7 +7,7 @@ from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field
 
-from server.kinds.base import Kind, Result, Timed
+from server.kinds.base import Kind, Result, Row, Timed
 from server.kinds.bounds import (
     D31,
     TWO_PI,
@@ -20,12 +20,19 @@ from server.kinds.common import d31_axis
 from server.kinds.compute import Compute
 from server.kinds.run import simulate_each
 from sim_core import return_map_from_series
-from sim_core.contract import RETURN_MAP_SKIP
+from sim_core.contract import RETURN_MAP_SKIP, RunSummary
 
 if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
-COLUMNS = ("d31_init", "n", "d31_n", "d31_n_plus_lag")
+
+class ReturnMapRow(Row):
+    """One pair of the return map."""
+
+    d31_init: float = Field(description="the run's initial Delta31, rad")
+    n: int = Field(description="the first member's touchdown, counted from the run's first")
+    d31_n: float = Field(description="Delta31 at touchdown n, rad")
+    d31_n_plus_lag: float = Field(description="Delta31 at touchdown n + lag, rad")
 
 
 class ReturnMapJob(Timed):
@@ -44,9 +51,10 @@ class ReturnMapJobResult(Result):
     """A return_map job's result: the pairs as records, with each run's summary."""
 
     kind: Literal["return_map"] = "return_map"
+    records: list[ReturnMapRow]
     beta: float = Field(description="the duty factor of every run")
     lag: int = Field(description="touchdowns between the two members of a pair")
-    runs: list[dict[str, Any]] = Field(description="each run's summary (RunResult.summary)")
+    runs: list[RunSummary] = Field(description="each run's summary (RunResult.summary)")
 
 
 def run(job: ReturnMapJob, compute: Compute) -> ReturnMapJobResult:
@@ -81,4 +89,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.grid(alpha=0.3)
 
 
-KIND = Kind(model=ReturnMapJob, run=run, result=ReturnMapJobResult, columns=COLUMNS, draw=draw)
+KIND = Kind(model=ReturnMapJob, run=run, result=ReturnMapJobResult, row=ReturnMapRow, draw=draw)

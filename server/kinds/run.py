@@ -5,20 +5,20 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING, Any, Literal
 
-from pydantic import BaseModel, Field
+from pydantic import BaseModel, Field, create_model
 
 import sim_core
-from server.kinds.base import Kind, Record, Result, Timed
+from server.kinds.base import Kind, Result, Row, Timed
 from server.kinds.bounds import D31, core_default, core_field, d31_list
 from server.kinds.common import (
-    SUMMARY_COLUMNS,
+    RunRow,
     check_runs,
     d31_axis,
     summary_row,
     warnings_of,
 )
 from server.kinds.compute import Compute
-from sim_core.contract import LEG_NAMES
+from sim_core.contract import LEG_NAMES, RunRecord, RunSummary
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -26,12 +26,41 @@ if TYPE_CHECKING:
 
     from server.kinds.return_map import ReturnMapJob
 
+
+class D31Row(Row):
+    """Delta31 at one leg-1 touchdown of one run (the `d31` table)."""
+
+    run: int = Field(description="the run's index in the job")
+    d31_init: float = Field(description="its initial Delta31, rad")
+    n: int = Field(description="the touchdown's index in the run")
+    time_s: float = Field(description="when, s")
+    d31: float = Field(description="Delta31 just after it, rad")
+
+
+_STANCE = {
+    f"stance_{leg}": (int, Field(description=f"1: leg {leg} in stance")) for leg in LEG_NAMES
+}
+if TYPE_CHECKING:  # generated below (a stance column per leg); fields skipped by type checkers
+
+    class SampleRow(Row):
+        """One recorded sample of one run (the `samples` table)."""
+
+else:
+    SampleRow = create_model(
+        "SampleRow",
+        __base__=Row,
+        __doc__="One recorded sample of one run (the `samples` table): stance per leg in the "
+        "paper's order 1..6 = R1 L1 R2 L2 R3 L3, body position, m.",
+        run=(int, Field(description="the run's index in the job")),
+        d31_init=(float, Field(description="its initial Delta31, rad")),
+        time_s=(float, Field(description="when, s")),
+        **_STANCE,
+        x_m=(float, Field(description="body position along the slope, m")),
+        y_m=(float, Field(description="body position across the slope, m")),
+        z_m=(float, Field(description="body height, m")),
+    )
 # The time-series tables of a run job with include_series (`?table=` of the CSV export).
-SERIES_COLUMNS: dict[str, tuple[str, ...]] = {
-    "d31": ("run", "d31_init", "n", "time_s", "d31"),
-    "samples": ("run", "d31_init", "time_s", *(f"stance_{leg}" for leg in LEG_NAMES),
-                "x_m", "y_m", "z_m"),
-}  # fmt: skip
+SERIES_ROWS: dict[str, type[Row]] = {"d31": D31Row, "samples": SampleRow}
 
 
 class RunJob(Timed):
@@ -85,8 +114,8 @@ def simulate_with_series(job: RunJob, compute: Compute) -> list[sim_core.RunResu
 class SeriesTables(BaseModel):
     """A run job's time series as flat tables (SERIES_COLUMNS; the CSV export's `table`)."""
 
-    d31: list[Record] = Field(description="Delta31 at every leg-1 touchdown of every run")
-    samples: list[Record] = Field(
+    d31: list[D31Row] = Field(description="Delta31 at every leg-1 touchdown of every run")
+    samples: list[SampleRow] = Field(
         description="every recorded sample: stance per leg (paper order), body position, m"
     )
 
@@ -95,7 +124,8 @@ class RunJobResult(Result):
     """A run job's result."""
 
     kind: Literal["run"] = "run"
-    runs: list[dict[str, Any]] = Field(
+    records: list[RunRow]
+    runs: list[RunSummary] | list[RunRecord] = Field(
         description="each run's summary (RunResult.summary: Delta31 at each touchdown, the "
         "final Delta31, gait, duty factor, speed, failure ...), or with include_series its "
         "whole record (RunResult.to_dict, with the sampled time series)"
@@ -125,7 +155,7 @@ def series_tables(d31_init: list[float], runs: list[dict[str, Any]]) -> SeriesTa
     """The time series as flat tables: Delta31 at each leg-1 touchdown, and every recorded
     sample (stance per leg in the paper's order 1..6 = R1 L1 R2 L2 R3 L3, as
     `LEG_NAMES` of `sim_core.contract`; body position, m)."""
-    legs = SERIES_COLUMNS["samples"][3:9]
+    legs = list(_STANCE)
     d31_rows: list[dict[str, Any]] = []
     samples: list[dict[str, Any]] = []
     for k, (d0, run) in enumerate(zip(d31_init, runs, strict=True)):
@@ -202,7 +232,4 @@ def _body_path(ax: Axes, runs: list[dict[str, Any]]) -> None:
     ax.set_title("body position along the slope")
 
 
-KIND = Kind(
-    model=RunJob, run=run, result=RunJobResult, columns=SUMMARY_COLUMNS, draw=draw,
-    tables=SERIES_COLUMNS,
-)  # fmt: skip
+KIND = Kind(model=RunJob, run=run, result=RunJobResult, row=RunRow, draw=draw, tables=SERIES_ROWS)

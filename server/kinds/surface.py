@@ -9,7 +9,7 @@ from typing import TYPE_CHECKING, Any, Literal
 from pydantic import Field, ValidationInfo, field_validator
 
 import sim_core
-from server.kinds.base import BetaRange, Kind, Physics, Result
+from server.kinds.base import BetaRange, Kind, Physics, Result, Row
 from server.kinds.bounds import bounded, core_bounds, core_default
 from server.kinds.compute import Compute
 from sim_core.contract import DriftSurface, SurfaceConfig, pin_problem, surface_grid
@@ -18,9 +18,25 @@ if TYPE_CHECKING:
     from matplotlib.figure import Figure
 
 DEFAULT = SurfaceConfig()
-COLUMNS = ("beta", "kind", "pin_d31", "d31", "drift", "drift_se", "stable", "resolved", "why")
 GRID_ENDS = (min(DEFAULT.d31_grid), max(DEFAULT.d31_grid))
 GRID_STEP = round(DEFAULT.d31_grid[1] - DEFAULT.d31_grid[0], 6)
+
+
+class SurfaceRow(Row):
+    """One probe, zero or near-zero band of the surface."""
+
+    beta: float = Field(description="duty factor")
+    kind: Literal["probe", "zero", "near_zero"] = Field(description="what the row is")
+    pin_d31: float | None = Field(description="a probe's held Delta31, rad")
+    d31: float | None = Field(
+        description="Delta31 sampled (a probe), where the drift crosses zero (a zero), or a "
+        "band's middle, rad"
+    )
+    drift: float | None = Field(description="drift per gait cycle, rad (a band: its least)")
+    drift_se: float | None = Field(description="a probe's drift's standard error, rad")
+    stable: bool | None = Field(description="a zero: stable")
+    resolved: bool | None = Field(description="a zero: resolved; a band: false")
+    why: str = Field(description="why a probe is not usable, or a band's extent")
 
 
 class Held(Physics):
@@ -91,6 +107,7 @@ class SurfaceJobResult(Result):
     """A surface job's result: the core's typed surface and one row per probe and zero."""
 
     kind: Literal["surface"] = "surface"
+    records: list[SurfaceRow]
     surface: DriftSurface = Field(description="the drift surface over the beta grid")
 
 
@@ -186,4 +203,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
         ax.legend(fontsize="small")
 
 
-KIND = Kind(model=SurfaceJob, run=run, result=SurfaceJobResult, columns=COLUMNS, draw=draw)
+KIND = Kind(model=SurfaceJob, run=run, result=SurfaceJobResult, row=SurfaceRow, draw=draw)

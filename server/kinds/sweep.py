@@ -11,7 +11,7 @@ import sim_core
 from server.kinds.base import BetaRange, Kind, Result, Timed
 from server.kinds.bounds import D31, core_default, d31_list
 from server.kinds.common import (
-    SUMMARY_COLUMNS,
+    RunRow,
     check_runs,
     conditions,
     d31_axis,
@@ -52,6 +52,7 @@ class SweepJobResult(Result):
     """A sweep job's result: one summary row per (beta, initial Delta31)."""
 
     kind: Literal["sweep"] = "sweep"
+    records: list[RunRow]
     warnings: list[str] = Field(description="what the runs' numbers say about themselves")
 
 
@@ -81,4 +82,4 @@ def draw(fig: Figure, spec: dict[str, Any], result: dict[str, Any]) -> None:
     ax.grid(alpha=0.3)
 
 
-KIND = Kind(model=SweepJob, run=run, result=SweepJobResult, columns=SUMMARY_COLUMNS, draw=draw)
+KIND = Kind(model=SweepJob, run=run, result=SweepJobResult, row=RunRow, draw=draw)

@@ -8,11 +8,13 @@ when a token is configured, so the OpenAPI document says what is true).
 
 from __future__ import annotations
 
+import logging
 from datetime import UTC, datetime
 from typing import Annotated, Any, Literal
 
 from fastapi import APIRouter, Header, HTTPException, Query, Response
 from fastapi.responses import JSONResponse
+from pydantic import ValidationError
 
 from server import figures, ledger
 from server.deps import (
@@ -39,6 +41,7 @@ from server.settings import Settings
 from server.status import FINISHED, JobStatus, StatusValue
 from sim_core.contract import DEFAULT_DT_S
 
+log = logging.getLogger(__name__)
 router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 write_router = APIRouter(prefix="/v1/jobs", tags=["jobs"])
 
@@ -232,11 +235,14 @@ def get_job(job: JobDep, store: StoreDep) -> Any:
 
 @router.get(
     "/{job_id}/result",
+    response_model=JobResult,
+    # the keys the stored result has, no more: a table the job did not keep (a null at the top
+    # level is not stored) and a measure added after the result was stored stay absent
+    response_model_exclude_unset=True,
     responses={
         200: {
-            "model": JobResult,
-            "description": "the result as JSON (its kind's result model), or CSV with "
-            "?format=csv (`table` picks which)",
+            "description": "the result as JSON (its kind's result model, validated on the way "
+            "out), or CSV with ?format=csv (`table` picks which)",
             "content": {"text/csv": {}},
         },
         **R404,
@@ -259,7 +265,7 @@ def get_result(
             "touchdown) or `samples` (every recorded sample: stance per leg, body position)"
         ),
     ] = "records",
-) -> Response:
+) -> Any:
     # looked up here, not as a dependency: a bad query parameter is a 422 before a 404
     job = get_job_or_404(job_id, store, settings)
     require_done(job)
@@ -270,7 +276,7 @@ def get_result(
         if table == "records":
             rows, columns = result.get("records", []), RECORD_COLUMNS.get(job.kind, ())
         elif table in (series := result.get("series") or {}) and job.kind in KINDS:
-            rows, columns = series[table], KINDS[job.kind].tables.get(table, ())
+            rows, columns = series[table], KINDS[job.kind].table_columns(table)
         else:
             raise HTTPException(
                 status_code=409,
@@ -284,7 +290,23 @@ def get_result(
             media_type="text/csv",
             headers={"Content-Disposition": f'attachment; filename="{name}.csv"'},
         )
-    return JSONResponse({"job_id": job_id, "kind": job.kind, "result": result})
+    return served_result(job_id, job.kind, result)
+
+
+def served_result(job_id: str, kind: str, result: dict[str, Any]) -> Any:
+    """A stored result as GET .../result serves it: validated against its kind's result model
+    (`JobResult`, which the route's response model validates again as it writes it). Stored
+    results are read leniently, not migrated: a field added since (a new measure) may be
+    absent and stays absent; a result that no longer fits its model at all (a field renamed or
+    removed since it was stored) is served as stored, with `X-Result-Schema: unvalidated`
+    and a warning in the log, rather than refused: it is still the job's data."""
+    body = {"job_id": job_id, "kind": kind, "result": result}
+    try:
+        return JobResult.model_validate(body)
+    except ValidationError as exc:
+        log.warning("job %s: stored result does not fit its model (%d errors); served as "
+                    "stored", job_id, exc.error_count())  # fmt: skip
+        return JSONResponse(body, headers={"X-Result-Schema": "unvalidated"})
 
 
 @router.get(

@@ -15,6 +15,8 @@ named here; what the instruments produce is defined here, each in a small module
   atlas's (atlas_<axis>.json);
 - `surface`: the drift surface's protocol and result (`DriftSurface`) and the surface atlas
   (`SurfaceAtlas`, the viewer's atlas panel);
+- `summaries`: a run's summary and record (`RunSummary`, `RunRecord`, generated from the run's
+  records' fields) and a triangle sweep's (`SweepSummary`), the REST results' leaves;
 - `returnmap`: the paper's Fig. 7 pairs (`ReturnMap`); `results`: where result files live;
   `values`: what the paper states; `defaults`: the model's default numerics and the grounds'
   words.
@@ -64,6 +66,13 @@ from sim_core.contract.results import (
     surface_atlas_file,
 )
 from sim_core.contract.returnmap import RETURN_MAP_SKIP, ReturnMap
+from sim_core.contract.summaries import (
+    SUMMARY_MEASURES,
+    RunRecord,
+    RunSummary,
+    SweepSummary,
+    SweepTransition,
+)
 from sim_core.contract.surface import (
     REGION_COLOURS,
     SHORT_PROBES,

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from sim_core.contract.finder import CellResult
+from sim_core.contract.summaries import SweepSummary, SweepTransition
 from sim_core.model.gait import angle_diff, classify_gait, window_gait
 
 # The band of Delta31 the paper's return maps and bifurcation diagram are about (branches 1.9
@@ -138,9 +139,9 @@ def branch_ranges(cells: Sequence[CellResult], gait: str) -> dict[str, Any]:
             "folds": [asdict(f) for f in folds(betas, rng, gait)]}  # fmt: skip
 
 
-def _transition_dict(t: Transition, times: np.ndarray) -> dict[str, Any]:
+def _transition(t: Transition, times: np.ndarray) -> SweepTransition:
     k = int(t.time_s)  # detect_transitions stores the sample index there
-    return {"value": t.value, "time_s": float(times[k]), "before": t.before, "after": t.after}
+    return SweepTransition(value=t.value, time_s=float(times[k]), before=t.before, after=t.after)
 
 
 def sweep_summary(
@@ -161,6 +162,8 @@ def sweep_summary(
     transitions. `loop` is True when the first leg's switch lies beyond the second leg's in
     the first leg's direction: the system stayed on its branch both ways (hysteresis).
     `beta`: the duty factor at each sample (the values, when beta is swept) or a constant.
+    Returned as plain data (what the cache and `reproduce` keep), its keys and types those of
+    the contract's `SweepSummary`, which builds it.
     """
     t = np.asarray(times_s, dtype=float)
     v = np.asarray(values, dtype=float)
@@ -168,30 +171,30 @@ def sweep_summary(
     turn_t = hold_s + ramp_s
     b = np.broadcast_to(np.asarray(beta, dtype=float), d.shape)
     found = detect_transitions(v, d, b, persist) if d.size else []
-    legs: dict[str, list[dict[str, Any]]] = {"first": [], "second": []}
+    legs: dict[str, list[SweepTransition]] = {"first": [], "second": []}
     for tr in found:
-        item = _transition_dict(tr, t)
-        if item["time_s"] < hold_s:
+        item = _transition(tr, t)
+        if item.time_s < hold_s:
             continue
-        legs["first" if item["time_s"] < turn_t else "second"].append(item)
+        legs["first" if item.time_s < turn_t else "second"].append(item)
     sign = 1.0 if turn > start else -1.0
     width: float | None = None
     loop: bool | None = None
     if legs["first"] and legs["second"]:
-        v1, v2 = legs["first"][0]["value"], legs["second"][0]["value"]
+        v1, v2 = legs["first"][0].value, legs["second"][0].value
         width = float(abs(v1 - v2))
         loop = bool((v1 - v2) * sign > 0)
-    return {
-        "start": start,
-        "turn": turn,
-        "first_leg": legs["first"],
-        "second_leg": legs["second"],
-        "width": width,
-        "loop": loop,
-        "gait_at_start": _gait_until(d, b, t < hold_s),
-        "gait_at_turn": _gait_until(d, b, t < turn_t),
-        "gait_at_end": _gait_until(d, b, np.ones(d.shape, dtype=bool)),
-    }
+    return SweepSummary(
+        start=start,
+        turn=turn,
+        first_leg=legs["first"],
+        second_leg=legs["second"],
+        width=width,
+        loop=loop,
+        gait_at_start=_gait_until(d, b, t < hold_s),
+        gait_at_turn=_gait_until(d, b, t < turn_t),
+        gait_at_end=_gait_until(d, b, np.ones(d.shape, dtype=bool)),
+    ).model_dump()
 
 
 def _gait_until(d31: np.ndarray, beta: np.ndarray, upto: np.ndarray) -> str:

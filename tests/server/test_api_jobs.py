@@ -265,8 +265,8 @@ def test_hysteresis_job_ramps_down_and_up(make_server: Callable[..., Server]) ->
     """The Fig. 6a protocol over REST with tiny durations: beta 0.70 -> 0.62 -> 0.70."""
     srv = make_server(workers=1)
     with srv.client() as c:
-        spec = {"kind": "hysteresis", "parameter": "beta", "start": 0.70, "turn": 0.62,
-                "hold_s": 0.2, "ramp_s": 0.4}  # fmt: skip
+        spec = {"kind": "hysteresis", "ramp": {"param": "beta", "start": 0.70, "turn": 0.62,
+                "hold_s": 0.2, "ramp_s": 0.4}}  # fmt: skip
         job = submit(c, spec)
         assert job["sim_seconds"] == pytest.approx(1.2)
         job = wait_status(c, job["id"], {"done", "failed"}, timeout=60)
@@ -396,6 +396,7 @@ def test_every_csv_names_its_physics_and_conditions(make_server: Callable[..., S
     srv = make_server(workers=1)
     run = {**SHORT, "body_mass_g": 4.0, "slope_deg": 5.0, "ground": "penalty",
            "dt_s": 2.5e-5, "include_series": True}  # fmt: skip
+    # the flat shape of before the job held a `Ramp` (deprecated, still accepted and run)
     ramp = {"kind": "hysteresis", "parameter": "slope_deg", "start": 0.0, "turn": 4.0,
             "hold_s": 0.1, "ramp_s": 0.1, "body_mass_g": 2.5}  # fmt: skip
     with srv.client() as c:

@@ -28,12 +28,23 @@ ATLAS: dict[str, Any] = {"kind": "atlas", "axis": "mass", "d31_step": 0.5}
 SURFACE: dict[str, Any] = {"kind": "surface", "beta_range": {"start": 0.64, "stop": 0.66}}
 HYSTERESIS: dict[str, Any] = {
     "kind": "hysteresis",
+    "ramp": {"param": "beta", "start": 0.7, "turn": 0.62, "hold_s": 0.2, "ramp_s": 0.3},
+}
+# the same job in the flat shape before the ramp was the core's `Ramp` (deprecated, accepted)
+FLAT_HYSTERESIS: dict[str, Any] = {
+    "kind": "hysteresis",
     "parameter": "beta",
     "start": 0.7,
     "turn": 0.62,
     "hold_s": 0.2,
     "ramp_s": 0.3,
 }
+
+
+def ramp_(drop: str = "", **kw: Any) -> dict[str, Any]:
+    """HYSTERESIS with its ramp's fields changed (`drop`: one left out)."""
+    ramp = {k: v for k, v in {**HYSTERESIS["ramp"], **kw}.items() if k != drop}
+    return {**HYSTERESIS, "ramp": ramp}
 
 
 @pytest.fixture(scope="module")
@@ -138,16 +149,16 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
     (with_(SURFACE, d31_lo=2.5, d31_hi=2.0), "d31_hi", "must be above d31_lo"),
     (with_(SURFACE, gain_per_s=0), "gain_per_s", "0 < gain_per_s <= 1000"),
     (with_(SURFACE, d31_step=0.001), "d31_step", "0.01 <= d31_step <= 1"),
-    ({**HYSTERESIS, "turn": 0.7}, "turn", "must differ from start"),
-    ({**HYSTERESIS, "turn": 1.0}, "turn", "0.5 < beta < 1"),
-    (
-        {**HYSTERESIS, "parameter": "body_mass_g", "start": 3.0, "turn": 0.1},
-        "turn",
-        "0.5 <= body_mass_g <= 30",
-    ),
-    ({**HYSTERESIS, "parameter": "speed"}, "parameter", "beta, body_mass_g, slope_deg"),
-    ({**HYSTERESIS, "hold_s": 60, "ramp_s": 250}, "ramp_s", "at most 600 s"),
-    ({k: v for k, v in HYSTERESIS.items() if k != "turn"}, "turn", "Field required"),
+    (ramp_(turn=0.7), "ramp", "ramp.turn (0.7) must differ from ramp.start"),
+    (ramp_(turn=1.0), "ramp", "0.5 < beta < 1"),
+    (ramp_(param="body_mass_g", start=3.0, turn=0.1), "ramp", "0.5 <= body_mass_g <= 30"),
+    (ramp_(param="speed"), "ramp", "ramp.param: Input should be 'beta', 'body_mass_g'"),
+    (ramp_(hold_s=60, ramp_s=250), "ramp", "at most 600 s"),
+    (ramp_(hold_s=0.0), "ramp", "0 < hold_s <= 60"),
+    (ramp_(drop="turn"), "ramp", "ramp.turn: Field required"),
+    (ramp_(start="0.7"), "ramp", "ramp.start: Input should be a valid number"),
+    (ramp_(speed=1.0), "ramp", "ramp.speed: Extra inputs are not permitted"),
+    ({**FLAT_HYSTERESIS, "turn": 0.7}, "ramp", "must differ from ramp.start"),
     # limits from the settings: 20 runs and 100 simulated seconds per job
     (with_(BASE, d31_init=[1.0] * 21), "d31_init", "at most 20 simulations per job"),
     (
@@ -163,7 +174,7 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
         "duration_s",
         "6e+08 physics steps; a run may take at most 6e+07",
     ),
-    ({**HYSTERESIS, "dt_s": 1e-6, "hold_s": 60, "ramp_s": 200}, "ramp_s", "at most 6e+07"),
+    ({**ramp_(hold_s=60, ramp_s=200), "dt_s": 1e-6}, "ramp", "at most 6e+07"),
     (with_(BASE, duration_s=30, dt_s=1e-5), "duration_s", "as many physics steps as 150 s"),
     # a grid of one point: refused, not run `steps` times
     (

@@ -33,8 +33,8 @@ JOBS: dict[str, dict[str, Any]] = {
                    "d31_init": [1.0, 3.0], "lag": 1},
     "sweep": {"kind": "sweep", "beta_range": {"start": 0.62, "stop": 0.70, "steps": 3},
               "d31_init": [2.0, 3.0], "duration_s": 0.4, "body_mass_g": 4.0},
-    "hysteresis": {"kind": "hysteresis", "parameter": "beta", "start": 0.70, "turn": 0.64,
-                   "hold_s": 0.1, "ramp_s": 0.3},
+    "hysteresis": {"kind": "hysteresis", "ramp": {"param": "beta", "start": 0.70, "turn": 0.64,
+                   "hold_s": 0.1, "ramp_s": 0.3}},
     "bifurcation": {"kind": "bifurcation", "beta_range": {"start": 0.62, "stop": 0.66,
                     "steps": 2}, "starts": 2, "duration_s": 2.0, "max_borders": 0,
                     "kick_rad": 0.0, "neighbour_seeds": False},
@@ -75,14 +75,15 @@ def _before_issue_54(job: AnyJob) -> dict[str, Any]:
         warnings = list(dict.fromkeys(w for r in results for w in r.measures.warnings))
         return stored(job, SweepJobResult(records=records, warnings=warnings))
     if isinstance(job, HysteresisJob):
-        res = sim_core.sweep(sim_core.RunSpec(**job.run_fields()), parameter=job.parameter,
-                             turn=job.turn, hold_s=job.hold_s, ramp_s=job.ramp_s,
+        ramp = job.ramp
+        res = sim_core.sweep(sim_core.RunSpec(**job.run_fields()), parameter=ramp.param,
+                             turn=ramp.turn, hold_s=ramp.hold_s, ramp_s=ramp.ramp_s,
                              params=params)  # fmt: skip
-        turn_t = job.hold_s + job.ramp_s
+        turn_t = ramp.hold_s + ramp.ramp_s
         records = [{"time_s": t, "leg": "first" if t < turn_t else "second", "value": v, "d31": d}
                    for t, v, d in zip(res.times_s, res.values, res.d31, strict=True)]  # fmt: skip
-        return stored(job, HysteresisJobResult(parameter=job.parameter, start=job.start,
-                                               turn=job.turn, summary=res.summary,
+        return stored(job, HysteresisJobResult(parameter=ramp.param, start=ramp.start,
+                                               turn=ramp.turn, summary=res.summary,
                                                records=records))  # fmt: skip
     assert isinstance(job, BifurcationJob)
 

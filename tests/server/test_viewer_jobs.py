@@ -16,8 +16,8 @@ from web.job_words import job_status_html
 from web.jobs import JobView, JobWatcher
 
 PNG = b"\x89PNG\r\n\x1a\n"
-RAMP = {"kind": "hysteresis", "parameter": "beta", "start": 0.70, "turn": 0.64, "hold_s": 0.3,
-        "ramp_s": 0.6, "beta": 0.66, "d31_init": 1.9}  # fmt: skip
+RAMP = {"kind": "hysteresis", "ramp": {"param": "beta", "start": 0.70, "turn": 0.64,
+        "hold_s": 0.3, "ramp_s": 0.6}, "beta": 0.66, "d31_init": 1.9}  # fmt: skip
 
 
 def _finished(w: JobWatcher, key: int) -> JobView | None:

@@ -108,9 +108,12 @@ def test_a_run_job_replays_its_first_runs_delta31_and_footfall() -> None:
     assert replay_of("surface", "x", {}, {"result": {}}) is None
 
 
-def test_a_hysteresis_job_replays_its_ramp_path_with_its_phases() -> None:
-    spec = {"parameter": "beta", "start": 0.70, "turn": 0.62, "hold_s": 1.0, "ramp_s": 2.0,
-            "beta": 0.66, "body_mass_g": 4.0, "slope_deg": 0.0, "ground": "constraint"}  # fmt: skip
+@pytest.mark.parametrize("shape", ["ramp", "flat (stored before issue 53)"])
+def test_a_hysteresis_job_replays_its_ramp_path_with_its_phases(shape: str) -> None:
+    held = {"beta": 0.66, "body_mass_g": 4.0, "slope_deg": 0.0, "ground": "constraint"}
+    schedule = {"start": 0.70, "turn": 0.62, "hold_s": 1.0, "ramp_s": 2.0}
+    spec = (held | {"ramp": {"param": "beta", **schedule}} if shape == "ramp"
+            else held | {"parameter": "beta", **schedule})  # fmt: skip
     times = [0.25 * k for k in range(25)]  # 0 .. 6 s: hold, down, up, hold
     ramp = controls.make_ramp("beta", 0.70, 0.62, 1.0, 2.0)
     records = [{"time_s": t, "leg": "first", "value": ramp.value(t), "d31": 1.9} for t in times]

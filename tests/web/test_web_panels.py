@@ -202,7 +202,7 @@ def test_the_exports_carry_the_records() -> None:
     rows = list(csv.DictReader(io.StringIO(export.ramp_csv(ev, ramp, 0.0, made=MADE).decode())))
     assert float(rows[-1]["scheduled"]) == pytest.approx(0.70 - 0.08 * 0.4 / 8.0)  # t = 0.4 s
     js = json.loads(export.settings_json(_settings(ramp=ramp), made=MADE))
-    assert js["ramp"]["param"] == "beta" and js["jobs"]["hysteresis"]["turn"] == 0.62
+    assert js["ramp"]["param"] == "beta" and js["jobs"]["hysteresis"]["ramp"]["turn"] == 0.62
     assert js["jobs_url"] == "http://127.0.0.1:8000/v1/jobs"
     assert (
         js["speed"] == 1.0
@@ -218,7 +218,7 @@ def test_the_job_bodies_are_what_the_api_accepts() -> None:
     run = JOB_SPEC_ADAPTER.validate_python(jobs["run"])
     assert run.kind == "run" and run.beta == 0.62 and run.slope_deg == -7.5  # type: ignore[union-attr]
     hyst = JOB_SPEC_ADAPTER.validate_python(jobs["hysteresis"])
-    assert hyst.kind == "hysteresis" and hyst.parameter == "body_mass_g"  # type: ignore[union-attr]
+    assert hyst.kind == "hysteresis" and hyst.ramp == ramp  # type: ignore[union-attr]
     assert "hysteresis" not in export.jobs(_settings())
     line = export.curl("http://h:1/", jobs["run"])
     assert line.startswith("curl -s -X POST http://h:1/v1/jobs ") and '"kind": "run"' in line
