@@ -31,9 +31,10 @@ __all__ = ["D31_COLUMNS", "EXPORTS", "PROVENANCE_COLUMNS", "Settings", "d31_csv"
 EXPORTS = ("d31", "footfall", "ramp", "settings")
 CONDITION_COLUMNS = ("beta", "body_mass_g", "slope_deg")
 # What made the numbers, on every row (the core's `provenance`: the physics' version, the
-# parameter hash the result cache uses, the ground and the physics step): columns, not a
+# parameter hash the result cache uses, the ground and the physics step; and the model
+# parameters off their defaults as JSON, `ViewerState.provenance`): columns, not a
 # commented header, so that every CSV reader keeps them with each row.
-PROVENANCE_COLUMNS = ("ground", "dt_s", "physics_version", "params_hash")
+PROVENANCE_COLUMNS = ("ground", "params", "dt_s", "physics_version", "params_hash")
 D31_COLUMNS = ("time_s", "d31_rad", *CONDITION_COLUMNS, "ramp", *PROVENANCE_COLUMNS)
 Provenance = dict[str, Any]  # `sim_core.contract.provenance` of the walk
 
@@ -138,7 +139,7 @@ def run_job(s: Settings) -> dict[str, Any]:
         "kind": "run",
         **_fields(spec, (*HELD_FIELDS, "duration_s")),
         "d31_init": [round(spec.d31_init, 6)],  # the run job takes a list of starts
-        "ground": s.ground,
+        **s.choice().body(),  # ground, and setting and params where not the defaults
         "include_series": True,
     }
 
@@ -155,7 +156,7 @@ def hysteresis_job(s: Settings, ramp: Ramp) -> dict[str, Any]:
         "hold_s": ramp.hold_s,
         "ramp_s": ramp.ramp_s,
         **_fields(spec, (*HELD_FIELDS, "d31_init")),
-        "ground": s.ground,
+        **s.choice().body(),
     }
 
 

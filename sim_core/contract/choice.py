@@ -16,6 +16,7 @@ would be silently overridden, and the edges' step rules are checked on the field
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from typing import Any, Self
 
 from pydantic import BaseModel, ConfigDict, Field, ValidationError, ValidationInfo, field_validator
@@ -141,9 +142,15 @@ class ModelChoice(BaseModel):
         return self.model_dump(mode="json", exclude_defaults=True) | {"ground": self.ground}
 
     @classmethod
-    def read(cls, data: dict[str, Any]) -> Self:
-        """The choice among a larger mapping's fields (a job body, a settings file)."""
-        return cls.model_validate({k: data[k] for k in cls.model_fields if k in data})
+    def read(cls, data: Mapping[str, Any]) -> Self:
+        """The choice among a larger mapping's fields (a settings file, a switch's fields),
+        absent ones at their defaults; a ValueError in one line naming each refused field
+        ("params: unknown model parameter 'x': ...") otherwise."""
+        try:
+            return cls.model_validate({k: data[k] for k in cls.model_fields if k in data})
+        except ValidationError as exc:
+            words = [f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors()]
+            raise ValueError("; ".join(words).replace("Value error, ", "")) from None
 
 
 def _leaves(setting: str | None, params: dict[str, Leaf], ground: str) -> dict[str, Any]:
