@@ -13,14 +13,14 @@ engine.
 
 from __future__ import annotations
 
-import json
 from collections import deque
 from dataclasses import dataclass, field
 
 from sim_core import RunSpec, Simulation
-from sim_core.contract import ModelChoice, Ramp, RampParam, provenance
+from sim_core.contract import ModelChoice, Ramp, RampParam
 from web import controls
 from web.conditions import Conditions
+from web.export import made_by
 from web.frame_cap import SOFTWARE_FPS
 from web.job_replay import Replay
 from web.record import D31Conditions
@@ -238,8 +238,5 @@ class ViewerState:
         )
 
     def provenance(self) -> dict[str, object]:
-        """What makes the walk's numbers (the core's `provenance`: physics version, the
-        parameter hash the cache uses, ground, dt; and the parameters off their defaults, as
-        JSON by leaf name), for every export."""
-        changed = json.dumps(self.model.changed(), sort_keys=True)
-        return provenance(self.model.model_params()) | {"params": changed}
+        """What makes the walk's numbers, for every export (`export.made_by`)."""
+        return made_by(self.model)

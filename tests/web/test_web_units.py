@@ -353,8 +353,8 @@ def test_a_turned_insect_is_explained_not_left_to_guess() -> None:
 def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
     import json
 
-    from sim_core.contract import Ramp, provenance
-    from web.export import Settings, load_settings, settings_json
+    from sim_core.contract import Ramp
+    from web.export import Settings, load_settings, made_by, settings_json
 
     s = Settings(
         beta=0.62, body_mass_g=4.5, slope_deg=-7.5, d31_init=3.0, speed=None, time_s=12.0,
@@ -362,7 +362,7 @@ def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
         job_duration_s=45.0, api_url="http://h:1", ground="penalty", setting="soft_legs",
         params={"ground_stiffness": 1000.0},
     )  # fmt: skip
-    made = provenance(s.choice().model_params())
+    made = made_by(s.choice())
     back = load_settings(settings_json(s, made=made))
     assert (back.beta, back.body_mass_g, back.slope_deg, back.d31_init) == (0.62, 4.5, -7.5, 3.0)
     assert back.speed is None and back.ground == "penalty" and back.ramp == s.ramp
