@@ -135,6 +135,9 @@ class ViewerState:
     # the model parameters of the running simulation: ground, named setting, leaves (kept
     # across a ground switch and a loaded file; every export and job body carries them)
     model: ModelChoice = field(default_factory=ModelChoice)
+    # the spec the walk started from: a new simulation (another ground or model) keeps every
+    # field of it (phase_reset, the numerics, ...), the live beta, mass and slope on top
+    spec: RunSpec = field(default_factory=_start_spec)
     playing: bool = True
     speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
     clock: SimClock = field(default_factory=SimClock)  # simulated time owed at `speed`
@@ -161,7 +164,7 @@ class ViewerState:
         """The walk `spec` (None: the sliders' initial values) with `model`'s parameters
         (None: the defaults, on the default ground)."""
         spec, model = spec or _start_spec(), model or ModelChoice()
-        return cls(Simulation(spec, model.model_params()), spec.d31_init, model)
+        return cls(Simulation(spec, model.model_params()), spec.d31_init, model, spec)
 
     @property
     def ground(self) -> str:
@@ -207,9 +210,9 @@ class ViewerState:
             self.sim.reset(d31_init=d31_init)
         else:
             sim = self.sim
-            here = RunSpec(beta=sim.beta, body_mass_g=sim.body_mass_g, slope_deg=sim.slope_deg,
-                           d31_init=d31_init)  # fmt: skip
-            self.sim = Simulation(here, want.model_params())
+            live = {"beta": sim.beta, "body_mass_g": sim.body_mass_g, "slope_deg": sim.slope_deg,
+                    "d31_init": d31_init}  # fmt: skip
+            self.sim = Simulation(self.spec.model_copy(update=live), want.model_params())
             self.model, self.model_words = want, want.words()
         self.d31_conditions.clear()
         self.walk += 1
