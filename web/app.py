@@ -37,6 +37,7 @@ from pathlib import Path
 import viser
 
 from sim_core import RunSpec
+from sim_core.contract import ModelChoice
 from web import handlers
 from web.chart_painter import ChartPainter
 from web.frame_cap import install_frame_cap
@@ -63,6 +64,7 @@ class ViewerApp:
         port: int = 8080,
         *,
         spec: RunSpec | None = None,
+        model: ModelChoice | None = None,
         config: LoopConfig | None = None,
         bifurcation_path: Path = DEFAULT_BIFURCATION,
         surface_path: Path = DEFAULT_SURFACE,
@@ -70,7 +72,7 @@ class ViewerApp:
     ) -> None:
         self.cfg = cfg = config or LoopConfig()
         self.requests = RequestQueue()
-        self.state = state = ViewerState.of(spec)
+        self.state = state = ViewerState.of(spec, model)
         self.server = viser.ViserServer(host=host, port=port, label="insect-gait", verbose=False)
         self.scene = HexapodScene(self.server, state.sim.model, shadows=cfg.shadows)
         install_frame_cap(self.server, cfg.software_fps)

@@ -13,7 +13,7 @@ import math
 import sys
 from pathlib import Path
 
-from sim_core.cli import EXIT_USAGE, port_number, port_taken
+from sim_core.cli import EXIT_USAGE, add_model_args, choice_from_args, port_number, port_taken
 from sim_core.contract import RESULTS_ENV
 from web.frame_cap import MIN_FPS, SOFTWARE_FPS
 from web.paths import DEFAULT_API_URL, DEFAULT_BIFURCATION, SURFACE_FILE
@@ -65,6 +65,7 @@ def register(subparsers: argparse._SubParsersAction) -> None:
         "the CPU the simulation needs; 0: every frame; a browser's own ?frameCap=N overrides "
         "it; default %(default)g)",
     )
+    add_model_args(p)  # --ground, --setting, --param NAME=VALUE: as `insect-gait run`'s
     p.set_defaults(func=run)
 
 
@@ -94,6 +95,7 @@ def _refuse_busy(args: argparse.Namespace) -> int:
 def run(args: argparse.Namespace) -> int:
     # viser moves on to the next free port by itself; a URL printed before it started (make
     # run's) would then name somebody else's server: refuse instead, before building anything
+    model = choice_from_args(args)  # refused in one line before anything starts
     if port_taken(args.host, args.port):
         return _refuse_busy(args)
     from web.app import LoopConfig, ViewerApp
@@ -106,6 +108,7 @@ def run(args: argparse.Namespace) -> int:
         bifurcation_path=args.bifurcation,
         surface_path=surface,
         api_url=args.api_url,
+        model=model,
         config=LoopConfig(shadows=args.shadows, software_fps=args.software_fps),
     )
     if app.port != args.port:  # taken in the instant between the check and viser's bind

@@ -20,7 +20,7 @@ from collections.abc import Iterable, Sequence
 from dataclasses import asdict
 from typing import Any
 
-from sim_core.contract import LEG_NAMES, EventConditions, Ramp, RunSpec
+from sim_core.contract import LEG_NAMES, EventConditions, ModelChoice, Ramp, RunSpec, provenance
 from web import controls
 from web.record import D31Event, Interval
 from web.settings_file import Settings, load_settings
@@ -28,15 +28,25 @@ from web.settings_file import Settings, load_settings
 # `Settings` and `load_settings` live in web/settings_file.py (the file read back); the
 # export names them too, as the writer of that file
 __all__ = ["D31_COLUMNS", "EXPORTS", "PROVENANCE_COLUMNS", "Settings", "d31_csv", "footfall_csv",
-           "job_html", "jobs", "load_settings", "ramp_csv", "run_job", "settings_json"]  # fmt: skip
+           "job_html", "jobs", "load_settings", "made_by", "ramp_csv", "run_job",
+           "settings_json"]  # fmt: skip
 EXPORTS = ("d31", "footfall", "ramp", "settings")
 CONDITION_COLUMNS = ("beta", "body_mass_g", "slope_deg")
 # What made the numbers, on every row (the core's `provenance`: the physics' version, the
-# parameter hash the result cache uses, the ground and the physics step): columns, not a
+# parameter hash the result cache uses, the ground and the physics step; and the model
+# parameters off their defaults as JSON, `ViewerState.provenance`): columns, not a
 # commented header, so that every CSV reader keeps them with each row.
-PROVENANCE_COLUMNS = ("ground", "dt_s", "physics_version", "params_hash")
+PROVENANCE_COLUMNS = ("ground", "params", "dt_s", "physics_version", "params_hash")
 D31_COLUMNS = ("time_s", "d31_rad", *CONDITION_COLUMNS, "ramp", *PROVENANCE_COLUMNS)
-Provenance = dict[str, Any]  # `sim_core.contract.provenance` of the walk
+Provenance = dict[str, Any]  # `made_by`: what made the walk's numbers
+
+
+def made_by(model: ModelChoice) -> Provenance:
+    """What makes a walk's numbers, for every export: the core's `provenance` (physics
+    version, the parameter hash the cache uses, ground, dt) and the model parameters off their
+    defaults, as JSON by leaf name (`ModelChoice.changed`)."""
+    changed = json.dumps(model.changed(), sort_keys=True)
+    return provenance(model.model_params()) | {"params": changed}
 
 
 def _csv(header: Sequence[str], rows: Iterable[Sequence[Any]]) -> bytes:
@@ -139,7 +149,7 @@ def run_job(s: Settings) -> dict[str, Any]:
         "kind": "run",
         **_fields(spec, (*HELD_FIELDS, "duration_s")),
         "d31_init": [round(spec.d31_init, 6)],  # the run job takes a list of starts
-        "ground": s.ground,
+        **s.choice().body(),  # ground, and setting and params where not the defaults
         "include_series": True,
     }
 
@@ -152,7 +162,7 @@ def hysteresis_job(s: Settings, ramp: Ramp) -> dict[str, Any]:
         "kind": "hysteresis",
         "ramp": dataclasses.asdict(ramp),
         **_fields(spec, (*HELD_FIELDS, "d31_init")),
-        "ground": s.ground,
+        **s.choice().body(),
     }
 
 

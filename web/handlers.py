@@ -124,7 +124,7 @@ def _set_ground(v: Viewer, req: SetGround) -> None:
         raise ValueError(
             f"unknown ground {req.ground!r}; choose from {list(controls.GROUND_LABEL)}"
         )
-    if req.ground != v.state.ground:
+    if req.ground != v.state.ground:  # the model's other parameters are kept
         v.state.restart(v.state.d31_init, ground=req.ground)
 
 
@@ -149,7 +149,7 @@ def _load(v: Viewer, req: LoadSettings) -> None:
         state.set(name, value)
         state.write[name] = value  # the sliders show what was loaded
     state.speed = s.speed
-    state.restart(s.d31_init, ground=s.ground)
+    state.restart(s.d31_init, model=s.choice())  # its ground, setting and parameters
     v.panels.walk.show_d31_init(state.d31_init)
     v.panels.load(s)
 

@@ -195,5 +195,6 @@ def readouts_of(
         slope_deg=sim.slope_deg,
         heading_deg=None if heading is None else math.degrees(heading),
         ground=state.ground,
+        model=state.model_words,
         lag_s=state.clock.lag_s,
     )

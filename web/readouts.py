@@ -38,6 +38,7 @@ class Readouts:
     slope_deg: float = controls.SLOPE_DEG.initial
     heading_deg: float | None = None
     ground: str = "constraint"
+    model: str = "defaults"  # the model parameters off their defaults (`ModelChoice.words`)
     lag_s: float = 0.0  # simulated seconds the walk is behind the wall clock at this speed
 
 
@@ -93,6 +94,8 @@ def format_readouts(r: Readouts) -> dict[str, str]:
         "body mass (simulation, g)": f"{r.body_mass_g:.2f}",
         "slope (simulation, °)": f"{r.slope_deg:.1f}",
         "ground": controls.GROUND_LABEL[r.ground],
+        # which model parameters are not the defaults (`--setting`, `--param`, a loaded file)
+        "model": r.model,
         "sim time (s)": f"{r.time_s:.2f}",
         "speed along heading (cm/s)": _f(r.speed_cm_s, "{:.2f}")
         + ("" if r.heading_deg is None else f"  (heading {round(r.heading_deg)}°)"),

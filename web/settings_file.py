@@ -9,9 +9,10 @@ from __future__ import annotations
 
 import json
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Any
 
-from sim_core.contract import GROUND_DEFAULT, Ramp
+from sim_core.contract import GROUND_DEFAULT, ModelChoice, Ramp
 from web import controls
 from web.paths import DEFAULT_API_URL
 
@@ -32,6 +33,13 @@ class Settings:
     job_duration_s: float = 30.0
     api_url: str = DEFAULT_API_URL
     ground: str = GROUND_DEFAULT  # `ModelParams.ground` of the walk (the jobs' `ground` too)
+    setting: str | None = None  # the named model setting of the walk (the jobs' too)
+    params: dict[str, Any] = field(default_factory=dict)  # leaves on top (the jobs' `params`)
+
+    def choice(self) -> ModelChoice:
+        """The walk's model parameters, as the contract's type (checked)."""
+        return ModelChoice.read({"ground": self.ground, "setting": self.setting,
+                                 "params": self.params})  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -85,6 +93,7 @@ def load_settings(data: bytes) -> Settings:
     ground = raw.get("ground", GROUND_DEFAULT)
     if ground not in controls.GROUND_LABEL:
         raise ValueError(f"ground: one of {list(controls.GROUND_LABEL)}, the file has {ground!r}")
+    model = ModelChoice.read(raw)  # setting and params, checked on the file's ground
     ramp = None
     r = raw.get("ramp")
     if r is not None:
@@ -111,4 +120,6 @@ def load_settings(data: bytes) -> Settings:
         job_duration_s=number("job_duration_s", default=30.0, lo=1.0, hi=600.0),
         api_url=str(raw.get("api_url") or DEFAULT_API_URL),
         ground=ground,
+        setting=model.setting,
+        params=dict(model.params),
     )

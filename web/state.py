@@ -16,10 +16,11 @@ from __future__ import annotations
 from collections import deque
 from dataclasses import dataclass, field
 
-from sim_core import ModelParams, RunSpec, Simulation
-from sim_core.contract import Ramp, RampParam, provenance
+from sim_core import RunSpec, Simulation
+from sim_core.contract import ModelChoice, Ramp, RampParam
 from web import controls
 from web.conditions import Conditions
+from web.export import made_by
 from web.frame_cap import SOFTWARE_FPS
 from web.job_replay import Replay
 from web.record import D31Conditions
@@ -131,7 +132,12 @@ class ViewerState:
 
     sim: Simulation
     d31_init: float  # the initial Delta31 of the walk's last (re)start
-    ground: str = "constraint"  # `ModelParams.ground` of the running simulation
+    # the model parameters of the running simulation: ground, named setting, leaves (kept
+    # across a ground switch and a loaded file; every export and job body carries them)
+    model: ModelChoice = field(default_factory=ModelChoice)
+    # the spec the walk started from: a new simulation (another ground or model) keeps every
+    # field of it (phase_reset, the numerics, ...), the live beta, mass and slope on top
+    spec: RunSpec = field(default_factory=_start_spec)
     playing: bool = True
     speed: float | None = controls.speed_value(controls.DEFAULT_SPEED)
     clock: SimClock = field(default_factory=SimClock)  # simulated time owed at `speed`
@@ -148,12 +154,22 @@ class ViewerState:
     replaying: Replay | None = None  # a done job's run the panels show instead of the walk's
     # values the loop sets into sliders at the next redraw (a ramp's start, a loaded file)
     write: dict[str, float] = field(default_factory=dict)
+    model_words: str = ""  # `model.words()`, for the readout (set with the model)
+
+    def __post_init__(self) -> None:
+        self.model_words = self.model.words()
 
     @classmethod
-    def of(cls, spec: RunSpec | None = None) -> ViewerState:
-        """The walk `spec` (None: the sliders' initial values) on the default ground."""
-        spec = spec or _start_spec()
-        return cls(Simulation(spec), spec.d31_init)
+    def of(cls, spec: RunSpec | None = None, model: ModelChoice | None = None) -> ViewerState:
+        """The walk `spec` (None: the sliders' initial values) with `model`'s parameters
+        (None: the defaults, on the default ground)."""
+        spec, model = spec or _start_spec(), model or ModelChoice()
+        return cls(Simulation(spec, model.model_params()), spec.d31_init, model, spec)
+
+    @property
+    def ground(self) -> str:
+        """`ModelParams.ground` of the running simulation."""
+        return self.model.ground
 
     def conditions(self) -> Conditions:
         """The ground, mass and slope the walk is under now: the panels draw data of these."""
@@ -178,19 +194,26 @@ class ViewerState:
         self.ramp = None
         self.sim.stop_ramp()
 
-    def restart(self, d31_init: float, ground: str | None = None) -> None:
+    def restart(
+        self, d31_init: float, ground: str | None = None, model: ModelChoice | None = None
+    ) -> None:
         """A new walk from `d31_init` at the parameters in force, on `ground` (None: the
-        same one; another builds a new simulation); its record starts over."""
+        same one) with `model`'s parameters (None: the ones in force, which another ground
+        keeps: a leaf the other ground lacks is refused, naming it); other parameters build a
+        new simulation; its record starts over."""
+        want = model or self.model
+        if ground is not None and ground != want.ground:  # the other leaves kept, checked
+            want = ModelChoice.read(want.model_dump() | {"ground": ground})
         self.stop_ramp()
         self.d31_init = d31_init = controls.d31_init_value(d31_init)
-        if ground is None or ground == self.ground:
+        if want == self.model:
             self.sim.reset(d31_init=d31_init)
         else:
             sim = self.sim
-            here = RunSpec(beta=sim.beta, body_mass_g=sim.body_mass_g, slope_deg=sim.slope_deg,
-                           d31_init=d31_init)  # fmt: skip
-            self.sim = Simulation(here, ModelParams.of(ground=ground))
-            self.ground = ground
+            live = {"beta": sim.beta, "body_mass_g": sim.body_mass_g, "slope_deg": sim.slope_deg,
+                    "d31_init": d31_init}  # fmt: skip
+            self.sim = Simulation(self.spec.model_copy(update=live), want.model_params())
+            self.model, self.model_words = want, want.words()
         self.d31_conditions.clear()
         self.walk += 1
         self.clock.reset()
@@ -208,6 +231,8 @@ class ViewerState:
             speed=self.speed,
             time_s=sim.time_s,
             ground=self.ground,
+            setting=self.model.setting,
+            params=dict(self.model.params),
             ramp=self.ramp if running else inputs.ramp,  # the one running, else the one set up
             ramp_running=running,
             ramp_started_at_s=self.ramp_t0 if running else None,
@@ -216,6 +241,5 @@ class ViewerState:
         )
 
     def provenance(self) -> dict[str, object]:
-        """What makes the walk's numbers (the core's `provenance`: physics version, the
-        parameter hash the cache uses, ground, dt), for every export."""
-        return provenance(ModelParams.of(ground=self.ground))
+        """What makes the walk's numbers, for every export (`export.made_by`)."""
+        return made_by(self.model)

@@ -21,7 +21,6 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validat
 from server.kinds.bounds import (
     BETA_BOUNDS,
     DT_REASON,
-    GROUND_HELP,
     MAX_DT_S,
     IntLike,
     bounded,
@@ -32,11 +31,9 @@ from server.kinds.provenance import Provenance
 from sim_core.contract import (
     DEFAULT_DT_S,
     DEFAULT_INTEGRATOR,
-    GROUND_DEFAULT,
-    GROUNDS,
     INTEGRATORS,
     Integrator,
-    ModelParams,
+    ModelChoice,
     control_problem,
     cost_problem,
     numerics_problem,
@@ -67,8 +64,10 @@ class Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=True)
 
 
-class Physics(Strict):
-    """Fields every kind shares; they map one to one onto `sim_core.RunSpec`.
+class Physics(ModelChoice, Strict):
+    """Fields every kind shares: the model's (`ModelChoice`: ground, a named setting, leaves
+    by name, every one reaching the core's `ModelParams`) and the run's, which map one to one
+    onto `sim_core.RunSpec`.
 
     Cross-field rules run as field validators on the later field (so the 422 names it) with
     `validate_default`, so a default that clashes with a given value is refused too. Each
@@ -88,22 +87,6 @@ class Physics(Strict):
         "dt_s", le=MAX_DT_S, nullable=True, why=DT_REASON, validate_default=True
     )
     control_dt_s: float | None = core_field("control_dt_s", nullable=True, validate_default=True)
-    ground: str = Field(
-        GROUND_DEFAULT,
-        description=GROUND_HELP,
-        json_schema_extra={"allowed": " or ".join(GROUNDS), "enum": list(GROUNDS)},
-    )
-
-    @field_validator("ground")
-    @classmethod
-    def _a_known_ground(cls, v: str) -> str:
-        if v not in GROUNDS:
-            raise ValueError(f"ground must be one of {', '.join(GROUNDS)}; got {v!r}")
-        return v
-
-    def model_params(self) -> ModelParams:
-        """The core's parameters of this job: the defaults on the job's ground."""
-        return ModelParams.of(ground=self.ground)
 
     @classmethod
     def kind_name(cls) -> str:

@@ -13,6 +13,7 @@ blank here: its value is the row's own (`value`), never the job's field.
 
 from __future__ import annotations
 
+import json
 from collections.abc import Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -44,6 +45,15 @@ class Provenance(BaseModel):
     slope_deg: float | None = Field(
         description="slope, deg (null where the job varies it row by row: see `value`)"
     )
+    setting: str | None = Field(
+        None, description="the named model setting the job asked for (null: none)"
+    )
+    params: dict[str, float | int | str | bool] | None = Field(
+        None,
+        description="the model parameters off their defaults that the job ran with, by leaf "
+        "name (a setting's included; {}: the defaults; null for results stored before they "
+        "were recorded); the CSV column holds them as JSON",
+    )
 
 
 PROVENANCE_COLUMNS: tuple[str, ...] = tuple(Provenance.model_fields)
@@ -58,7 +68,7 @@ def job_provenance(job: Physics) -> Provenance:
     held = {k: None if k in varied else getattr(job, k) for k in ("body_mass_g", "slope_deg")}
     return Provenance(
         **provenance(job.model_params(), dt_s), integrator=integrator,
-        control_dt_s=control_dt_s, **held,
+        control_dt_s=control_dt_s, **held, setting=job.setting, params=job.changed(),
     )  # fmt: skip
 
 
@@ -69,5 +79,11 @@ def stamped(
     column wins, e.g. a finder row's body_mass_g), and the header with them; a result stored
     before provenance was recorded gets the columns blank (unknown, not guessed)."""
     header = (*columns, *(c for c in PROVENANCE_COLUMNS if c not in columns))
-    extra = {c: (found or {}).get(c) for c in PROVENANCE_COLUMNS if c not in columns}
+    extra = {c: _flat((found or {}).get(c)) for c in PROVENANCE_COLUMNS if c not in columns}
     return [{**row, **{k: v for k, v in extra.items() if k not in row}} for row in rows], header
+
+
+def _flat(value: Any) -> Any:
+    """A provenance value as one CSV cell: the parameters as JSON (readable back), others as
+    they are."""
+    return json.dumps(value, sort_keys=True) if isinstance(value, dict) else value

@@ -12,8 +12,8 @@ from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE, doc_with_section
 from sim_core.cli.fields import add_field_flags, flag, given
-from sim_core.contract import GROUND_HELP
-from sim_core.model.params import GROUNDS, ModelParams
+from sim_core.cli.model import add_model_args, choice_from_args
+from sim_core.model.params import ModelParams
 from sim_core.model.spec import INSECT_WORDS, RunSpec, cost_problem, numerics_problem
 
 # `run` without --duration-s runs until settled: a first command should name a gait. The settled
@@ -29,7 +29,8 @@ def _add_run(sub: Any) -> None:
         help="simulate one walk and report Delta31 and the gait",
         description="Simulate one walk. Every option is a field of the run's spec (RunSpec, "
         "sim_core.contract), checked by the same rules and in the same words as the REST "
-        "API's; --ground picks the model's ground.",
+        "API's; --ground, --setting and --param set the model's parameters, as a job's "
+        "ground, setting and params do.",
     )
     d = ModelParams()
     names = add_field_flags(
@@ -48,8 +49,7 @@ def _add_run(sub: Any) -> None:
             "pin_d31": "off (the paper's model)",
         },
     )
-    p.add_argument("--ground", choices=GROUNDS, default=GROUNDS[0],
-                   help=f"{GROUND_HELP} (docs/MODEL.md; default: %(default)s)")  # fmt: skip
+    add_model_args(p)
     p.add_argument("--json", action="store_true", help="print one JSON object")
     p.set_defaults(func=_cmd_run, run_fields=names)
 
@@ -82,6 +82,7 @@ def validation_message(exc: ValidationError, flags: Mapping[str, str] | None = N
 def _cmd_run(args: argparse.Namespace) -> int:
     from sim_core.model.runner import simulate
 
+    choice = choice_from_args(args)  # a UsageError names the flag and the leaf
     try:
         spec = _spec_from_args(args)
     except ValidationError as exc:
@@ -97,19 +98,20 @@ def _cmd_run(args: argparse.Namespace) -> int:
     if problem:
         print(f"insect-gait run: error: --duration-s: {problem}", file=sys.stderr)
         return EXIT_USAGE
-    result = simulate(spec, ModelParams.of(ground=args.ground))
+    result = simulate(spec, choice.model_params())
     summary = result.summary()
     if args.json:
-        print(json.dumps(summary))
+        print(json.dumps(summary | {"model": choice.body() | {"changed": choice.changed()}}))
     else:
-        _print_summary(result.summary(), spec)
+        _print_summary(result.summary(), spec, choice.model_params())
+        if choice.changed():
+            print(f"model: {choice.words()}")
     return 0 if not result.diverged else 1
 
 
-def _print_summary(s: dict[str, Any], spec: RunSpec) -> None:
+def _print_summary(s: dict[str, Any], spec: RunSpec, p: ModelParams) -> None:
     from sim_core.model.params import nominal_speed
 
-    p = ModelParams()
     v_nom = nominal_speed(spec.beta, p.trajectory.stroke, p.trajectory.swing_duration) * 100
     if s["diverged"]:
         f = s.get("failure") or {}

@@ -35,6 +35,7 @@ The lab's further names (readings of a run, the finder's clustering and branch r
 
 from types import ModuleType as _ModuleType
 
+from sim_core.contract.choice import ModelChoice  # a run's model parameters, as edges take them
 from sim_core.contract.defaults import (
     DEFAULT_CONTROL_DT_S,
     DEFAULT_DT_S,

@@ -414,13 +414,13 @@ def test_every_csv_names_its_physics_and_conditions(make_server: Callable[..., S
     want = {"physics_version": PHYSICS_VERSION,
             "params_hash": params_hash(ModelParams.of(ground="penalty")), "ground": "penalty",
             "integrator": "implicitfast", "dt_s": "2.5e-05", "control_dt_s": "0.0005",
-            "body_mass_g": "4.0", "slope_deg": "5.0"}  # fmt: skip
+            "body_mass_g": "4.0", "slope_deg": "5.0", "setting": "", "params": "{}"}  # fmt: skip
     assert params_hash(ModelParams.of(ground="penalty")) != params_hash(ModelParams())
     for name, rows in tables.items():
         assert rows, name
         for row in rows:
             assert {k: row[k] for k in PROVENANCE_COLUMNS} == want, (name, row)
     assert stamp == {**want, "dt_s": 2.5e-5, "control_dt_s": 5e-4, "body_mass_g": 4.0,
-                     "slope_deg": 5.0}  # fmt: skip
+                     "slope_deg": 5.0, "setting": None, "params": {}}  # fmt: skip
     assert ramp_rows and all(r["slope_deg"] == "" and r["body_mass_g"] == "2.5" for r in ramp_rows)
     assert {r["ground"] for r in ramp_rows} == {"constraint"}

@@ -146,6 +146,17 @@ BAD: list[tuple[dict[str, Any], str, str]] = [
     (with_(ATLAS, betas=[0.6] * 26), "betas", "at most 25"),
     # the drift surface's pin: the core's words (sim_core.contract.pin_problem)
     (with_(SURFACE, phase_reset=False), "phase_reset", "pin_d31 needs phase resetting (eq. 4)"),
+    (with_(ATLAS, phase_reset=False), "phase_reset", "pin_d31 needs phase resetting (eq. 4)"),
+    # model parameters by leaf name (sim_core.contract.ModelChoice): unknown, out of range,
+    # a field of the run's own, the other ground's, an unknown setting
+    (with_(BASE, params={"kp_lifts": 1e-3}), "params", "unknown model parameter 'kp_lifts'"),
+    (with_(BASE, params={"com_offset_x": 0.1}), "params", "less than or equal to 0.005"),
+    (with_(SURFACE, params={"kp_lift": -1.0}), "params", "kp_lift: Input should be greater than 0"),
+    (with_(ATLAS, params={"dt": 1e-5}), "params", "use the field dt_s"),
+    (with_(BASE, params={"ground": "penalty"}), "params", "use the field ground"),
+    (with_(BASE, params={"ground_stiffness": 10.0}), "params", "of the penalty ground only"),
+    (with_(BASE, setting="stiff"), "setting", "known: soft_legs"),
+    (with_(BASE, params={"kp_lift": "1e-3"}), "params", "kp_lift"),
     (with_(SURFACE, d31_lo=2.5, d31_hi=2.0), "d31_hi", "must be above d31_lo"),
     (with_(SURFACE, gain_per_s=0), "gain_per_s", "0 < gain_per_s <= 1000"),
     (with_(SURFACE, d31_step=0.001), "d31_step", "0.01 <= d31_step <= 1"),

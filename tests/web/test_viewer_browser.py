@@ -613,15 +613,25 @@ def test_a_submit_says_where_the_job_went_and_settings_load_back(
         with page.expect_download(timeout=30_000) as info:
             page.get_by_role("button", name="settings (JSON)", exact=True).click()
         original = Path(info.value.path()).read_bytes()
+        assert json.loads(original)["params"] == {}  # the defaults, said so
+        _wait_read(page, "model", "defaults")
         edited = json.loads(original) | {"beta": 0.62, "body_mass_g": 4.5, "slope_deg": -5.0,
-                                         "speed": "max", "ground": "penalty"}  # fmt: skip
+                                         "speed": "max", "ground": "penalty",
+                                         "params": {"kp_lift": 0.001}}  # fmt: skip
         (tmp_path / "edited.json").write_text(json.dumps(edited))
         _load(page, tmp_path / "edited.json")
         _wait_read(page, "β (simulation)", "0.6200")
         _wait_read(page, "body mass (simulation, g)", "4.50")
         _wait_read(page, "slope (simulation, °)", "-5.0")
         _wait_read(page, "ground", "penalty")
+        _wait_read(page, "model", "kp_lift 0.001")  # a non-default parameter is shown
         page.get_by_text("speed — max").wait_for(timeout=10_000)
+        # ... and kept across a ground switch, and in the job bodies offered
+        page.get_by_role("button", name="constraint", exact=True).click()
+        _wait_read(page, "ground", "constraint")
+        assert _read(page, "model") == "kp_lift 0.001"
+        _poll(page, "() => document.querySelector('pre[data-job=run]')?.textContent ?? ''",
+              "v.includes('\"kp_lift\": 0.001') && v.includes('\"constraint\"')")  # fmt: skip
         # a file out of the controls' range is refused, naming the field; nothing changes
         (tmp_path / "bad.json").write_text(json.dumps(edited | {"beta": 0.9}))
         _load(page, tmp_path / "bad.json")
@@ -633,6 +643,7 @@ def test_a_submit_says_where_the_job_went_and_settings_load_back(
         (tmp_path / "original.json").write_bytes(original)
         _load(page, tmp_path / "original.json")
         _wait_read(page, "ground", "constraint")
+        _wait_read(page, "model", "defaults")
         _wait_read(page, "body mass (simulation, g)", f"{json.loads(original)['body_mass_g']:.2f}")
         page.get_by_text("speed — 1x").wait_for(timeout=10_000)
         assert errors == [], errors

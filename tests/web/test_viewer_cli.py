@@ -38,6 +38,18 @@ def test_a_bad_frame_cap_is_refused_at_once(fps: str) -> None:
     assert "Traceback" not in out.stderr
 
 
+@pytest.mark.parametrize(
+    ("flags", "words"),
+    [(["--param", "kp_lifts=1"], "--param: unknown model parameter 'kp_lifts'"),
+     (["--setting", "stiff"], "--setting: no model setting 'stiff'")],
+)  # fmt: skip
+def test_a_bad_model_parameter_is_refused_at_once(flags: list[str], words: str) -> None:
+    """The viewer takes `insect-gait run`'s model flags, parsed and refused alike."""
+    out = _viewer(*flags, timeout=30)
+    assert out.returncode == 2 and words in out.stderr, out.stderr
+    assert out.stderr.count("\n") == 1 and "Traceback" not in out.stderr
+
+
 def test_a_busy_port_is_refused_not_silently_moved() -> None:
     with socket.socket() as busy:
         busy.bind(("127.0.0.1", 0))

@@ -17,6 +17,7 @@ from sim_core.contract import (
     GROUNDS,
     PHYSICS_VERSION,
     EventConditions,
+    ModelChoice,
     ModelParams,
     params_hash,
     provenance,
@@ -130,10 +131,11 @@ def test_a_hysteresis_job_replays_its_ramp_path_with_its_phases(shape: str) -> N
 
 
 def test_every_export_names_the_physics_that_made_it() -> None:
-    made = provenance(ModelParams.of(ground="penalty"))
+    made = export.made_by(ModelChoice(ground="penalty", params={"kp_lift": 1e-3}))
+    leafy = ModelParams.of(ground="penalty", kp_lift=1e-3)
     assert made == {"physics_version": PHYSICS_VERSION, "ground": "penalty",
-                    "params_hash": params_hash(ModelParams.of(ground="penalty")),
-                    "dt_s": ModelParams.of(ground="penalty").numerics.dt}  # fmt: skip
+                    "params_hash": params_hash(leafy), "params": '{"kp_lift": 0.001}',
+                    "dt_s": leafy.numerics.dt}  # fmt: skip
     assert made["params_hash"] != provenance(None)["params_hash"]
     at = [EventConditions(0.62, 3.0 + k, 0.0, "penalty") for k in range(3)]
     events = [D31Event(1.0 * k, 2.0, at[k]) for k in range(3)]
@@ -145,6 +147,7 @@ def test_every_export_names_the_physics_that_made_it() -> None:
         assert rows and all(
             r["physics_version"] == PHYSICS_VERSION and r["params_hash"] == made["params_hash"]
             and r["ground"] == "penalty" and float(r["dt_s"]) == made["dt_s"]
+            and json.loads(r["params"]) == {"kp_lift": 1e-3}
             for r in rows
         )  # fmt: skip
     foot = list(csv.DictReader(io.StringIO(export.footfall_csv(

@@ -231,6 +231,39 @@ def test_the_ground_button_restarts_the_walk_on_the_papers_ground_where_it_stood
         app.stop()
 
 
+def test_model_parameters_survive_a_ground_switch_and_reach_the_exports() -> None:
+    """Issue 53: the walk's non-default parameters (`--param`) are shown, kept by the ground
+    switch (one the other ground lacks refuses it), and carried by the export and job body;
+    the new simulation keeps every field of the walk's spec, not four of them."""
+    import json
+
+    from sim_core.contract import ModelChoice, RunSpec
+    from web.requests import Export, SetGround
+
+    spec = RunSpec(beta=0.66, d31_init=2.0, phase_reset=False)
+    app = ViewerApp("127.0.0.1", 0, spec=spec, model=ModelChoice(params={"kp_lift": 1e-3}))
+    try:
+        assert app.state.sim._runner.params.leaf("kp_lift") == 1e-3
+        assert app.state.model_words == "kp_lift 0.001"
+        app.apply(SetGround("penalty"))
+        assert app.state.ground == "penalty" and app.state.model_words == "kp_lift 0.001"
+        assert app.state.sim._runner.params.leaf("kp_lift") == 1e-3
+        assert app.state.sim._runner.params.contact.ground == "penalty"
+        assert app.state.sim._spec.phase_reset is False  # kept across the switch
+        got: list[tuple[str, bytes]] = []
+        app.apply(Export("settings", lambda name, data: got.append((name, data))))
+        settings = json.loads(got[0][1])
+        assert settings["params"] == settings["jobs"]["run"]["params"] == {"kp_lift": 1e-3}
+        assert json.loads(settings["provenance"]["params"]) == {"kp_lift": 1e-3}
+        penalty = ModelChoice(ground="penalty", params={"ground_stiffness": 1000.0})
+        app.state.restart(2.0, model=penalty)
+        with pytest.raises(ValueError, match="ground_stiffness is a parameter of the penalty"):
+            app.apply(SetGround("constraint"))
+        assert app.state.model == penalty  # refused: the walk is as it was
+    finally:
+        app.stop()
+
+
 def test_paused_the_walk_steps_one_gait_cycle_at_a_time() -> None:
     """Issue 42 point 10: a single step, as mujoco's viewer has; it does nothing while playing."""
     from web.requests import SetPlaying, StepCycle

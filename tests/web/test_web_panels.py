@@ -21,8 +21,8 @@ from sim_core.contract import (
     DriftSurface,
     EventConditions,
     FinderOutput,
+    ModelChoice,
     SurfaceAtlas,
-    provenance,
 )
 from web import controls, export
 from web.atlas_svg import atlas_svg
@@ -35,7 +35,7 @@ from web.surface_cells import drift_colour, drift_level
 from web.surface_svg import surface_svg
 from web.svg import MAX_DRAWN, n_dots
 
-MADE = provenance(None)  # the default model's: what every export carries
+MADE = export.made_by(ModelChoice())  # the default model's: what every export carries
 
 
 def _run(d31_init: float, final: float | None, settled: bool, attractor: int | None) -> dict:

@@ -353,18 +353,28 @@ def test_a_turned_insect_is_explained_not_left_to_guess() -> None:
 def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
     import json
 
-    from sim_core.contract import ModelParams, Ramp, provenance
-    from web.export import Settings, load_settings, settings_json
+    from sim_core.contract import Ramp
+    from web.export import Settings, load_settings, made_by, settings_json
 
     s = Settings(
         beta=0.62, body_mass_g=4.5, slope_deg=-7.5, d31_init=3.0, speed=None, time_s=12.0,
         ramp=Ramp("beta", 0.70, 0.62, 5.0, 20.0), ramp_running=False, ramp_started_at_s=None,
-        job_duration_s=45.0, api_url="http://h:1", ground="penalty",
+        job_duration_s=45.0, api_url="http://h:1", ground="penalty", setting="soft_legs",
+        params={"ground_stiffness": 1000.0},
     )  # fmt: skip
-    made = provenance(ModelParams.of(ground="penalty"))
+    made = made_by(s.choice())
     back = load_settings(settings_json(s, made=made))
     assert (back.beta, back.body_mass_g, back.slope_deg, back.d31_init) == (0.62, 4.5, -7.5, 3.0)
     assert back.speed is None and back.ground == "penalty" and back.ramp == s.ramp
+    assert back.choice() == s.choice()  # the model parameters come back too
+    # ... and go into every job body the file offers
+    bodies = json.loads(settings_json(s, made=made))["jobs"]
+    assert {k: bodies["run"][k] for k in ("ground", "setting", "params")} == {
+        "ground": "penalty",
+        "setting": "soft_legs",
+        "params": {"ground_stiffness": 1000.0},
+    }
+    assert bodies["hysteresis"]["params"] == {"ground_stiffness": 1000.0}
     assert (back.job_duration_s, back.api_url) == (45.0, "http://h:1")
     raw = json.loads(settings_json(s, made=made))
     for key, value, words in (
@@ -374,6 +384,10 @@ def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
         ("speed", "1x", 'write 1, a number, not "1x"'),
         ("ground", "ice", "ground: one of"),
         ("ramp", {"param": "beta"}, "ramp: param, start, turn"),
+        ("params", {"kp_lifts": 1.0}, "params: unknown model parameter 'kp_lifts'"),
+        ("params", {"kp_lift": -1.0}, "params: kp_lift: Input should be greater than 0"),
+        ("setting", "stiff", "setting: no model setting 'stiff'"),
+        ("ground", "constraint", "ground_stiffness is a parameter of the penalty ground only"),
     ):
         with pytest.raises(ValueError, match=words):
             load_settings(json.dumps(raw | {key: value}).encode())
