@@ -248,17 +248,18 @@ def surface_figure_data(
 ) -> list[FigureData]:
     """The asked-for Figs. 7 and 8 from `study` (and the free runs and sweeps of
     `figure_tasks`, read with `get`), drawn into `out` (fig7.png, fig8.png, mechanism.png)."""
-    tasks = figure_tasks("7", cfg, p)
-    free = {
-        b: free_runs([get(t) for t in tasks if t.run_spec().beta == b], b) for b in cfg.map_betas
-    }
+    free: dict[float, dict[str, Any]] = {}
+    if "7" in figs:  # Fig. 7's free runs are run only when Fig. 7 is asked for
+        tasks = figure_tasks("7", cfg, p)
+        free = {b: free_runs([get(t) for t in tasks if t.run_spec().beta == b], b)
+                for b in cfg.map_betas}  # fmt: skip
     sweeps: dict[str, Any] = {}
     if "8" in figs:
         down, up = (get(t) for t in figure_tasks("8", cfg, p))
         sweeps = {"sweep_series": {k: down[k] for k in ("value", "d31")},
                   "sweep_up_series": {k: up[k] for k in ("value", "d31")}}  # fmt: skip
     out.mkdir(parents=True, exist_ok=True)
-    draw(study, out, paper, cfg.map_betas, free, sweeps)
+    draw(study, out, paper, cfg.map_betas, free if "7" in figs else None, sweeps)
     fds = []
     if "7" in figs:
         fds.append(_fig7(study, cfg.map_betas, free, paper))
@@ -272,15 +273,18 @@ def draw(
     out: Path,
     paper: PaperValues,
     map_betas: Sequence[float],
-    free: dict[float, Any],
+    free: dict[float, Any] | None,
     sweeps: dict[str, Any] | None,
 ) -> list[Path]:
-    """fig7.png, fig8.png and (with the paper's ground) mechanism.png into `out`."""
+    """fig7.png (unless `free` is None: Fig. 7 not asked for), fig8.png and (with the paper's
+    ground) mechanism.png into `out`."""
     from sim_core.paper.surface_figures import fig7_surface, fig8_surface, mechanism
 
-    files = [out / "fig7.png", out / "fig8.png", out / "mechanism.png"]
-    fig7_surface(study.surface, files[0], map_betas, free)
-    fig8_surface(study.surface, files[1], paper, sweeps)
+    files = [out / "fig8.png", out / "mechanism.png"]
+    if free is not None:
+        files.insert(0, out / "fig7.png")
+        fig7_surface(study.surface, files[0], map_betas, free)
+    fig8_surface(study.surface, files[-2], paper, sweeps)
     surfaces = {study.surface.ground: study.surface, "penalty": study.paper_ground}
-    mechanism(surfaces, MECHANISM_BETAS, files[2])
+    mechanism(surfaces, MECHANISM_BETAS, files[-1])
     return files

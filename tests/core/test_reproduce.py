@@ -223,6 +223,18 @@ def test_pipeline_recovers_the_paper_from_a_system_built_like_it(tmp_path: Path)
     assert again.stats.computed == 0 and "fig8" in again.summaries
 
 
+def test_fig8_alone_runs_without_fig7s_free_runs(tmp_path: Path) -> None:
+    """`reproduce --figure 8` from an empty cache: Fig. 8 and the mechanism, and no Fig. 7
+    (its free runs are not asked for, so nothing may read them: it raised KeyError before)."""
+    count = Counting()
+    report = reproduce(["8"], ReproduceConfig(), tmp_path / "fig", tmp_path / "cache",
+                       InlineBackend(), progress=False, executor=count)  # fmt: skip
+    names = {p.name for p in (tmp_path / "fig").iterdir()}
+    assert {"fig8.png", "fig8.json", "fig8.csv", "mechanism.png", "surface.json"} <= names
+    assert not {n for n in names if n.startswith("fig7")}
+    assert "fig8" in report.summaries and "fig7" not in report.summaries
+
+
 def test_table_says_not_run_for_missing_figures_and_misses_as_misses() -> None:
     rows = table_rows({})
     assert rows and all(r[2] == "not run" and r[3] == "not run" for r in rows)
