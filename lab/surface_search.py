@@ -45,7 +45,8 @@ OBJECTIVE_BETAS = (0.62, 0.635, 0.655, 0.665, 0.685, 0.70)
 OBJECTIVE_CONFIG = SurfaceConfig(d31_grid=surface_grid(1.4, 3.4, 0.1))
 # the same probes at half the cost (issue 54): the short probes (0.25 s settle + 0.5 s,
 # `SHORT_PROBES`), 126 x 0.75 = 94.5 simulated s; candidates' scores on both:
-# `benchmarks/candidate_cost.py`, docs/NUMERICS.md. Campaign 5 keeps OBJECTIVE_CONFIG.
+# `benchmarks/candidate_cost.py`, docs/NUMERICS.md. Campaign 5 keeps OBJECTIVE_CONFIG. Stiff
+# regime only: in the soft one they move the drift by 0.36 mrad (`lab.campaigns.short_probes`).
 FAST_OBJECTIVE_CONFIG = replace(SHORT_PROBES, d31_grid=OBJECTIVE_CONFIG.d31_grid)
 PAPER_METACHRONAL_FOLD = 0.645  # the metachronal gait exists from here up (paper, Fig. 8)
 PAPER_TRIPOD_FOLD = 0.67  # the tripod exists from here down

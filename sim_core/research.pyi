@@ -96,5 +96,6 @@ from .paper.surface import (
 from .paper.surface import (
     probe_spec as probe_spec,  # a surface probe's pinned run (read back cached)
 )
+from .paper.surface import read_probe as read_probe  # a probe's numbers from its cached run
 from .runs import BACKENDS as BACKENDS  # the backends' names (cached, resumable runs)
 from .runs.tasks import ramp_task as ramp_task  # a ramped run (a sweep) as a cached task

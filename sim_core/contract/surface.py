@@ -78,9 +78,9 @@ class SurfaceConfig:
 # protocol, the drift moved by 0.075 mrad per cycle (median of 766 probes; 11% beyond the
 # 0.3 mrad floor, no sign flipped beyond it) and 0.05 (349 last-pass probes; 4%, one sign),
 # below the physics step's own 2.4 mrad (dt/2): a pinned walk started on its family member D
-# has settled by 0.2 s (docs/NUMERICS.md, "Reproduce within 5 minutes"). `reproduce` and the
-# sixth campaign's candidates use them; in the soft-leg regime a candidate's metachronal
-# branch moved 0.09 rad on them (to validate there before a search relies on them).
+# has settled by 0.2 s (docs/NUMERICS.md, "Reproduce within 5 minutes"). `reproduce` uses
+# them. Not valid in the soft-leg regime: there they move the drift by 0.36 mrad (median of
+# 271 probes, 60% beyond the floor, 7 signs flipped; `python -m lab.campaigns.short_probes`).
 SHORT_PROBES = SurfaceConfig(settle_s=0.25, average_s=0.5, block_s=0.25, refine_average_s=1.5)
 
 
