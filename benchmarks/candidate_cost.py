@@ -2,9 +2,12 @@
 the campaign-5 probes (0.5 s settle + 1 s average) and on the issue-54 probes (0.25 s + 0.5 s),
 side by side in one run, each from an empty cache, for a few parameter sets: wall time on
 `--workers` local workers, the ratio, and what each reads (folds, margins, branch values,
-score), so that a cheaper candidate is seen to read the same landscape.
+score), to see whether the cheaper candidate reads the same landscape (the soft legs: it does
+not; docs/NUMERICS.md).
 
-    .venv/bin/python benchmarks/candidate_cost.py [--workers 2] [--json out.json]
+    PYTHONPATH=. .venv/bin/python benchmarks/candidate_cost.py [--workers 2] [--json out.json]
+
+(PYTHONPATH: the lab is not installed; it runs from a checkout.)
 
 Run it alone: a loaded machine measures the load.
 """

@@ -58,7 +58,7 @@ class ReproduceConfig:
     # Fig. 7's runs have no try: there a 20 s try reads two ghosts at 2.97 (beta 0.655) as
     # settled, and re-running the tries the surface does not explain re-ran 6 of 15 and
     # saved nothing. None: every run whole
-    fig5_try_s: float | None = 20.0
+    fig5_try_s: float | None = FinderConfig().bisect_duration_s  # the finder's try, 20 s
     # Figs. 7-8 are read from the drift surface (`paper.surface`, protocol in SurfaceConfig)
     # over these 19 betas, containing the Fig. 7 betas: 0.005 apart from 0.62 to 0.68 (both
     # of the paper's transitions, 0.645 and 0.67, and our tripod's end), 0.01 outside, where
