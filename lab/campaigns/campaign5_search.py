@@ -108,7 +108,7 @@ def export(study: Any, path: Path) -> None:
     path.parent.mkdir(parents=True, exist_ok=True)
     fd, tmp = tempfile.mkstemp(dir=path.parent, suffix=".tmp")
     with os.fdopen(fd, "w") as f:
-        json.dump({"study": STUDY, "trials": rows}, f, indent=0)
+        json.dump({"study": study.study_name, "trials": rows}, f, indent=0)
     os.replace(tmp, path)
 
 
