@@ -37,6 +37,7 @@ from sim_core.paper.analysis import (
 )
 from sim_core.paper.returnmap import initial_values
 from sim_core.paper.search import probe_task
+from sim_core.paper.surface_walks import WalkConfig
 from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
 
 BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch counts as on it
@@ -74,6 +75,11 @@ class ReproduceConfig:
     # no row reads its zeros (the refinement was 3/4 of its cost, at twice a constraint-ground
     # probe's cost per simulated second)
     mechanism_refine: bool = False
+    # Figs. 7-8 decided by settled free walks where the surface cannot tell (issue 52, point
+    # 1): the atlas's walks (`surface_walks.WalkConfig`: a 20 s try, 40 s where unsettled) at
+    # every cell whose unresolved zero or near-zero band could change its gaits, and walks off
+    # the grid beside each range end (`surface_repro.off_grid_checks`). None: the surface alone
+    walks: WalkConfig | None = field(default_factory=WalkConfig)
     # the settled fixed-point finder (`finder`), now the independent check of the
     # surface (`surface-check`, `finder-check`); its starts and durations, chosen from
     # measurement in `FinderConfig`, also make Fig. 5's and Fig. 7's free runs
@@ -113,7 +119,8 @@ class ReproduceConfig:
             surface=SurfaceConfig(d31_grid=grid(1.5, 3.3, 0.2), settle_s=0.5, average_s=0.5,
                                   block_s=0.25, bisect_rounds=0),
             ramp_s=0.6, ablation_betas=(0.66,), ablation_inits=2, ablation_duration_s=0.5,
-            footprint_window_s=0.3, fig5_try_s=None, name="quick",
+            footprint_window_s=0.3, fig5_try_s=None, walks=WalkConfig(try_s=0.5, duration_s=1.0),
+            name="quick",
         )  # fmt: skip
 
     @classmethod

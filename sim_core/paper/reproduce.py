@@ -139,7 +139,8 @@ def reproduce(
     if "7" in figs or "8" in figs:
         study = surface_study(cfg.surface_betas, cfg.surface, p, cache, backend,
                               progress=progress, executor=executor,
-                              mechanism_refine=cfg.mechanism_refine)  # fmt: skip
+                              mechanism_refine=cfg.mechanism_refine,
+                              walks=cfg.walks)  # fmt: skip
         stats = _add_stats(stats, study.stats)
 
     out.mkdir(parents=True, exist_ok=True)
@@ -339,12 +340,34 @@ def _fig8_rows(s: dict[str, Any] | None) -> list[Row]:
         ]
         return [*rows, (label, "—", "not run", "not run")]
     rows = [(a, b, c, d) for a, b, c, d in s["range_rows"]]
+    rows += _off_grid_rows(s.get("off_grid"))
     worst = ", ".join(
         f"{k} {'n/a' if v is None else f'{v * 1e3:.2f}'}" for k, v in s["checks_worst"].items()
     )
     ours = f"largest drift differences (mrad/cycle): {worst}; floor {s['floor_rad'] * 1e3:g}"
     rows.append((label, "—", ours, _verdict(bool(s["checks_ok"]))))
     return rows
+
+
+def _off_grid_rows(off: list[dict[str, Any]] | None) -> list[Row]:
+    """Our check that Fig. 8's ranges hold between the grid's betas (issue 52, point 1):
+    settled walks beside each range end, half a step inside (the gait should hold) and a step
+    and a half outside (it should not)."""
+    label = "Fig. 8: the ranges against settled walks off the grid (our check)"
+    if off is None:  # a summary from before the walks
+        return []
+    if not off:
+        return [(label, "—", "no range end inside the grid walked", "not run")]
+
+    def said(o: dict[str, Any]) -> str:
+        got = "undecided" if o["holds"] is None else "holds" if o["holds"] else "leaves"
+        where = "" if o["final"] is None else f" ({o['final']:.2f})"
+        want = "inside" if o["expected"] else "outside"
+        return f"{o['gait']} at {o['beta']:g} ({want}): {got}{where}"
+
+    agree = [o for o in off if o["holds"] is o["expected"]]
+    ours = f"{len(agree)} of {len(off)} agree: " + "; ".join(said(o) for o in off)
+    return [(label, "—", ours, _verdict(len(agree) == len(off)))]
 
 
 def _sweep_row(label: str, s: dict[str, Any] | None, paper: str, ends: tuple[str, str]) -> Row:

@@ -29,7 +29,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.colors import SymLogNorm
 
-from sim_core.contract.surface import DriftSurface, SurfaceZero
+from sim_core.contract.surface import AtlasPoint, DriftSurface, SurfaceZero
 from sim_core.contract.values import PaperValues
 from sim_core.model.gait import classify_gait
 from sim_core.paper.analysis import PAPER_WINDOW, FixedPoint
@@ -64,16 +64,39 @@ def stable_ranges(surface: DriftSurface, gait: str) -> list[tuple[float, float]]
     return analysis_stable_ranges(betas, fixed, gait)
 
 
+def decided_ranges(cells: Sequence[AtlasPoint], gait: str) -> list[tuple[float, float]]:
+    """The same runs of grid betas from cells decided by walks (`surface_walks.walk_cells`):
+    their stable states are the surface's stable zeros plus the settled walks' finals."""
+    cells = sorted(cells, key=lambda c: c.beta)
+    fixed = [[FixedPoint(x, math.nan, True) for x in c.stable] for c in cells]
+    return analysis_stable_ranges([c.beta for c in cells], fixed, gait)
+
+
+def _cell_at(cells: Sequence[AtlasPoint] | None, beta: float) -> AtlasPoint | None:
+    return next((c for c in cells or () if abs(c.beta - beta) < 1e-9), None)
+
+
+def walked_states(cell: AtlasPoint | None) -> list[float]:
+    """The stable states only the walks found at a cell (none where the surface saw all)."""
+    if cell is None:
+        return []
+    return [x for x, src in zip(cell.stable, cell.provenance, strict=True) if src == "walk"]
+
+
 def _b(x: float) -> str:
     return f"{x:.2f}" if round(x, 2) == x else f"{x:.3f}"
 
 
-def fig7_rows(surface: DriftSurface, paper: PaperValues) -> list[Row]:
+def fig7_rows(
+    surface: DriftSurface, paper: PaperValues, cells: Sequence[AtlasPoint] | None = None
+) -> list[Row]:
     """Fig. 7's patterns as the surface reads them, beside the paper's: the same pattern with
     every zero resolved; where the paper names a gait, every stable zero is of it; where its
     map is bistable (two stable points, no gait named), they are a tripod and a metachronal
     state; a match with a near-zero band in the window (which may hide a narrow pair of zeros)
-    is only "partly"."""
+    is only "partly". With `cells` decided by walks (issue 52, point 1), a stable state only a
+    walk found is named and breaks the match (the pattern lacks it), and a band the walks
+    decided without finding one no longer makes it "partly"."""
     rows: list[Row] = []
     for beta, pat, gait in paper.fixed_points:
         label = f"Fig. 7: fixed points at β = {beta}"
@@ -97,22 +120,40 @@ def fig7_rows(surface: DriftSurface, paper: PaperValues) -> list[Row]:
             ok = gaits == {"tripod", "metachronal"}
         lo, hi = PAPER_WINDOW
         hidden = ok and any(lo <= n.lo and n.hi <= hi for n in near)  # may hide a pair of zeros
+        cell = _cell_at(cells, beta)
+        if cell is not None and cell.checked:
+            walked = walked_states(cell)
+            if walked:
+                ours += "; settled walks add " + ", ".join(
+                    f"{x:.2f} ({classify_gait(x, beta)})" for x in walked
+                )
+            ok, hidden = ok and not walked, hidden and cell.undecided
         rows.append((label, want, ours, "partly" if hidden else "yes" if ok else "**no**"))
     return rows
 
 
-def fig8_rows(surface: DriftSurface, paper: PaperValues, beta_tol: float) -> list[Row]:
+def fig8_rows(
+    surface: DriftSurface,
+    paper: PaperValues,
+    beta_tol: float,
+    cells: Sequence[AtlasPoint] | None = None,
+) -> list[Row]:
     """Fig. 8's stable ranges as the surface reads them (`stable_ranges`), beside the paper's:
     inside the betas the paper's figure spans, one range whose ends are within `beta_tol` of
-    the paper's."""
+    the paper's. With `cells` decided by walks (issue 52, point 1) the ranges are theirs
+    (`decided_ranges`), and the surface's own are named where they differ."""
     rows: list[Row] = []
     # the paper's Fig. 8 spans these betas: what lies outside it is ours alone, not compared
     span = (min(paper.tripod_stable + paper.metachronal_stable),
             max(paper.tripod_stable + paper.metachronal_stable))  # fmt: skip
     for gait in ("tripod", "metachronal"):
         a, b = paper.tripod_stable if gait == "tripod" else paper.metachronal_stable
-        ranges = stable_ranges(surface, gait)
+        alone = stable_ranges(surface, gait)
+        ranges = alone if cells is None else decided_ranges(cells, gait)
         segs = "; ".join(f"{_b(lo)}-{_b(hi)}" for lo, hi in ranges) or "nowhere on the grid"
+        if ranges != alone:
+            was = "; ".join(f"{_b(lo)}-{_b(hi)}" for lo, hi in alone) or "nowhere"
+            segs += f" with settled walks (the surface alone: {was})"
         grid = sorted(surface.betas)
         # the grid's spacing: one step, or the finest and the coarsest where it varies
         steps = sorted({round(y - x, 6) for x, y in itertools.pairwise(grid)})

@@ -27,19 +27,22 @@ from typing import Any
 import numpy as np
 
 from sim_core.contract.results import SURFACE_FILE
-from sim_core.contract.surface import DriftSurface, SurfaceConfig
+from sim_core.contract.surface import AtlasPoint, AtlasWalk, DriftSurface, SurfaceConfig
 from sim_core.contract.values import PaperValues
-from sim_core.model.gait import angle_diff, settling
+from sim_core.model.gait import angle_diff, classify_gait, settling
 from sim_core.model.params import ModelParams
+from sim_core.model.spec import RunSpec
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.figures import FigureData, Lookup, ReproduceConfig, figure_tasks
 from sim_core.paper.returnmap import return_map_from_series
 from sim_core.paper.surface import drift_surface
+from sim_core.paper.surface_atlas import atlas_points
 from sim_core.paper.surface_check import SAMPLE_BETAS, SAMPLE_D31, VariantRow, variant_rows
-from sim_core.paper.surface_figures import fig7_rows, fig8_rows
-from sim_core.runs.backends import Backend, Executor, RunStats
+from sim_core.paper.surface_figures import decided_ranges, fig7_rows, fig8_rows
+from sim_core.paper.surface_walks import WalkConfig, read_walk, walk_cells, walk_spec
+from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
-from sim_core.runs.tasks import execute_chunk
+from sim_core.runs.tasks import execute_chunk, run_task
 
 MECHANISM_BETAS = (0.62, 0.655, 0.70)  # the mechanism figure's columns
 # A ghost on the surface: where |d| dips, without changing sign, to at most this share of its
@@ -62,6 +65,39 @@ class SurfaceStudy:
     stats: RunStats = field(default_factory=RunStats)
     surface_wall_s: float = 0.0  # the main surface alone
     wall_s: float = 0.0  # everything
+    # the surface's cells decided by settled free walks where it cannot tell (issue 52,
+    # point 1; `surface_walks.walk_cells`, as the atlas decides its cells); empty: not walked
+    cells: list[AtlasPoint] = field(default_factory=list)
+    # the decided ranges against settled walks at betas off the grid (`off_grid_checks`)
+    off_grid: list[OffGrid] = field(default_factory=list)
+
+
+@dataclass(frozen=True)
+class OffGrid:
+    """A settled walk at a beta between the surface's grid betas, beside a Fig. 8 range end:
+    whether it holds `gait` (settles on a state of it) as the range says it should."""
+
+    gait: str
+    beta: float
+    expected: bool  # inside the decided range: the gait should hold here
+    walk: AtlasWalk
+
+    @property
+    def holds(self) -> bool | None:
+        """Whether the walk settled on a state of `gait`; one that has not settled has left
+        the gait if its last quarter lies off it (it started on it), else it is undecided
+        (None), as is a failed walk."""
+        w = self.walk
+        if w.final is None:
+            return None
+        on = classify_gait(w.final, self.beta) == self.gait
+        if not w.settled:
+            return False if not on else None
+        return on
+
+    @property
+    def agrees(self) -> bool:
+        return self.holds is self.expected
 
 
 def surface_study(
@@ -74,10 +110,13 @@ def surface_study(
     progress: bool = True,
     executor: Executor = execute_chunk,
     mechanism_refine: bool = True,
+    walks: WalkConfig | None = None,
 ) -> SurfaceStudy:
     """The surface over `betas` on `params`' ground, the mechanism's surface on the paper's
     ground (refined as `drift_surface` does only with `mechanism_refine`) and the K/3 and dt/2
-    sample, all through `cache` and `backend`."""
+    sample, all through `cache` and `backend`. With `walks`, the surface's cells are decided by
+    settled free walks where it cannot tell, and the decided ranges' ends are checked by walks
+    off the grid (`off_grid_checks`)."""
     t0 = time.perf_counter()
     stats = RunStats()
     kw: dict[str, Any] = {"cache": cache, "backend": backend, "progress": progress,
@@ -99,8 +138,66 @@ def surface_study(
         ),
     }  # fmt: skip
     checks, ok = variant_rows(surface, variants, cfg.floor_rad)
+    cells: list[AtlasPoint] = []
+    off: list[OffGrid] = []
+    if walks is not None:
+        mass_g = RunSpec().body_mass_g  # the surface's cells: the default body, level
+        cells = walk_cells([(pt, surface, {}) for pt in atlas_points(surface, mass_g)],
+                           cache=cache, backend=backend, params=params, config=walks,
+                           chunk_size=cfg.chunk_size, progress="walks" if progress else False,
+                           stats=stats, executor=executor)  # fmt: skip
+        off = off_grid_checks(cells, params, cache, backend, walks, stats=stats,
+                              executor=executor)  # fmt: skip
     return SurfaceStudy(surface, paper_ground, checks, ok, stats, t_surface,
-                        time.perf_counter() - t0)  # fmt: skip
+                        time.perf_counter() - t0, cells, off)  # fmt: skip
+
+
+def off_grid_betas(cells: Sequence[AtlasPoint], gait: str) -> list[tuple[float, bool, float]]:
+    """(beta, expected, start) beside each end of `gait`'s decided ranges inside the grid:
+    midway to the grid beta inside the range (the gait should hold there: the range says both
+    neighbours hold it) and midway between the next two outside it (it should not), each
+    walked from the end cell's state of `gait` nearest the paper's branch."""
+    cs = sorted(cells, key=lambda c: c.beta)
+    bs = [c.beta for c in cs]
+    out: list[tuple[float, bool, float]] = []
+    for lo, hi in decided_ranges(cs, gait):
+        for end, inward in ((hi, -1), (lo, +1)):
+            k = bs.index(end)
+            if k in (0, len(bs) - 1):  # the grid's edge, not the range's end
+                continue
+            states = [x for x, g in zip(cs[k].stable, cs[k].gaits, strict=True) if g == gait]
+            if not states:
+                continue
+            start = min(states, key=lambda x: abs(x - (2.9 if gait == "tripod" else 1.9)))
+            j = k + inward  # inside the range
+            if 0 <= j < len(bs) and (lo <= bs[j] <= hi):
+                out.append((round(0.5 * (bs[k] + bs[j]), 6), True, start))
+            a, b = k - inward, k - 2 * inward  # the next two outside it
+            if 0 <= a < len(bs) and 0 <= b < len(bs):
+                out.append((round(0.5 * (bs[a] + bs[b]), 6), False, start))
+    return out
+
+
+def off_grid_checks(
+    cells: Sequence[AtlasPoint],
+    params: ModelParams,
+    cache: ResultCache,
+    backend: Backend,
+    walks: WalkConfig,
+    *,
+    stats: RunStats | None = None,
+    executor: Executor = execute_chunk,
+) -> list[OffGrid]:
+    """Settled walks at betas off the grid beside every end of the decided tripod and
+    metachronal ranges (`off_grid_betas`): does each hold its gait where the range says?"""
+    plan = [(g, b, e, x) for g in ("tripod", "metachronal") for b, e, x in off_grid_betas(cells, g)]
+    tasks = [run_task(walk_spec(b, x, walks), params) for _, b, _, x in plan]
+    results, st = run_tasks(tasks, cache, backend, 1, False, executor)
+    if stats is not None:
+        for name in ("tasks", "computed", "cached", "compute_s"):
+            setattr(stats, name, getattr(stats, name) + getattr(st, name))
+    return [OffGrid(g, b, e, read_walk(x, results[t.key], walks.duration_s))
+            for (g, b, e, x), t in zip(plan, tasks, strict=True)]  # fmt: skip
 
 
 # --- what Fig. 7 reads --------------------------------------------------------------------------
@@ -184,7 +281,7 @@ def _fig7(
     floor = float(s.config.get("floor_rad", 3e-4))
     maps: list[dict[str, Any]] = []
     rows: list[list[Any]] = []
-    summary: dict[str, Any] = {"pattern_rows": fig7_rows(s, paper)}
+    summary: dict[str, Any] = {"pattern_rows": fig7_rows(s, paper, study.cells or None)}
     for beta in map_betas:
         f = free[beta]
         zeros = [z.model_dump() for z in s.zeros_at(beta)]
@@ -219,12 +316,24 @@ def _fig8(
         worst[r.variant] = None if r.diff is None or prev is None else max(prev, abs(r.diff))
     data = {
         "surface_file": SURFACE_FILE,  # the surface itself, written once beside this file
+        "cells": [c.model_dump() for c in study.cells],  # decided by walks (issue 52)
         "checks": [asdict(r) | {"diff": r.diff} for r in study.checks],
         "checks_ok": study.checks_ok,
         **sweeps,
     }
     summary = {
-        "range_rows": fig8_rows(s, paper, beta_tol),
+        "range_rows": fig8_rows(s, paper, beta_tol, study.cells or None),
+        "off_grid": [
+            {
+                "gait": o.gait,
+                "beta": o.beta,
+                "expected": o.expected,
+                "holds": o.holds,
+                "final": o.walk.final,
+                "start": o.walk.start,
+            }
+            for o in study.off_grid
+        ],
         "checks_ok": study.checks_ok,
         "checks_worst": worst,
         "floor_rad": float(s.config.get("floor_rad", 3e-4)),

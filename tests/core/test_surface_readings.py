@@ -7,13 +7,13 @@ from pathlib import Path
 
 import pytest
 
-from sim_core.contract.surface import SurfaceConfig, SurfacePoint, grid
+from sim_core.contract.surface import AtlasPoint, SurfaceConfig, SurfacePoint, grid
 from sim_core.contract.values import PAPER
 from sim_core.paper.surface import assemble, bisection_probes
 from sim_core.paper.surface_atlas import atlas_points, draw_atlas, region, surface_atlas
 from sim_core.paper.surface_check import robust_table
-from sim_core.paper.surface_figures import table_rows
-from sim_core.paper.surface_repro import free_runs_on_zeros, ghosts
+from sim_core.paper.surface_figures import fig7_rows, fig8_rows, table_rows
+from sim_core.paper.surface_repro import free_runs_on_zeros, ghosts, off_grid_betas
 from sim_core.runs.cache import ResultCache
 from tests.core.test_surface import _pt
 
@@ -118,3 +118,66 @@ def test_the_robustness_table_says_how_far_each_stable_zero_moved_or_that_it_is_
     rows = {line.split(" | ")[0].strip("| "): line for line in table.splitlines()[2:]}
     assert rows["default"].endswith("| 0.000 rad |") and "1.76, 2.95" in rows["default"]
     assert rows["kp_lift x1.1"].endswith("| 0.020 rad; 1 gone |")
+
+
+def _decided(beta: float, stable: list[float], sources: list[str]) -> AtlasPoint:
+    from sim_core.model.gait import classify_gait
+
+    gaits = [classify_gait(x, beta) for x in stable]
+    return AtlasPoint(beta=beta, value=3.0, stable=stable, gaits=gaits, unresolved=0,
+                      region=region(gaits), provenance=sources, checked=True)  # fmt: skip
+
+
+def test_walks_decide_the_fig8_ranges_and_break_a_fig7_match() -> None:
+    """Issue 52, point 1: where a settled walk finds a state the surface missed (the tripod at
+    0.63-0.64 inside a near-zero band), the ranges and Fig. 7's pattern are the walks'."""
+    cfg = SurfaceConfig()
+    betas = [0.62, 0.63, 0.64, 0.65]
+    pts = _curve(0.62, [(1.77, True), (2.9, False), (2.95, True)])
+    for b in betas[1:]:
+        pts += _curve(b, [(2.0, True)])
+    s = assemble(betas, pts, cfg, sim_s=0.0)
+    cells = [_decided(0.62, [1.77, 2.95], ["surface", "surface"])]
+    cells += [_decided(b, [2.0, 2.95], ["surface", "walk"]) for b in (0.63, 0.64)]
+    cells += [_decided(0.65, [2.0], ["surface"])]
+    alone = {r[0]: r for r in fig8_rows(s, PAPER, 0.01)}
+    walked = {r[0]: r for r in fig8_rows(s, PAPER, 0.01, cells)}
+    key = "Fig. 8: tripod stable for β in"
+    assert alone[key][2].startswith("0.62-0.62")
+    assert walked[key][2].startswith("0.62-0.64 with settled walks (the surface alone: 0.62-0.62)")
+    # at 0.64 the paper's lone tripod: the surface's lone metachronal state is "no" either way,
+    # and the walk's tripod is named
+    row = next(r for r in fig7_rows(s, PAPER, cells) if "β = 0.64" in r[0])
+    assert "settled walks add 2.95 (tripod)" in row[2] and row[3] == "**no**"
+    # the walks off the grid: half a step inside each end, a step and a half outside
+    assert off_grid_betas(cells, "tripod") == [(0.635, True, 2.95)]
+    assert off_grid_betas([*cells, _decided(0.66, [2.0], ["surface"])], "tripod") == [
+        (0.635, True, 2.95), (0.655, False, 2.95)
+    ]  # fmt: skip
+
+
+def test_the_off_grid_row_says_which_walks_disagree() -> None:
+    from sim_core.paper.reproduce import _off_grid_rows
+
+    inside = {"gait": "tripod", "beta": 0.6425, "expected": True, "holds": True, "final": 2.95,
+              "start": 2.95}  # fmt: skip
+    outside = inside | {"beta": 0.6575, "expected": False, "holds": None, "final": None}
+    ((_, _, ours, verdict),) = _off_grid_rows([inside, outside])
+    assert verdict == "**no**" and ours.startswith("1 of 2 agree")
+    assert "tripod at 0.6575 (outside): undecided" in ours
+    assert _off_grid_rows([inside])[0][3] == "yes" and _off_grid_rows(None) == []
+
+
+def test_a_walk_off_the_grid_that_has_left_its_gait_leaves() -> None:
+    """An unsettled walk whose last quarter already lies off the gait it started on has
+    left it (the tripod sliding through its ghost at 0.6525); one still on it is undecided."""
+    from sim_core.contract.surface import AtlasWalk
+    from sim_core.paper.surface_repro import OffGrid
+
+    def off(final: float | None, settled: bool) -> OffGrid:
+        w = AtlasWalk(start=2.95, final=final, settled=settled, why="", sim_s=40.0)
+        return OffGrid("tripod", 0.6525, False, w)
+
+    assert off(2.48, False).holds is False and off(2.48, False).agrees
+    assert off(2.95, False).holds is None and not off(2.95, False).agrees
+    assert off(2.95, True).holds is True and off(None, False).holds is None
