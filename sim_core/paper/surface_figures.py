@@ -217,9 +217,14 @@ def _chains(surface: DriftSurface, stable: bool, tol: float) -> list[list[Surfac
 
 
 def fig8_surface(
-    surface: DriftSurface, path: Path, paper: PaperValues, sweeps: dict[str, Any] | None = None
+    surface: DriftSurface,
+    path: Path,
+    paper: PaperValues,
+    sweeps: dict[str, Any] | None = None,
+    cells: Sequence[AtlasPoint] = (),
 ) -> None:
-    """The heat map, zeros, branches, folds and (if given) Fig. 6a's sweeps."""
+    """The heat map, zeros, branches, folds, (if given) Fig. 6a's sweeps and the stable
+    states only settled walks found (`cells`, issue 52: the table's ranges count them)."""
     betas, ds, z = _grid(surface)
     fig, ax = plt.subplots(figsize=(9.0, 5.6))
     lim = float(np.nanmax(np.abs(z))) if np.isfinite(z).any() else 1.0
@@ -256,6 +261,10 @@ def fig8_surface(
             capsize=3,
             lw=1.2,
         )
+    walked = [(c.beta, x) for c in cells for x in walked_states(c)]
+    if walked:
+        wb, wx = zip(*walked, strict=True)
+        ax.plot(wb, wx, "D", ms=5, mec="k", mfc="gold", label="settled walk (surface unresolved)")
     if sweeps:
         for key, colour, label in (
             ("sweep_series", "tab:purple", "Fig. 6a sweep 0.70 → 0.62"),
@@ -280,8 +289,8 @@ def fig8_surface(
         "unresolved),\ngrey bars: |drift| inside the noise floor, × folds (± the grid's β step)",
         fontsize=9,
     )
-    if sweeps:
-        ax.legend(loc="center right", fontsize=7, markerscale=5)
+    if sweeps or walked:
+        ax.legend(loc="center right", fontsize=7, markerscale=2)
     _save(fig, path)
 
 

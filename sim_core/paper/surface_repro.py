@@ -393,7 +393,7 @@ def draw(
     if free is not None:
         files.insert(0, out / "fig7.png")
         fig7_surface(study.surface, files[0], map_betas, free)
-    fig8_surface(study.surface, files[-2], paper, sweeps)
+    fig8_surface(study.surface, files[-2], paper, sweeps, study.cells)
     surfaces = {study.surface.ground: study.surface, "penalty": study.paper_ground}
     mechanism(surfaces, MECHANISM_BETAS, files[-1])
     return files
