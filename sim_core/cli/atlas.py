@@ -15,13 +15,12 @@ from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE, UsageError, out_folder
 from sim_core.cli.fields import flag
-from sim_core.cli.model import choice_from_args
+from sim_core.cli.model import choice_from_args, model_line
 from sim_core.cli.paper import backend_from_args, cache_from_args
 from sim_core.cli.runflags import output_tag, run_fields, split_condition, tagged
 from sim_core.cli.surface import (
     add_surface_args,
     check_probes,
-    model_line,
     say_interrupted,
     surface_config,
 )
@@ -152,6 +151,8 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     print(
         f"{atlas.sim_s:.0f} simulated s ({stats.computed} probes computed, {stats.cached} "
         f"cached) in {wall:.0f} s wall on {backend.name} with {backend.workers} worker(s); "
-        f"wrote {js} and .png" + model_line(choice)
+        f"wrote {js} and .png"
     )
+    if model_line(choice):
+        print(model_line(choice))
     return 0

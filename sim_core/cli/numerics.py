@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import UsageError, doc_to_update, one_line, out_folder
-from sim_core.cli.model import add_model_args, choice_from_args
+from sim_core.cli.model import add_model_args, choice_from_args, model_line
 from sim_core.cli.runflags import add_run_flags, check_runs, run_fields
 from sim_core.contract.results import RESULTS_DIR, RESULTS_ENV
 from sim_core.model.params import ModelParams
@@ -77,8 +77,8 @@ def _cmd_converge(args: argparse.Namespace) -> int:
     _runs_valid(**fields)
     report = convergence_check(choice.model_params(), **fields)
     print(report.summary(args.tolerance))
-    if choice.changed():
-        print(f"model: {choice.words()}")
+    if model_line(choice):
+        print(model_line(choice))
     return 0 if all(report.agree(args.tolerance)) else 1
 
 

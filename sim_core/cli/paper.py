@@ -11,7 +11,7 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE, UsageError, doc_to_update, out_folder
-from sim_core.cli.model import add_model_args, choice_from_args
+from sim_core.cli.model import add_model_args, choice_from_args, model_line
 from sim_core.cli.runflags import (
     add_run_flags,
     check_runs,
@@ -225,9 +225,10 @@ def _cmd_finder(args: argparse.Namespace) -> int:
         borders = ", ".join(f"{b.d31:.3f}" for b in c.borders if b.d31 is not None)
         print(f"beta {c.beta:g}: stable {states}" + (f"; borders {borders}" if borders else ""))
     wall = time.perf_counter() - t0
-    model = f"; model: {choice.words()}" if choice.changed() or choice.setting else ""
     print(f"{stats.computed} runs computed, {stats.cached} cached, in {wall:.0f} s wall; "
-          f"wrote {path}{model}")  # fmt: skip
+          f"wrote {path}")  # fmt: skip
+    if model_line(choice):
+        print(model_line(choice))
     return 0
 
 

@@ -11,10 +11,9 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE, UsageError, one_line, out_file
-from sim_core.cli.model import add_model_args, choice_from_args
+from sim_core.cli.model import add_model_args, choice_from_args, model_line
 from sim_core.cli.paper import add_backend_args, backend_from_args, cache_from_args
 from sim_core.cli.runflags import add_run_flags, run_fields, split_condition, validation_message
-from sim_core.contract import ModelChoice
 from sim_core.contract.results import BIFURCATION_FILE, RESULTS_DIR
 from sim_core.model.spec import numerics_problem, pin_problem
 
@@ -173,11 +172,6 @@ def say_interrupted(prog: str, cache: str) -> None:
     )
 
 
-def model_line(choice: ModelChoice) -> str:
-    """The model's line under a command's output: its parameters off the defaults, if any."""
-    return f"\nmodel: {choice.words()}" if choice.changed() or choice.setting else ""
-
-
 def _run(args: argparse.Namespace, prog: str) -> Any:
     """The surface the arguments ask for (a UsageError names what they got wrong), with the
     model's setting recorded beside the parameters the core records. Its progress bar is
@@ -259,6 +253,11 @@ def describe(surface: Any) -> str:
     return "\n".join(lines)
 
 
+def _words(surface: Any, args: argparse.Namespace) -> str:
+    """The surface in words, and the model's line when it is not the defaults'."""
+    return "\n".join(w for w in (describe(surface), model_line(choice_from_args(args))) if w)
+
+
 def _cmd_surface(args: argparse.Namespace) -> int:
     prog = "insect-gait surface"
     out = out_file(args.out, "--out")
@@ -268,8 +267,7 @@ def _cmd_surface(args: argparse.Namespace) -> int:
     text = surface.model_dump_json()
     if out is not None:
         out.write_text(text)
-    words = describe(surface) + model_line(choice_from_args(args))
-    print(json.dumps(json.loads(text)) if args.json else words)
+    print(json.dumps(json.loads(text)) if args.json else _words(surface, args))
     return 0
 
 
@@ -295,7 +293,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
     if not rows:
         raise UsageError(f"the finder has none of the betas {args.beta}")
     print(table(rows))
-    print(describe(surface) + model_line(choice_from_args(args)))
+    print(_words(surface, args))
     return 0 if all(r.ok for r in rows) else 1
 
 
@@ -328,6 +326,7 @@ def _cmd_robust(args: argparse.Namespace, prog: str) -> int:
     sim_s = sum(s.sim_s for s in surfaces.values())
     print(
         f"{len(surfaces)} surfaces, {sim_s:.0f} simulated s, {time.perf_counter() - t0:.0f} s wall"
-        + model_line(choice)
     )
+    if model_line(choice):
+        print(model_line(choice))
     return 0

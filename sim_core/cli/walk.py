@@ -10,7 +10,7 @@ from typing import Any
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE, doc_with_section
-from sim_core.cli.model import add_model_args, choice_from_args
+from sim_core.cli.model import add_model_args, choice_from_args, model_json, model_line
 from sim_core.cli.runflags import add_run_flags, run_fields, validation_message
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import INSECT_WORDS, RunSpec, cost_problem, numerics_problem
@@ -75,11 +75,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
     result = simulate(spec, choice.model_params())
     summary = result.summary()
     if args.json:
-        print(json.dumps(summary | {"model": choice.body() | {"changed": choice.changed()}}))
+        print(json.dumps(summary | {"model": model_json(choice)}))
     else:
         _print_summary(result.summary(), spec, choice.model_params())
-        if choice.changed():
-            print(f"model: {choice.words()}")
+        if model_line(choice):
+            print(model_line(choice))
     return 0 if not result.diverged else 1
 
 
@@ -223,15 +223,15 @@ def _cmd_return_map(args: argparse.Namespace) -> int:
         drift_list = [None if np.isnan(d) else float(d) for d in drift]
         obj = {"beta": args.beta, "x": rm.x.tolist(), "y": rm.y.tolist()}
         obj.update({"bin_centers": centers.tolist(), "drift_per_cycle": drift_list})
-        print(json.dumps(obj | {"model": choice.body() | {"changed": choice.changed()}}))
+        print(json.dumps(obj | {"model": model_json(choice)}))
         return 0
     print(f"beta {args.beta}: {rm.x.size} pairs; mean drift of Delta31 per cycle by bin")
     for c, d in zip(centers, drift, strict=True):
         bar = "" if np.isnan(d) else ("+" if d > 0 else "-") * min(40, int(abs(d) / 0.005))
         shown = "   n/a" if np.isnan(d) else f"{d:+.3f}"
         print(f"  {c:5.2f} rad  {shown}  {bar}")
-    if choice.changed():
-        print(f"model: {choice.words()}")
+    if model_line(choice):
+        print(model_line(choice))
     return 0
 
 
