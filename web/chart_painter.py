@@ -75,7 +75,7 @@ class ChartPainter:
             points, note, trail, live, beta_range, events_of(ramp, want), conditions=label
         ))  # fmt: skip
         self._atlas(want)
-        pick = pick_surface(self._surfaces, self._surface_jobs, want)
+        pick = pick_surface(self._surfaces, self._surface_jobs, want, state.model)
         if panels.surface_compute.visible != pick.offer:
             panels.surface_compute.visible = pick.offer
         # the map (~80 kB of SVG) is rebuilt only when what it shows changes or the live point

@@ -8,11 +8,14 @@ rounded to the slider's step, so 5.96 g and 6.04 g are one condition and 6.0 g a
 exactly as a person can tell them apart).
 
 Where the typed records carry their conditions: a `DriftSurface` names its ground, mass and
-slope; a `FinderOutput` names mass and slope per cell, but not its ground: every writer of the
-results folder's bifurcation file (`insect-gait reproduce`, `insect-gait finder`) runs the core's
-default model, so a file that does not name a ground in its config was walked on
-`GROUND_DEFAULT`. A `SurfaceAtlas` names its ground, not the value it holds the other axis at:
-`insect-gait atlas` holds it at `RunSpec`'s default (3 g, level).
+slope, and the model's leaves off their defaults (`params`: a surface of other model
+parameters is not the walk's map either, `same_model`); a `FinderOutput` names mass and slope
+per cell, but not its ground: the results folder's bifurcation file is written by the core's
+default model (`insect-gait reproduce`, and `insect-gait finder` without model flags: with
+them it writes a file of another name whose config names its ground and leaves), so a file
+that does not name a ground in its config was walked on `GROUND_DEFAULT`. A `SurfaceAtlas`
+names its ground, not the value it holds the other axis at: `insect-gait atlas` holds it at
+`RunSpec`'s default (3 g, level) unless told otherwise, and then names its file otherwise.
 """
 
 from __future__ import annotations
@@ -20,7 +23,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
-from sim_core.contract import GROUND_DEFAULT, DriftSurface, FinderOutput, RunSpec
+from sim_core.contract import GROUND_DEFAULT, DriftSurface, FinderOutput, ModelChoice, RunSpec
 from web import controls
 from web.record import D31Event
 
@@ -68,6 +71,17 @@ def ground_words(ground: str) -> str:
 
 def of_surface(s: DriftSurface) -> Conditions:
     return Conditions(s.ground, s.body_mass_g, s.slope_deg)
+
+
+def model_of(want: Conditions, model: ModelChoice | None) -> ModelChoice:
+    """The model parameters asked with `want` (None: the defaults on its ground)."""
+    return model if model is not None else ModelChoice(ground=want.ground)
+
+
+def same_model(s: DriftSurface, model: ModelChoice) -> bool:
+    """Whether a surface was computed with `model`'s leaves (what it records, `params`; the
+    ground is its conditions'): a surface of other parameters is not the walk's map."""
+    return s.params == model.changed()
 
 
 def of_event(e: D31Event) -> Conditions:

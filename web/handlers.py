@@ -206,7 +206,7 @@ def _submit_job(v: Viewer, req: SubmitJob) -> None:
 
 @handles(SubmitSurface)
 def _submit_surface(v: Viewer, req: SubmitSurface) -> None:
-    v.surface_jobs.submit(v.panels.job_inputs().api_url, v.state.conditions())
+    v.surface_jobs.submit(v.panels.job_inputs().api_url, v.state.conditions(), v.state.model)
 
 
 @handles(OpenJob)

@@ -10,6 +10,7 @@ the core's `DriftSurface` and kept for this session; the panel then draws it (we
 
 from __future__ import annotations
 
+import json
 import threading
 import time
 from dataclasses import replace
@@ -17,40 +18,52 @@ from typing import Any
 
 from pydantic import ValidationError
 
-from sim_core.contract import DriftSurface
+from sim_core.contract import DriftSurface, ModelChoice
 from web.bifurcation import first_error
-from web.conditions import Conditions, of_surface
+from web.conditions import Conditions, model_of, of_surface, same_model
 from web.jobs import TERMINAL, JobView, api_failure, api_json, view_of
 
 # The atlas's betas (`insect-gait atlas`: 0.60-0.72, 0.01 apart): the paper's window and past
 # it, where the gaits change. Fig. 8's 25-beta surface took 2,258 core-s (docs/NUMERICS.md),
 # so this one takes about 1,200 core-s: minutes on a workstation, ~10 on a 2-core host.
 SURFACE_JOB_BETAS = {"start": 0.60, "stop": 0.72, "steps": 13}
+Key = tuple[tuple[str, int, int], str]  # a job's: its conditions' key and its model's leaves
 
 
-def surface_job_body(want: Conditions) -> dict[str, Any]:
-    """The `surface` job that computes the drift surface of `want` (on its sliders' grid)."""
+def surface_job_body(want: Conditions, model: ModelChoice | None = None) -> dict[str, Any]:
+    """The `surface` job that computes the drift surface of `want` (on its sliders' grid) with
+    the walk's model parameters (`model`, the contract's `ModelChoice` on `want`'s ground:
+    its ground, setting and leaves as every job takes them; None: the defaults)."""
     c = want.snapped()
     return {
         "kind": "surface",
         "beta_range": dict(SURFACE_JOB_BETAS),
         "body_mass_g": c.body_mass_g,
         "slope_deg": c.slope_deg,
-        "ground": c.ground,
-    }
+    } | model_of(want, model).body()
 
 
-def surface_of(result: dict[str, Any], want: Conditions) -> tuple[DriftSurface | None, str]:
+def surface_of(
+    result: dict[str, Any], want: Conditions, model: ModelChoice | None = None
+) -> tuple[DriftSurface | None, str]:
     """The surface in a job's stored result (`GET .../result`), validated, and a note ("" when
-    it is one of `want`'s conditions)."""
+    it is of `want`'s conditions and `model`'s parameters)."""
     try:
         surface = DriftSurface.model_validate(result.get("result", {}).get("surface"))
     except ValidationError as exc:
         return None, f"the job's result is not a DriftSurface: {first_error(exc)}"
-    got = of_surface(surface)
+    got, m = of_surface(surface), model_of(want, model)
     if not got.matches(want):
         return None, f"the job computed {got.label()}, not {want.label()}"
+    if not same_model(surface, m):
+        return None, f"the job computed other model parameters than {m.words()}"
     return surface, ""
+
+
+def _key(want: Conditions, model: ModelChoice) -> Key:
+    """One job per condition and model (the leaves it changes: a setting and the same leaves
+    typed out are one model)."""
+    return want.key, json.dumps(model.changed(), sort_keys=True)
 
 
 class SurfaceJobs:
@@ -60,61 +73,65 @@ class SurfaceJobs:
         self.poll_s = poll_s
         self.timeout_s = timeout_s
         self._lock = threading.Lock()
-        self._views: dict[tuple[str, int, int], JobView] = {}
-        self._surfaces: dict[tuple[str, int, int], DriftSurface] = {}
+        self._views: dict[Key, JobView] = {}
+        self._surfaces: dict[Key, DriftSurface] = {}
         self.version = 0  # bumps whenever a job's state or a surface changes: a redraw key
 
-    def view(self, want: Conditions) -> JobView | None:
-        """The latest job for `want`'s conditions (None: none submitted)."""
+    def view(self, want: Conditions, model: ModelChoice | None = None) -> JobView | None:
+        """The latest job for `want`'s conditions and `model` (None: none submitted)."""
         with self._lock:
-            return self._views.get(want.key)
+            return self._views.get(_key(want, model_of(want, model)))
 
     def surfaces(self) -> list[DriftSurface]:
         """The surfaces computed in this session, latest first."""
         with self._lock:
             return list(reversed(self._surfaces.values()))
 
-    def submit(self, api_url: str, want: Conditions) -> bool:
-        """POST the surface of `want` and follow it; False when one for it is already under
-        way (a second click must not queue the same hour of work twice)."""
+    def submit(self, api_url: str, want: Conditions, model: ModelChoice | None = None) -> bool:
+        """POST the surface of `want` with `model`'s parameters (None: the defaults) and follow
+        it; False when one for it is already under way (a second click must not queue the
+        same hour of work twice)."""
+        m = model_of(want, model)
+        key = _key(want, m)
         with self._lock:
-            running = self._views.get(want.key)
+            running = self._views.get(key)
             if running is not None and not running.finished:
                 return False
-            self._views[want.key] = JobView(kind="surface", status="submitting")
+            self._views[key] = JobView(kind="surface", status="submitting")
             self.version += 1
         threading.Thread(
             target=self._follow,
-            args=(api_url.rstrip("/"), want),
+            args=(api_url.rstrip("/"), want, m),
             name="surface-job",
             daemon=True,
         ).start()
         return True
 
-    def _set(self, want: Conditions, view: JobView, surface: DriftSurface | None = None) -> None:
+    def _set(self, key: Key, view: JobView, surface: DriftSurface | None = None) -> None:
         with self._lock:
-            self._views[want.key] = view
+            self._views[key] = view
             if surface is not None:
-                self._surfaces.pop(want.key, None)  # re-inserted: the latest goes last
-                self._surfaces[want.key] = surface
+                self._surfaces.pop(key, None)  # re-inserted: the latest goes last
+                self._surfaces[key] = surface
             self.version += 1
 
-    def _follow(self, api: str, want: Conditions) -> None:
-        view = JobView(kind="surface", status="submitting")
+    def _follow(self, api: str, want: Conditions, model: ModelChoice) -> None:
+        view, key = JobView(kind="surface", status="submitting"), _key(want, model)
         try:
-            job = api_json(f"{api}/v1/jobs", surface_job_body(want), self.timeout_s)
+            job = api_json(f"{api}/v1/jobs", surface_job_body(want, model), self.timeout_s)
             while True:
                 view = view_of(job, api, key=0)  # one job per condition: no list key
-                self._set(want, view)
+                self._set(key, view)
                 if job["status"] in TERMINAL:
                     break
                 time.sleep(self.poll_s)
                 job = api_json(view.url, None, self.timeout_s)
             if job["status"] == "done":
-                surface, note = surface_of(api_json(f"{view.url}/result", None, 60.0), want)
+                answer = api_json(f"{view.url}/result", None, 60.0)
+                surface, note = surface_of(answer, want, model)
                 if surface is None:
-                    self._set(want, replace(view, status="failed", message=note))
+                    self._set(key, replace(view, status="failed", message=note))
                 else:
-                    self._set(want, view, surface)
+                    self._set(key, view, surface)
         except Exception as exc:  # the API absent, refusing, or answering nonsense
-            self._set(want, replace(view, status="unreachable", message=api_failure(exc)))
+            self._set(key, replace(view, status="unreachable", message=api_failure(exc)))

@@ -3,7 +3,6 @@ task rounds, its output as flat rows, and those rows drawn against beta."""
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field
@@ -13,7 +12,7 @@ from server.kinds.base import Physics, Row
 from server.kinds.bounds import DURATION_BOUNDS, IntLike, bounded
 from server.kinds.compute import Compute
 from server.kinds.progress import ChunkProgress
-from sim_core.contract import Cell, CellResult, FinderConfig, Probe
+from sim_core.contract import Cell, CellResult, FinderConfig, Probe, RunFn
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -77,14 +76,12 @@ class Finder(Physics):
         return out
 
 
-FinderRun = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
-
-
-def finder_runner(job: Finder, compute: Compute) -> FinderRun:
-    """The finder's `run`: each round's runs as tasks through the shared cache (a run with the
-    default numerics has the key `reproduce`'s finder gives it: `sim_core.probe_task`), with
-    the job's numerics; progress as the share of the job's estimated simulated time done,
-    moving inside a round too, never back, at most `CAP`."""
+def finder_runner(job: Finder, compute: Compute) -> RunFn:
+    """The finder's `run` (the contract's `RunFn`, what `find` takes): each round's runs as
+    tasks through the shared cache (a run with the default numerics has the key `reproduce`'s
+    finder gives it: `sim_core.probe_task`), with the job's numerics; progress as the share
+    of the job's estimated simulated time done, moving inside a round too, never back, at most
+    `CAP`."""
     budget = max(job.total_sim_seconds(), 1e-9)
     done = 0.0
     shown = ChunkProgress(compute.progress, runs=1)  # only its monotone, capped `show`

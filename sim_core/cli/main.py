@@ -14,7 +14,7 @@ from importlib.metadata import entry_points
 
 from pydantic import ValidationError
 
-from sim_core.cli import cache, numerics, paper, surface, walk
+from sim_core.cli import atlas, cache, numerics, paper, surface, walk
 from sim_core.cli.common import (
     EXIT_USAGE,
     TRACEBACK_ENV,
@@ -36,7 +36,7 @@ def build_parser() -> argparse.ArgumentParser:
         f"one line; {TRACEBACK_ENV}=1 shows a traceback instead.",
     )
     sub = parser.add_subparsers(dest="command", required=True, parser_class=Parser)
-    for family in (walk, numerics, paper, surface, cache):
+    for family in (walk, numerics, paper, surface, atlas, cache):
         family.register(sub)
     for ep in entry_points(group="insect_gait.commands"):
         try:

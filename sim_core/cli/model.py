@@ -9,6 +9,7 @@ same flags alike, and alike with the REST API's `params` (the same validator).
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 from pydantic import ValidationError
 
@@ -70,3 +71,14 @@ def choice_from_args(args: argparse.Namespace) -> ModelChoice:
             msg = str(err["msg"]).removeprefix("Value error, ")
             parts.append(f"{where}: {msg}" if where else msg)
         raise UsageError("; ".join(parts)) from None
+
+
+def model_line(choice: ModelChoice) -> str:
+    """The line a command prints under its output when the model is not the defaults
+    ("model: soft_legs (kp_lift 0.00077, ...)"), else ""."""
+    return f"model: {choice.words()}" if choice.changed() or choice.setting else ""
+
+
+def model_json(choice: ModelChoice) -> dict[str, Any]:
+    """The model in a command's --json output: the choice's fields and the leaves it changes."""
+    return choice.body() | {"changed": choice.changed()}

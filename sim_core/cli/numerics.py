@@ -8,24 +8,21 @@ import math
 from pathlib import Path
 from typing import Any
 
-from pydantic import ValidationError
-
 from sim_core.cli.common import UsageError, doc_to_update, one_line, out_folder
+from sim_core.cli.model import add_model_args, choice_from_args, model_line
+from sim_core.cli.runflags import add_run_flags, check_runs, run_fields
 from sim_core.contract.results import RESULTS_DIR, RESULTS_ENV
-from sim_core.model.params import INTEGRATORS
-from sim_core.model.spec import RunSpec
+from sim_core.model.params import ModelParams
+
+# what `converge` sets per run itself (`convergence_check`: its betas and starts)
+CONVERGE_VARIES = ("beta", "d31_init")
 
 
 def _runs_valid(flags: dict[str, str] | None = None, **fields: Any) -> None:
     """The runs a command will make, checked by RunSpec's rules before anything runs: a
     UsageError in RunSpec's words, each field named by its flag (as `run` words them; `flags`
     names those the command calls otherwise)."""
-    from sim_core.cli.walk import validation_message
-
-    try:
-        RunSpec(beta=0.62, **fields)
-    except ValidationError as exc:
-        raise UsageError(validation_message(exc, flags)) from None
+    check_runs({"beta": 0.62} | fields, flags)
 
 
 def _add_bench(sub: Any) -> None:
@@ -48,12 +45,23 @@ def _cmd_bench(args: argparse.Namespace) -> int:
     return 0
 
 
+# converge's runs: long enough for most starts to settle at the default step (docs/NUMERICS.md)
+CONVERGE_DURATION_S = 6.0
+
+
 def _add_converge(sub: Any) -> None:
-    p = sub.add_parser("converge", help="same gait outcomes at dt and dt/2? (default numerics)")
-    p.add_argument("--dt-s", type=float, default=None, help="the coarse step, s (default: the "
-                   "model's); the check also runs at half of it")  # fmt: skip
-    p.add_argument("--integrator", choices=INTEGRATORS, default=None)
-    p.add_argument("--duration-s", type=float, default=6.0, help="simulated s per run")
+    p = sub.add_parser(
+        "converge",
+        help="same gait outcomes at dt and dt/2? (default numerics)",
+        description="The gait outcomes (final Delta31, gait) of starts spread over the circle "
+        "at three betas, run at --dt-s and at half of it. The runs' other options are the "
+        "run's (RunSpec), as `run` takes them.",
+    )
+    add_run_flags(p, vary=CONVERGE_VARIES, defaults={
+        "duration_s": f"{CONVERGE_DURATION_S:g}",
+        "dt_s": f"the model's, {ModelParams().numerics.dt:g}; the check also runs at half of it",
+    })  # fmt: skip
+    add_model_args(p)
     p.add_argument("--tolerance", type=float, default=0.05,
                    help="largest final Delta31 difference that agrees, rad (> 0)")  # fmt: skip
     p.set_defaults(func=_cmd_converge)
@@ -64,11 +72,13 @@ def _cmd_converge(args: argparse.Namespace) -> int:
 
     if not (math.isfinite(args.tolerance) and args.tolerance > 0):
         raise UsageError(f"--tolerance: must be a finite number > 0 (rad), got {args.tolerance}")
-    _runs_valid(duration_s=args.duration_s, dt_s=args.dt_s, integrator=args.integrator)
-    report = convergence_check(
-        dt_s=args.dt_s, integrator=args.integrator, duration_s=args.duration_s
-    )
+    choice = choice_from_args(args)
+    fields = {"duration_s": CONVERGE_DURATION_S} | run_fields(args)
+    _runs_valid(**fields)
+    report = convergence_check(choice.model_params(), **fields)
     print(report.summary(args.tolerance))
+    if model_line(choice):
+        print(model_line(choice))
     return 0 if all(report.agree(args.tolerance)) else 1
 
 

@@ -11,6 +11,16 @@ from pathlib import Path
 from typing import Any
 
 from sim_core.cli.common import EXIT_USAGE, UsageError, doc_to_update, out_folder
+from sim_core.cli.model import add_model_args, choice_from_args, model_line
+from sim_core.cli.runflags import (
+    add_run_flags,
+    check_runs,
+    output_tag,
+    provenance_fields,
+    run_fields,
+    split_condition,
+    tagged,
+)
 from sim_core.contract.results import BIFURCATION_FILE, RESULTS_DIR, RESULTS_ENV
 from sim_core.runs import CACHE_DIR_ENV, default_cache_dir, default_cache_max_bytes
 
@@ -122,6 +132,12 @@ def _cmd_reproduce(args: argparse.Namespace) -> int:
     return 0
 
 
+# what the finder sets per run itself: beta (--beta, a cell each), the starts, each run's
+# length and its settled try (FinderConfig); every other RunSpec field is a flag and reaches
+# every run (body mass and slope through the cells)
+FINDER_VARIES = ("beta", "d31_init", "duration_s", "stop_if_settled_s")
+
+
 def _add_finder(sub: Any) -> None:
     from sim_core.runs import BACKENDS
 
@@ -129,14 +145,36 @@ def _add_finder(sub: Any) -> None:
         "finder",
         help="the settled fixed-point finder over Fig. 8's betas (the drift surface's "
         "independent check): writes bifurcation.json for surface-check and the viewer",
+        description="The settled fixed-point finder at each beta: runs from starts spread "
+        "over the circle, judged by the settled rule, with the basin borders between the "
+        "states found. The runs' other options are the run's (RunSpec), as `run` takes "
+        "them; with other options or model parameters than the defaults, the file's name "
+        "gains a tag (bifurcation-TAG.json) and its config records them.",
     )
     p.add_argument("--beta", type=float, nargs="+", default=None,
                    help="betas (default: Fig. 8's grid, 0.62-0.70 by 0.005)")  # fmt: skip
+    add_run_flags(p, vary=FINDER_VARIES)
+    add_model_args(p)
     p.add_argument("--out", type=Path, default=RESULTS_DIR,
                    help=f"folder for {BIFURCATION_FILE} (default %(default)s)")  # fmt: skip
     add_backend_args(p, BACKENDS)
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.set_defaults(func=_cmd_finder)
+
+
+def _finder_fields(args: argparse.Namespace, betas: list[float]) -> dict[str, Any]:
+    """The run fields given, checked for every beta's runs by RunSpec's rules and the
+    numerics' (a UsageError naming the flag otherwise)."""
+    from sim_core.model.spec import numerics_problem
+
+    fields = run_fields(args)
+    for b in betas:
+        check_runs(fields | {"beta": b})
+    problem = numerics_problem(fields.get("integrator"), fields.get("dt_s"),
+                               fields.get("control_dt_s"))  # fmt: skip
+    if problem:
+        raise UsageError(f"--dt-s: {problem}")
+    return fields
 
 
 def _cmd_finder(args: argparse.Namespace) -> int:
@@ -156,7 +194,11 @@ def _cmd_finder(args: argparse.Namespace) -> int:
     if bad:
         print(f"{prog}: error: --beta {bad[0]:g} is outside (0.5, 1)", file=sys.stderr)
         return EXIT_USAGE
+    choice = choice_from_args(args)
+    fields = _finder_fields(args, betas)
+    at, shared = split_condition(fields)  # the cells' condition; every run's fields
     folder = out_folder(args.out, "--out")
+    path = tagged(folder / BIFURCATION_FILE, output_tag(fields, choice))
     backend = backend_from_args(args, prog)
     if backend is None:
         return EXIT_USAGE
@@ -164,25 +206,29 @@ def _cmd_finder(args: argparse.Namespace) -> int:
     t0 = time.perf_counter()
     try:
         bar = False if args.no_progress else "finder"
-        run = task_runner(cache_from_args(args), backend, None, chunk_size=cfg.chunk_size,
-                          progress=bar, stats=stats)  # fmt: skip
-        cells = find([Cell(b) for b in betas], cfg.finder, run)
+        run = task_runner(cache_from_args(args), backend, choice.model_params(),
+                          chunk_size=cfg.chunk_size, progress=bar, stats=stats,
+                          fields=shared)  # fmt: skip
+        cells = find([Cell(b, **at) for b in betas], cfg.finder, run)
     except KeyboardInterrupt:
         print(f"{prog}: interrupted; finished runs are cached in {args.cache}: run the same "
               "command again to resume", file=sys.stderr)  # fmt: skip
         return 130
     finally:
         backend.close()
+    config = asdict(cfg.finder) | provenance_fields(fields, choice)
     out = FinderOutput(source="insect-gait finder: the settled fixed-point finder",
-                       config=asdict(cfg.finder), cells=cells)  # fmt: skip
-    (folder / BIFURCATION_FILE).write_text(out.model_dump_json())
+                       config=config, cells=cells)  # fmt: skip
+    path.write_text(out.model_dump_json())
     for c in cells:
         states = ", ".join(f"{a.d31:.3f} ({a.gait})" for a in c.stable()) or "none confirmed"
         borders = ", ".join(f"{b.d31:.3f}" for b in c.borders if b.d31 is not None)
         print(f"beta {c.beta:g}: stable {states}" + (f"; borders {borders}" if borders else ""))
     wall = time.perf_counter() - t0
     print(f"{stats.computed} runs computed, {stats.cached} cached, in {wall:.0f} s wall; "
-          f"wrote {folder / BIFURCATION_FILE}")  # fmt: skip
+          f"wrote {path}")  # fmt: skip
+    if model_line(choice):
+        print(model_line(choice))
     return 0
 
 

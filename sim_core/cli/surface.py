@@ -1,29 +1,32 @@
 """`surface` (the drift surface: every gait, stable and unstable, from walks held at each
-Delta31), `surface-check` (the surface against the fixed-point finder's settled runs) and
-`atlas` (the gait atlas from surfaces over beta at each body mass or slope)."""
+Delta31) and `surface-check` (the surface against the fixed-point finder's settled runs), and
+what they share with `atlas` (sim_core/cli/atlas.py): the held grid, the pin, the run's
+options (generated from RunSpec, bar what a probe sets itself) and the model's parameters."""
 
 from __future__ import annotations
 
 import argparse
 import json
-import sys
 from pathlib import Path
 from typing import Any
 
-from sim_core.cli.common import EXIT_USAGE, UsageError, one_line, out_file, out_folder
+from sim_core.cli.common import EXIT_USAGE, UsageError, one_line, out_file
+from sim_core.cli.model import add_model_args, choice_from_args, model_line
 from sim_core.cli.paper import add_backend_args, backend_from_args, cache_from_args
-from sim_core.contract import GROUND_HELP
+from sim_core.cli.runflags import add_run_flags, run_fields, split_condition, validation_message
 from sim_core.contract.results import BIFURCATION_FILE, RESULTS_DIR
+from sim_core.model.spec import numerics_problem, pin_problem
 
 # the betas the surface is validated at: the Fig. 7 betas and the two ends of the paper's window
 CHECK_BETAS = (0.62, 0.64, 0.655, 0.675, 0.70)
-# the atlas from the surface: 13 betas across the paper's window and past it, 0.01 apart
-ATLAS_BETAS = tuple(round(0.60 + 0.01 * k, 2) for k in range(13))
-# finer near the paper's 3 g and level ground, where the regions change (docs/figures)
-ATLAS_VALUES = {
-    "mass": (1.0, 1.5, 2.0, 2.5, 3.0, 4.0, 6.0, 8.0),
-    "slope": (-20.0, -10.0, -5.0, 0.0, 5.0, 10.0, 20.0),
-}
+# what a probe sets itself (`probe_spec`): beta (--beta), the start and the pin at each held
+# Delta31 (--d31), the pin's gain (--gain-per-s: the protocol's), its length (the protocol's
+# settle and averaging times) and no early stop (a probe averages a fixed window). Every other
+# field of RunSpec is a flag of `surface`, `surface-check` and `atlas` and reaches every probe.
+SURFACE_VARIES = ("beta", "d31_init", "pin_d31", "pin_gain_per_s", "duration_s",
+                  "stop_if_settled_s")  # fmt: skip
+
+
 SURFACE_HELP = (
     "The drift surface at each duty factor: walks with Delta31 held near each value of a grid "
     "(a weak pin, phase resets on), each measuring how fast Delta31 would drift per gait cycle "
@@ -56,7 +59,9 @@ def _default_grid() -> str:
     return f"{g[0]:g}:{g[-1]:g}:{round(g[1] - g[0], 6):g}"
 
 
-def _add_surface_args(p: Any) -> None:
+def add_surface_args(p: Any) -> None:
+    """The held grid and the pin's gain, the run's options (RunSpec's fields bar
+    SURFACE_VARIES), the model's parameters, refinement, where probes run, progress."""
     from sim_core.runs import BACKENDS
 
     p.add_argument(
@@ -68,23 +73,13 @@ def _add_surface_args(p: Any) -> None:
         "then bisected near zeros and dips of the drift)",
     )
     p.add_argument(
-        "--ground",
-        choices=["constraint", "penalty"],
-        default="constraint",
-        help=GROUND_HELP,
-    )
-    p.add_argument(
         "--gain-per-s",
         type=float,
         default=None,
         help="the pin's gain K, 1/s (default 30: see docs/MODEL.md, Instruments)",
     )
-    p.add_argument(
-        "--dt-s",
-        type=float,
-        default=None,
-        help="physics timestep, s (default: the model's; the dt/2 check halves it)",
-    )
+    add_run_flags(p, vary=SURFACE_VARIES)
+    add_model_args(p)
     p.add_argument(
         "--no-refine",
         action="store_true",
@@ -103,9 +98,7 @@ def register(sub: Any) -> None:
         description=SURFACE_HELP,
     )
     p.add_argument("--beta", type=float, nargs="+", required=True, help="duty factors")
-    p.add_argument("--body-mass-g", type=float, default=3.0, help="body mass, g, 0.5..30")
-    p.add_argument("--slope-deg", type=float, default=0.0, help="ground slope, deg, uphill +")
-    _add_surface_args(p)
+    add_surface_args(p)
     p.add_argument("--json", action="store_true", help="print the whole surface as JSON")
     p.add_argument("--out", default=None, help="also write the surface's JSON to this file")
     p.set_defaults(func=_cmd_surface)
@@ -127,55 +120,13 @@ def register(sub: Any) -> None:
         help="instead: the surface at 0.9 and 1.1 of each calibrated parameter (default betas "
         "0.62 0.655 0.70): which stable zeros survive, and how far they move",
     )
-    _add_surface_args(c)
+    add_surface_args(c)
     c.add_argument("--out", default=None, help="also write the surface's JSON to this file")
     c.set_defaults(func=_cmd_check)
-    a = sub.add_parser(
-        "atlas",
-        help="the gait atlas from the drift surface: which gaits are stable over beta x body "
-        "mass (or slope), and where their branches fold (the viewer's atlas panel)",
-    )
-    a.add_argument("--axis", choices=["mass", "slope"], required=True)
-    a.add_argument(
-        "--beta",
-        type=float,
-        nargs="+",
-        default=list(ATLAS_BETAS),
-        help="duty factors (default %(default)s)",
-    )
-    a.add_argument(
-        "--values",
-        type=float,
-        nargs="+",
-        default=None,
-        help="body masses (g) or slopes (deg) (default: mass "
-        + " ".join(f"{v:g}" for v in ATLAS_VALUES["mass"])
-        + "; slope "
-        + " ".join(f"{v:g}" for v in ATLAS_VALUES["slope"])
-        + ")",
-    )
-    a.add_argument(
-        "--out",
-        default=str(RESULTS_DIR),
-        help="folder for surface_atlas_<axis>_<ground>.json/png (default %(default)s)",
-    )
-    a.add_argument(
-        "--band-pass",
-        action="store_true",
-        help="also probe finer and longer inside unresolved zeros and near-zero bands (off: "
-        "such cells are marked unresolved; the pass costs about 40%% more)",
-    )
-    a.add_argument(
-        "--no-walks",
-        action="store_true",
-        help="do not decide by settled free walks the cells where an unresolved zero could "
-        "change the region (such cells are then marked unresolved)",
-    )
-    _add_surface_args(a)
-    a.set_defaults(func=_cmd_atlas)
 
 
-def _config(args: argparse.Namespace) -> Any:
+def surface_config(args: argparse.Namespace) -> Any:
+    """The probes' protocol (`SurfaceConfig`) with --d31 and --gain-per-s."""
     from dataclasses import replace
 
     from sim_core.paper.surface import SurfaceConfig, grid
@@ -188,51 +139,71 @@ def _config(args: argparse.Namespace) -> Any:
     return cfg
 
 
-def _run(
-    args: argparse.Namespace,
-    prog: str,
-    *,
-    sample: tuple[float, ...] | None = None,
-    dt_s: float | None = None,
-    stats: Any = None,
-    **fields: Any,
-) -> Any:
-    """The surface the arguments ask for, or None after printing why not (exit 2); `sample`
-    replaces the held Delta31 grid, `dt_s` the physics step. Its progress bar is labelled
-    with the command's name (`prog`'s last word)."""
-    from dataclasses import replace
+def check_probes(betas: list[float], cfg: Any, fields: dict[str, Any]) -> None:
+    """Every probe's spec valid and its numerics stable (checked before anything runs, by
+    RunSpec's rules and the REST API's words, each refused field named by its flag); a
+    UsageError otherwise."""
+    from pydantic import ValidationError
 
-    from sim_core.model.params import ModelParams
+    from sim_core.paper.surface import Probe, probe_spec
+
+    problem = pin_problem(cfg.d31_grid[0], fields.get("phase_reset", True))
+    if problem:  # the REST kinds' words (`Held`): the pin is the probes', not the person's
+        raise UsageError(f"--no-phase-reset: {problem}")
+    try:
+        for b in betas:
+            for d in (cfg.d31_grid[0], cfg.d31_grid[-1]):
+                probe_spec(Probe(b, d, cfg.average_s), cfg, **fields)
+    except ValidationError as exc:
+        raise UsageError(validation_message(exc)) from None
+    problem = numerics_problem(fields.get("integrator"), fields.get("dt_s"),
+                               fields.get("control_dt_s"))  # fmt: skip
+    if problem:
+        raise UsageError(f"--dt-s: {problem}")
+
+
+def say_interrupted(prog: str, cache: str) -> None:
+    import sys
+
+    print(
+        f"{prog}: interrupted; finished probes are cached in {cache}: run the same command "
+        "again to resume",
+        file=sys.stderr,
+    )
+
+
+def _run(args: argparse.Namespace, prog: str) -> Any:
+    """The surface the arguments ask for (a UsageError names what they got wrong), with the
+    model's setting recorded beside the parameters the core records. Its progress bar is
+    labelled with the command's name (`prog`'s last word)."""
     from sim_core.paper.surface import drift_surface
 
-    cfg = _config(args)
-    if sample is not None:
-        cfg = replace(cfg, d31_grid=sample)
-    dt_s = dt_s if dt_s is not None else getattr(args, "dt_s", None)
-    numerics = None if dt_s is None else {"dt_s": dt_s}
-    if not _specs_valid(args.beta, cfg, prog, **fields, **(numerics or {})):
-        return None
+    cfg = surface_config(args)
+    choice = choice_from_args(args)
+    fields = run_fields(args)
+    check_probes(args.beta, cfg, fields)
+    at, numerics = split_condition(fields)
     backend = backend_from_args(args, prog)
     if backend is None:
         return None
     try:
-        return drift_surface(
+        surface = drift_surface(
             sorted(args.beta),
             cache=cache_from_args(args),
             backend=backend,
             config=cfg,
-            params=ModelParams.of(ground=args.ground),
+            params=choice.model_params(),
             numerics=numerics,
             refine=not args.no_refine,
             progress=False if args.no_progress else prog.split()[-1],
-            stats=stats,
-            **fields,
+            **at,
         )
     except KeyboardInterrupt:
-        _say_interrupted(prog, args.cache)
+        say_interrupted(prog, args.cache)
         raise SystemExit(130) from None
     finally:
         backend.close()
+    return surface.model_copy(update={"setting": choice.setting})
 
 
 # what `describe`'s words mean, said once under its lines (only the words it used)
@@ -282,16 +253,21 @@ def describe(surface: Any) -> str:
     return "\n".join(lines)
 
 
+def _words(surface: Any, args: argparse.Namespace) -> str:
+    """The surface in words, and the model's line when it is not the defaults'."""
+    return "\n".join(w for w in (describe(surface), model_line(choice_from_args(args))) if w)
+
+
 def _cmd_surface(args: argparse.Namespace) -> int:
     prog = "insect-gait surface"
     out = out_file(args.out, "--out")
-    surface = _run(args, prog, body_mass_g=args.body_mass_g, slope_deg=args.slope_deg)
+    surface = _run(args, prog)
     if surface is None:
         return EXIT_USAGE
     text = surface.model_dump_json()
     if out is not None:
         out.write_text(text)
-    print(json.dumps(json.loads(text)) if args.json else describe(surface))
+    print(json.dumps(json.loads(text)) if args.json else _words(surface, args))
     return 0
 
 
@@ -315,10 +291,9 @@ def _cmd_check(args: argparse.Namespace) -> int:
         out.write_text(surface.model_dump_json())
     rows = check(surface, finder)
     if not rows:
-        print(f"{prog}: error: the finder has none of the betas {args.beta}", file=sys.stderr)
-        return EXIT_USAGE
+        raise UsageError(f"the finder has none of the betas {args.beta}")
     print(table(rows))
-    print(describe(surface))
+    print(_words(surface, args))
     return 0 if all(r.ok for r in rows) else 1
 
 
@@ -328,18 +303,22 @@ def _cmd_robust(args: argparse.Namespace, prog: str) -> int:
     from sim_core.paper.surface_check import ROBUST_BETAS, robust_surfaces, robust_table
 
     betas = ROBUST_BETAS if args.beta == list(CHECK_BETAS) else tuple(sorted(args.beta))
-    cfg = _config(args)
-    if not _specs_valid(list(betas), cfg, prog):
-        return EXIT_USAGE
+    cfg = surface_config(args)
+    choice = choice_from_args(args)
+    fields = run_fields(args)
+    check_probes(list(betas), cfg, fields)
+    at, numerics = split_condition(fields)
     backend = backend_from_args(args, prog)
     if backend is None:
         return EXIT_USAGE
     t0 = time.perf_counter()
     try:
         surfaces = robust_surfaces(betas, cache=cache_from_args(args), backend=backend,
-                                   config=cfg, progress=not args.no_progress)  # fmt: skip
+                                   config=cfg, params=choice.model_params(),
+                                   progress=not args.no_progress, numerics=numerics,
+                                   **at)  # fmt: skip
     except KeyboardInterrupt:
-        _say_interrupted(prog, args.cache)
+        say_interrupted(prog, args.cache)
         return 130
     finally:
         backend.close()
@@ -348,90 +327,6 @@ def _cmd_robust(args: argparse.Namespace, prog: str) -> int:
     print(
         f"{len(surfaces)} surfaces, {sim_s:.0f} simulated s, {time.perf_counter() - t0:.0f} s wall"
     )
+    if model_line(choice):
+        print(model_line(choice))
     return 0
-
-
-def _cmd_atlas(args: argparse.Namespace) -> int:
-    import time
-    from dataclasses import replace
-
-    from sim_core.contract.results import surface_atlas_file
-    from sim_core.model.params import ModelParams
-    from sim_core.paper.surface_atlas import draw_atlas, surface_atlas
-    from sim_core.paper.surface_walks import WalkConfig
-    from sim_core.runs.backends import RunStats
-
-    prog = "insect-gait atlas"
-    values = args.values or list(ATLAS_VALUES[args.axis])
-    field = "body_mass_g" if args.axis == "mass" else "slope_deg"
-    cfg = replace(_config(args), band_pass=args.band_pass)
-    if not all(_specs_valid(args.beta, cfg, prog, **{field: v}) for v in values):
-        return EXIT_USAGE
-    out = out_folder(args.out, "--out")
-    backend = backend_from_args(args, prog)
-    if backend is None:
-        return EXIT_USAGE
-    stats = RunStats()
-    t0 = time.perf_counter()
-    try:
-        atlas = surface_atlas(
-            args.axis,
-            sorted(args.beta),
-            values,
-            cache=cache_from_args(args),
-            backend=backend,
-            config=cfg,
-            params=ModelParams.of(ground=args.ground),
-            refine=not args.no_refine,
-            walks=None if args.no_walks else WalkConfig(),
-            progress=not args.no_progress,
-            stats=stats,
-        )
-    except KeyboardInterrupt:
-        _say_interrupted(prog, args.cache)
-        return 130
-    finally:
-        backend.close()
-    wall = time.perf_counter() - t0
-    js = surface_atlas_file(out, args.axis, args.ground)
-    js.write_text(atlas.model_dump_json())
-    draw_atlas(atlas, js.with_suffix(".png"))
-    for v in values:
-        row = [p for p in atlas.points if p.value == v]
-        cells = ", ".join(
-            f"{p.beta:g}: {p.region}" + (" (unresolved)" if p.undecided else "") for p in row
-        )
-        print(f"{args.axis} {v:g}: {cells}")
-    print(
-        f"{atlas.sim_s:.0f} simulated s ({stats.computed} probes computed, {stats.cached} "
-        f"cached) in {wall:.0f} s wall on {backend.name} with {backend.workers} worker(s); "
-        f"wrote {js} and .png"
-    )
-    return 0
-
-
-def _specs_valid(betas: list[float], cfg: Any, prog: str, **fields: Any) -> bool:
-    """Whether every probe's spec is valid (checked before anything runs, in the words the API
-    uses: RunSpec's own); if not, says why in one line."""
-    from pydantic import ValidationError
-
-    from sim_core.paper.surface import Probe, probe_spec
-
-    try:
-        for b in betas:
-            for d in (cfg.d31_grid[0], cfg.d31_grid[-1]):
-                probe_spec(Probe(b, d, cfg.average_s), cfg, **fields)
-    except ValidationError as exc:
-        err = exc.errors()[0]
-        where = ".".join(str(x) for x in err["loc"]) or "spec"
-        print(f"{prog}: error: {where}: {err['msg']}", file=sys.stderr)
-        return False
-    return True
-
-
-def _say_interrupted(prog: str, cache: str) -> None:
-    print(
-        f"{prog}: interrupted; finished probes are cached in {cache}: run the same command "
-        "again to resume",
-        file=sys.stderr,
-    )

@@ -5,14 +5,13 @@ from __future__ import annotations
 import argparse
 import json
 import sys
-from collections.abc import Mapping
 from typing import Any
 
 from pydantic import ValidationError
 
 from sim_core.cli.common import EXIT_USAGE, doc_with_section
-from sim_core.cli.fields import add_field_flags, flag, given
-from sim_core.cli.model import add_model_args, choice_from_args
+from sim_core.cli.model import add_model_args, choice_from_args, model_json, model_line
+from sim_core.cli.runflags import add_run_flags, run_fields, validation_message
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import INSECT_WORDS, RunSpec, cost_problem, numerics_problem
 
@@ -32,51 +31,26 @@ def _add_run(sub: Any) -> None:
         "API's; --ground, --setting and --param set the model's parameters, as a job's "
         "ground, setting and params do.",
     )
-    d = ModelParams()
-    names = add_field_flags(
+    add_run_flags(
         p,
-        RunSpec,
         required=("beta",),
         defaults={
             "duration_s": f"until settled: the run stops at {SETTLE_TRY_S:g} s if Delta31 has "
             f"settled by the settled rule, else goes on to {SETTLE_CAP_S:g} s",
             "stop_if_settled_s": f"{SETTLE_TRY_S:g} without --duration-s, else none",
         },
-        null_means={
-            "integrator": f"the model's, {d.numerics.integrator}",
-            "dt_s": f"the model's, {d.numerics.dt:g}",
-            "control_dt_s": f"the model's, {d.numerics.control_dt:g}",
-            "pin_d31": "off (the paper's model)",
-        },
     )
     add_model_args(p)
     p.add_argument("--json", action="store_true", help="print one JSON object")
-    p.set_defaults(func=_cmd_run, run_fields=names)
+    p.set_defaults(func=_cmd_run)
 
 
 def _spec_from_args(args: argparse.Namespace) -> RunSpec:
-    fields = given(args, args.run_fields)
+    fields = run_fields(args)
     if "duration_s" not in fields:  # until settled: a first command names a gait
         fields["duration_s"] = SETTLE_CAP_S
         fields.setdefault("stop_if_settled_s", SETTLE_TRY_S)
     return RunSpec(**fields)
-
-
-def validation_message(exc: ValidationError, flags: Mapping[str, str] | None = None) -> str:
-    """Each refused option with pydantic's words and the field's range and reason, as RunSpec
-    describes it (the REST API refuses the same values with the same bounds); `flags` names
-    a field whose command calls its flag otherwise (bench's --sim-seconds: duration_s)."""
-    parts = []
-    for err in exc.errors():
-        field = ".".join(str(x) for x in err["loc"])
-        msg = str(err["msg"]).removeprefix("Value error, ")
-        if not field:  # a rule across fields: its words name them
-            parts.append(msg)
-            continue
-        info = RunSpec.model_fields.get(field)
-        what = f" ({info.description})" if info is not None and info.description else ""
-        parts.append(f"{(flags or {}).get(field) or flag(field)}: {msg}{what}")
-    return "; ".join(parts)
 
 
 def _cmd_run(args: argparse.Namespace) -> int:
@@ -101,11 +75,11 @@ def _cmd_run(args: argparse.Namespace) -> int:
     result = simulate(spec, choice.model_params())
     summary = result.summary()
     if args.json:
-        print(json.dumps(summary | {"model": choice.body() | {"changed": choice.changed()}}))
+        print(json.dumps(summary | {"model": model_json(choice)}))
     else:
         _print_summary(result.summary(), spec, choice.model_params())
-        if choice.changed():
-            print(f"model: {choice.words()}")
+        if model_line(choice):
+            print(model_line(choice))
     return 0 if not result.diverged else 1
 
 
@@ -181,42 +155,54 @@ def _cmd_params(args: argparse.Namespace) -> int:
     return 0
 
 
+# a return map's runs are short: the pairs come from the transient itself (Fig. 7)
+RETURN_MAP_DURATION_S = 3.0
+
+
 def _add_return_map(sub: Any) -> None:
     p = sub.add_parser(
         "return-map",
         help="Delta31(n) -> Delta31(n+4) drift from many starts",
         description="The paper's Fig. 7 return map: --n-init runs at one beta from initial "
         "Delta31 spread evenly over [0, 2 pi), and the mean drift of Delta31 per gait cycle "
-        "in bins of Delta31.",
+        "in bins of Delta31. The runs' other options are the run's (RunSpec), as `run` "
+        "takes them.",
         formatter_class=argparse.ArgumentDefaultsHelpFormatter,
     )
-    p.add_argument("--beta", type=float, required=True, default=argparse.SUPPRESS,
-                   help="duty factor, 0.5 < beta < 1")  # fmt: skip
+    add_run_flags(p, vary=("d31_init",), required=("beta",),
+                  defaults={"duration_s": str(RETURN_MAP_DURATION_S)})  # fmt: skip
     p.add_argument("--n-init", type=int, default=16,
                    help="runs, one per initial Delta31, spread over [0, 2 pi); >= 1")  # fmt: skip
-    p.add_argument("--duration-s", type=float, default=3.0,
-                   help="simulated time of each run, s, (0, 600]")  # fmt: skip
+    add_model_args(p)
     p.add_argument("--json", action="store_true",
                    help="print one JSON object (pairs, bin centres, drift per cycle)")  # fmt: skip
     p.set_defaults(func=_cmd_return_map)
 
 
 def _return_map_problems(args: argparse.Namespace) -> list[str]:
-    """Only the rules this command line breaks, each once (RunSpec's words for beta and
-    duration, the contract's cost rule for the runs together)."""
+    """Only the rules this command line breaks, each once (RunSpec's words for its fields,
+    the contract's numerics and cost rules for the runs together)."""
     problems = []
     if args.n_init < 1:
         problems.append(f"--n-init: must be >= 1 (one run per initial Delta31), got {args.n_init}")
     try:
-        RunSpec(beta=args.beta, duration_s=args.duration_s)
+        spec = RunSpec(**_return_map_fields(args))
     except ValidationError as exc:
         problems.append(validation_message(exc))
         return problems
     if not problems:
-        cost = cost_problem(args.duration_s, None, None, None, runs=args.n_init)
+        problem = numerics_problem(spec.integrator, spec.dt_s, spec.control_dt_s)
+        if problem:
+            return [f"--dt-s: {problem}"]
+        cost = cost_problem(spec.duration_s, spec.integrator, spec.dt_s, spec.control_dt_s,
+                            runs=args.n_init)  # fmt: skip
         if cost:
             problems.append(f"--duration-s: {cost}")
     return problems
+
+
+def _return_map_fields(args: argparse.Namespace) -> dict[str, Any]:
+    return {"duration_s": RETURN_MAP_DURATION_S} | run_fields(args)
 
 
 def _cmd_return_map(args: argparse.Namespace) -> int:
@@ -225,24 +211,27 @@ def _cmd_return_map(args: argparse.Namespace) -> int:
     from sim_core.paper.protocols import return_map
     from sim_core.paper.returnmap import initial_values
 
+    choice = choice_from_args(args)  # a UsageError names the flag and the leaf
     problems = _return_map_problems(args)
     if problems:
         print(f"insect-gait return-map: error: {'; '.join(problems)}", file=sys.stderr)
         return EXIT_USAGE
     inits = initial_values(args.n_init).tolist()
-    rm = return_map(None, beta=args.beta, inits=inits, duration_s=args.duration_s)
+    rm = return_map(choice.model_params(), inits=inits, **_return_map_fields(args))
     centers, drift = rm.drift_per_cycle()
     if args.json:
         drift_list = [None if np.isnan(d) else float(d) for d in drift]
         obj = {"beta": args.beta, "x": rm.x.tolist(), "y": rm.y.tolist()}
         obj.update({"bin_centers": centers.tolist(), "drift_per_cycle": drift_list})
-        print(json.dumps(obj))
+        print(json.dumps(obj | {"model": model_json(choice)}))
         return 0
     print(f"beta {args.beta}: {rm.x.size} pairs; mean drift of Delta31 per cycle by bin")
     for c, d in zip(centers, drift, strict=True):
         bar = "" if np.isnan(d) else ("+" if d > 0 else "-") * min(40, int(abs(d) / 0.005))
         shown = "   n/a" if np.isnan(d) else f"{d:+.3f}"
         print(f"  {c:5.2f} rad  {shown}  {bar}")
+    if model_line(choice):
+        print(model_line(choice))
     return 0
 
 

@@ -126,7 +126,7 @@ class ModelChoice(BaseModel):
     def changed(self) -> dict[str, Any]:
         """The leaves off their defaults that this choice makes, by name (the ground left to
         its own field): what a record, an export and the viewer's panel show."""
-        return {k: v for k, v in leaf_values(self.model_params()).items() if k != "ground"}
+        return changed_leaves(self.model_params())
 
     def words(self) -> str:
         """One line for a person: "soft_legs (kp_lift 0.00077, ...)", "kp_lift 0.001", or
@@ -151,6 +151,12 @@ class ModelChoice(BaseModel):
         except ValidationError as exc:
             words = [f"{'.'.join(map(str, e['loc']))}: {e['msg']}" for e in exc.errors()]
             raise ValueError("; ".join(words).replace("Value error, ", "")) from None
+
+
+def changed_leaves(params: ModelParams) -> dict[str, Any]:
+    """The leaves of `params` off their defaults, by name, the ground left to its own field:
+    what a choice, a surface or an atlas records of the model it ran."""
+    return {k: v for k, v in leaf_values(params).items() if k != "ground"}
 
 
 def _leaves(setting: str | None, params: dict[str, Leaf], ground: str) -> dict[str, Any]:

@@ -10,6 +10,7 @@ from typing import Any
 
 from pydantic import BaseModel, ConfigDict
 
+from sim_core.contract.choice import Leaf
 from sim_core.model.spec import PIN_GAIN_PER_S
 
 
@@ -159,6 +160,10 @@ class DriftSurface(_Model):
     body_mass_g: float
     slope_deg: float
     ground: str
+    # the model's leaves off their defaults its probes ran with (`changed_leaves`; the ground
+    # is `ground`): empty for the defaults, as in every file written before they were recorded
+    params: dict[str, Leaf] = {}
+    setting: str | None = None  # the named setting they came from, where an edge named one
 
     def zeros_at(self, beta: float) -> list[SurfaceZero]:
         return [z for z in self.zeros if abs(z.beta - beta) < 1e-9]
@@ -243,6 +248,8 @@ class SurfaceAtlas(_Model):
     folds: list[tuple[float, Fold]]  # (axis value, fold over beta at that value)
     sim_s: float
     config: dict[str, Any]
+    params: dict[str, Leaf] = {}  # as DriftSurface's: the model's leaves off their defaults
+    setting: str | None = None
 
     @property
     def regions(self) -> list[list[str]]:

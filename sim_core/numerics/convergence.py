@@ -11,6 +11,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 
@@ -112,16 +113,21 @@ def convergence_check(
     duration_s: float = 6.0,
     dt_s: float | None = None,
     integrator: Integrator | None = None,
+    control_dt_s: float | None = None,
     nthread: int = 0,
+    **fields: Any,
 ) -> ConvergenceReport:
+    """Every beta x start run at `dt_s` (None: the model's) and at half of it, the controller
+    period held (`control_dt_s`; None: the model's, at least the coarse step); `fields`: the
+    other RunSpec fields every run shares (body mass, slope, ...)."""
     p = params or ModelParams()
     dt = dt_s or p.numerics.dt
     integ = integrator or p.numerics.integrator
-    control = max(p.numerics.control_dt, dt)
+    control = control_dt_s or max(p.numerics.control_dt, dt)
 
     def specs(step: float) -> list[RunSpec]:
         return spec_grid(betas, inits, duration_s=duration_s, dt_s=step, control_dt_s=control,
-                         integrator=integ)  # fmt: skip
+                         integrator=integ, **fields)  # fmt: skip
 
     coarse = simulate_batch(specs(dt), p, nthread=nthread)
     fine = simulate_batch(specs(dt / 2), p, nthread=nthread)

@@ -5,6 +5,7 @@ typed output is the contract's)."""
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 from sim_core.contract.returnmap import RETURN_MAP_SKIP, ReturnMap
 from sim_core.model.params import ModelParams
@@ -23,8 +24,10 @@ def return_map(
     skip: int = RETURN_MAP_SKIP,
     dt_s: float | None = None,
     nthread: int = 0,
+    **fields: Any,
 ) -> ReturnMap:
-    """Delta31(n) -> Delta31(n + lag) from many initial values (first `skip` cycles dropped)."""
-    specs = spec_grid([beta], inits, duration_s=duration_s, dt_s=dt_s)
+    """Delta31(n) -> Delta31(n + lag) from many initial values (first `skip` cycles dropped);
+    `fields`: the other RunSpec fields every run shares (body mass, slope, numerics, ...)."""
+    specs = spec_grid([beta], inits, duration_s=duration_s, dt_s=dt_s, **fields)
     runs = simulate_batch(specs, params, nthread=nthread)
     return return_map_from_series(beta, [r.events.d31 for r in runs if not r.diverged], lag, skip)

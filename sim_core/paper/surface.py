@@ -35,6 +35,7 @@ from typing import Any, NamedTuple
 
 import numpy as np
 
+from sim_core.contract.choice import changed_leaves
 from sim_core.contract.surface import (
     Branch,
     DriftSurface,
@@ -347,8 +348,10 @@ def assemble(
     body_mass_g: float = 3.0,
     slope_deg: float = 0.0,
     ground: str = "constraint",
+    params: Mapping[str, Any] | None = None,
 ) -> DriftSurface:
-    """The surface's zeros, bands, branches and folds from its probes."""
+    """The surface's zeros, bands, branches and folds from its probes; `params`: the model's
+    leaves off their defaults it records (`changed_leaves`; None: the defaults)."""
     zeros: list[SurfaceZero] = []
     near: list[NearZero] = []
     for b in betas:
@@ -368,6 +371,7 @@ def assemble(
         body_mass_g=body_mass_g,
         slope_deg=slope_deg,
         ground=ground,
+        params=dict(params or {}),
     )
 
 
@@ -404,7 +408,8 @@ def drift_surface(
         config: the probes' protocol (`SurfaceConfig()` if None).
         params: model parameters (defaults if None); its ground names the surface's.
         body_mass_g, slope_deg: the body mass (g) and slope (deg) every probe walks at.
-        numerics: RunSpec's integrator, dt_s, control_dt_s (the model's defaults if absent).
+        numerics: RunSpec's other fields every probe shares: the integrator, dt_s,
+            control_dt_s (the model's if absent), phase_reset, ... (RunSpec's defaults).
         refine: bisect every zero's bracket and every dip of |d| down to
             `resolve_width_rad` (`bisection_probes`, at most `bisect_rounds` rounds), then
             (`band_pass`) probe finer and longer inside every zero still unresolved and every
@@ -477,10 +482,19 @@ def drift_surfaces(
 
     def surfaces() -> list[DriftSurface]:
         return [
-            assemble(betas, pts, cfg, sim_s=_sim_s(qs, cfg), ground=p.contact.ground, **c._asdict())
+            assemble(
+                betas,
+                pts,
+                cfg,
+                sim_s=_sim_s(qs, cfg),
+                ground=p.contact.ground,
+                params=leaves,
+                **c._asdict(),
+            )
             for c, pts, qs in zip(conds, points, probes, strict=True)
         ]
 
+    leaves = changed_leaves(p)  # what each surface records of the model
     probes = [grid_probes(betas, cfg) for _ in conds]
     points = run(probes, (0.0, 0.6 if refine else 1.0))
     out = surfaces()

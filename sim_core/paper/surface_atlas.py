@@ -19,6 +19,7 @@ import matplotlib
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
+from sim_core.contract.choice import changed_leaves
 from sim_core.contract.finder import AXIS_LABEL, AXIS_PARAM
 from sim_core.contract.surface import (
     REGION_COLOURS,
@@ -146,6 +147,7 @@ def surface_atlas(
         config=cfg.to_dict()
         | {"refine": refine}
         | ({} if walks is None else {"walks": asdict(walks)}),
+        params=changed_leaves(p),
     )
 
 

@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 from sim_core.contract.finder import CellResult, FinderOutput
 from sim_core.contract.surface import SurfaceConfig
@@ -178,9 +179,11 @@ def robust_surfaces(
     config: SurfaceConfig | None = None,
     params: ModelParams | None = None,
     progress: bool = True,
+    **conditions: Any,
 ) -> dict[str, DriftSurface]:
     """The surface over `betas` on the default and at 0.9 and 1.1 of each calibrated parameter
-    (`claims.CALIBRATED`, the finder's robustness check's list), by name."""
+    (`claims.CALIBRATED`, the finder's robustness check's list), by name; `conditions`: what
+    `drift_surface` takes of the probes' conditions (body_mass_g, slope_deg, numerics)."""
     from sim_core.paper.claims import CALIBRATED, SCALES, scaled_values
     from sim_core.paper.surface import drift_surface
 
@@ -190,7 +193,13 @@ def robust_surfaces(
     ]
     return {
         name: drift_surface(
-            betas, cache=cache, backend=backend, config=config, params=p, progress=progress
+            betas,
+            cache=cache,
+            backend=backend,
+            config=config,
+            params=p,
+            progress=progress,
+            **conditions,
         )
         for name, p in variants
     }

@@ -18,7 +18,13 @@ from typing import Any, ClassVar, TypeVar
 
 import pytest
 
-from sim_core.contract import DriftSurface, EventConditions, FinderOutput, SurfaceAtlas
+from sim_core.contract import (
+    DriftSurface,
+    EventConditions,
+    FinderOutput,
+    ModelChoice,
+    SurfaceAtlas,
+)
 from web.bifurcation import WatchedFile, load_validated
 from web.conditions import (
     Conditions,
@@ -266,6 +272,47 @@ def test_the_services_surface_result_is_read_and_one_of_other_conditions_refused
     assert surface_of({"result": {"surface": {}}}, PAPER)[1].startswith(
         "the job's result is not a DriftSurface"
     )
+
+
+def test_the_surface_button_asks_for_the_walks_model_parameters(fake_api: str) -> None:
+    """Issue 53: the viewer's own loop with a leaf off its default (`insect-gait viewer
+    --param`): the folder's surface of the defaults is not this walk's map, so the panel offers
+    the job; the button's job carries the walk's ModelChoice, which the service's kind takes;
+    the surface it returns for those parameters is then drawn, one of others refused."""
+    from server.kinds.surface import SurfaceJob
+    from web.app import ViewerApp
+    from web.requests import SubmitSurface
+
+    model = ModelChoice(ground="penalty", params={"kp_lift": 0.001})
+    app = ViewerApp("127.0.0.1", 0, model=model, api_url=fake_api)
+    try:
+        app.charts.draw()
+        assert app.panels.surface_compute.visible  # surface_penalty.json: the defaults'
+        assert "kp_lift 0.001" in html.unescape(app.panels.surface.content)
+        app.apply(SubmitSurface())
+        posted = _poll(lambda: list(_FakeApi.posted), bool, "the surface job's POST")
+        assert posted[0]["params"] == {"kp_lift": 0.001} and posted[0]["ground"] == "penalty"
+        job = SurfaceJob.model_validate(posted[0])
+        assert job.model_params() == model.model_params()
+        assert (job.body_mass_g, job.slope_deg) == (PAPER.body_mass_g, PAPER.slope_deg)
+        # the service computes the surface of those parameters (it records their leaves)
+        mine = _surface("surface_penalty.json").model_copy(update={"params": model.changed()})
+        _FakeApi.surface = json.loads(mine.model_dump_json())
+        _FakeApi.release.set()
+        _poll(app.surface_jobs.surfaces, bool, "the job's surface kept")
+        app.charts.draw()
+        assert not app.panels.surface_compute.visible and 'data-n-cells="0"' not in (
+            app.panels.surface.content
+        )
+        # a surface of the defaults returned for this walk's job is refused, naming why
+        plain = {
+            "result": {"surface": json.loads(_surface("surface_penalty.json").model_dump_json())}
+        }
+        assert surface_of(plain, PAPER, model) == (
+            None, "the job computed other model parameters than kp_lift 0.001"
+        )  # fmt: skip
+    finally:
+        app.stop()
 
 
 def test_the_loops_panels_follow_the_ground_and_the_mass() -> None:
