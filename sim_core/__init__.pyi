@@ -20,7 +20,6 @@ from .paper.finder import find as find  # the REST `bifurcation` kind's search (
 from .paper.returnmap import (
     return_map_from_series as return_map_from_series,  # Fig. 7's pairs: REST kind, viewer
 )
-from .paper.surface import Condition as Condition
 from .paper.surface import drift_surface as drift_surface
 from .paper.surface_atlas import surface_atlas as surface_atlas
 from .paper.surface_walks import WalkConfig as WalkConfig

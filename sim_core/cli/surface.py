@@ -202,6 +202,7 @@ def _run(
     with the command's name (`prog`'s last word)."""
     from dataclasses import replace
 
+    from sim_core.contract.template import RunTemplate
     from sim_core.model.params import ModelParams
     from sim_core.paper.surface import drift_surface
 
@@ -222,11 +223,10 @@ def _run(
             backend=backend,
             config=cfg,
             params=ModelParams.of(ground=args.ground),
-            numerics=numerics,
+            template=RunTemplate.model_validate({**fields, **(numerics or {})}),
             refine=not args.no_refine,
             progress=False if args.no_progress else prog.split()[-1],
             stats=stats,
-            **fields,
         )
     except KeyboardInterrupt:
         _say_interrupted(prog, args.cache)
@@ -415,12 +415,13 @@ def _specs_valid(betas: list[float], cfg: Any, prog: str, **fields: Any) -> bool
     uses: RunSpec's own); if not, says why in one line."""
     from pydantic import ValidationError
 
+    from sim_core.contract.template import RunTemplate
     from sim_core.paper.surface import Probe, probe_spec
 
     try:
         for b in betas:
             for d in (cfg.d31_grid[0], cfg.d31_grid[-1]):
-                probe_spec(Probe(b, d, cfg.average_s), cfg, **fields)
+                probe_spec(Probe(b, d, cfg.average_s), cfg, RunTemplate.model_validate(fields))
     except ValidationError as exc:
         err = exc.errors()[0]
         where = ".".join(str(x) for x in err["loc"]) or "spec"

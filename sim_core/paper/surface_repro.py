@@ -28,6 +28,7 @@ import numpy as np
 
 from sim_core.contract.results import SURFACE_FILE
 from sim_core.contract.surface import DriftSurface, SurfaceConfig
+from sim_core.contract.template import RunTemplate
 from sim_core.contract.values import PaperValues
 from sim_core.model.gait import angle_diff, settling
 from sim_core.model.params import ModelParams
@@ -95,7 +96,7 @@ def surface_study(
         ),
         "dt/2": drift_surface(
             SAMPLE_BETAS, config=sample, params=params, refine=False,
-            numerics={"dt_s": params.numerics.dt / 2}, **kw,
+            template=RunTemplate.model_validate({"dt_s": params.numerics.dt / 2}), **kw,
         ),
     }  # fmt: skip
     checks, ok = variant_rows(surface, variants, cfg.floor_rad)

@@ -33,6 +33,7 @@ from sim_core.contract.surface import (
     SurfaceZero,
     region,
 )
+from sim_core.contract.template import RunTemplate
 from sim_core.contract.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
 from sim_core.model.gait import classify_gait, settling
 from sim_core.model.params import ModelParams
@@ -123,11 +124,12 @@ def walk_starts(spans: Sequence[tuple[float, float]], cfg: WalkConfig) -> list[f
     return out
 
 
-def walk_spec(beta: float, start: float, cfg: WalkConfig, **fields: Any) -> RunSpec:
+def walk_spec(beta: float, start: float, cfg: WalkConfig, template: RunTemplate) -> RunSpec:
     """A free walk (no pin) from Delta31 = `start`: a `cfg.try_s` try, on to `cfg.duration_s`
-    only if it has not settled by then; `fields` are the cell's mass, slope and numerics."""
-    return RunSpec(beta=beta, d31_init=start, duration_s=cfg.duration_s,
-                   stop_if_settled_s=cfg.try_s, **fields)  # fmt: skip
+    only if it has not settled by then; `template` is the cell's run (its surface's template:
+    mass, slope, numerics and the rest)."""
+    return template.spec(beta=beta, d31_init=start, duration_s=cfg.duration_s,
+                         stop_if_settled_s=cfg.try_s)  # fmt: skip
 
 
 def read_walk(start: float, result: Mapping[str, Any], asked_s: float) -> AtlasWalk:
@@ -193,7 +195,7 @@ def decide(
 
 
 def walk_cells(
-    cells: Sequence[tuple[AtlasPoint, DriftSurface, Mapping[str, Any]]],
+    cells: Sequence[tuple[AtlasPoint, DriftSurface, RunTemplate]],
     *,
     cache: ResultCache,
     backend: Backend,
@@ -205,17 +207,17 @@ def walk_cells(
     on_progress: Callable[[float], None] | None = None,
     executor: Executor = execute_chunk,
 ) -> list[AtlasPoint]:
-    """Each (cell, its surface, its RunSpec fields besides beta and the start) decided: the
+    """Each (cell, its surface, its run template) decided: the
     walks of every cell that has an open span go to the backend as one batch; a cell with none
     comes back checked, unchanged."""
     cfg = config or WalkConfig()
     plans: list[list[tuple[float, Task]]] = []
     brackets: list[list[tuple[float, float] | None]] = []
-    for pt, surface, fields in cells:
+    for pt, surface, template in cells:
         b = pt.beta
         spans = open_spans(b, certain_gaits(surface, b), spans_at(surface, b))
         starts = walk_starts(spans, cfg)
-        plans.append([(x, run_task(walk_spec(b, x, cfg, **fields), params)) for x in starts])
+        plans.append([(x, run_task(walk_spec(b, x, cfg, template), params)) for x in starts])
         zs = [z for z in window_zeros(surface, b) if z.stable]
         brackets.append([None if z.resolved else (z.lo, z.hi) for z in zs])
     tasks = [t for plan in plans for _, t in plan]
