@@ -8,6 +8,7 @@ instruments the REST kinds call. The MuJoCo-free rules, words and schemas are
 name: tests/core/test_architecture.py)."""
 
 # `name as name`: an explicit re-export, for type checkers and linters
+from .contract.surface import WalkConfig as WalkConfig
 from .model.live import Simulation as Simulation
 from .model.params import ModelParams as ModelParams
 from .model.params import nominal_speed as nominal_speed
@@ -22,7 +23,6 @@ from .paper.returnmap import (
 )
 from .paper.surface import drift_surface as drift_surface
 from .paper.surface_atlas import surface_atlas as surface_atlas
-from .paper.surface_walks import WalkConfig as WalkConfig
 from .paper.sweep import sweep as sweep
 
 # the runs' machinery: the REST service's jobs run their simulations through it (one result

@@ -8,10 +8,10 @@ rounded to the slider's step, so 5.96 g and 6.04 g are one condition and 6.0 g a
 exactly as a person can tell them apart).
 
 Where the typed records carry their conditions: a `DriftSurface` names its ground, mass and
-slope; a `FinderOutput` names mass and slope per cell, but not its ground: every writer of the
-results folder's bifurcation file (`insect-gait reproduce`, `insect-gait finder`) runs the core's
-default model, so a file that does not name a ground in its config was walked on
-`GROUND_DEFAULT`. A `SurfaceAtlas` names its ground, not the value it holds the other axis at:
+slope; a `FinderOutput` names mass and slope per cell, but not its ground (its config is the
+finder's protocol, `FinderConfig`): every writer of the results folder's bifurcation file
+(`insect-gait reproduce`, `insect-gait finder`) runs the core's default model, so it was walked
+on `GROUND_DEFAULT`. A `SurfaceAtlas` names its ground, not the value it holds the other axis at:
 `insect-gait atlas` holds it at `RunSpec`'s default (3 g, level).
 """
 
@@ -75,8 +75,8 @@ def of_event(e: D31Event) -> Conditions:
 
 
 def finder_ground(out: FinderOutput) -> str:
-    """The ground a finder's output was walked on (module docstring: the default if unnamed)."""
-    return str(out.config.get("ground", GROUND_DEFAULT))
+    """The ground a finder's output was walked on (module docstring: the default)."""
+    return GROUND_DEFAULT
 
 
 def finder_conditions(out: FinderOutput) -> list[Conditions]:

@@ -4,7 +4,6 @@ finder (`insect-gait finder`), the drift surface's independent check."""
 from __future__ import annotations
 
 import math
-from dataclasses import asdict
 from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field
@@ -109,7 +108,7 @@ def run(job: BifurcationJob, compute: Compute) -> BifurcationJobResult:
              for b in job.beta_range.values()]  # fmt: skip
     found = find(cells, job.finder_config(), finder_runner(job, compute))
     out = FinderOutput(source="REST bifurcation job: the settled fixed-point finder",
-                       config=asdict(job.finder_config()), cells=found)  # fmt: skip
+                       config=job.finder_config(), cells=found)  # fmt: skip
     return BifurcationJobResult(finder=out, records=finder_rows(found))
 
 

@@ -141,7 +141,6 @@ def _add_finder(sub: Any) -> None:
 
 def _cmd_finder(args: argparse.Namespace) -> int:
     import time
-    from dataclasses import asdict
 
     from sim_core.contract.finder import Cell, FinderOutput
     from sim_core.paper.figures import ReproduceConfig
@@ -174,7 +173,7 @@ def _cmd_finder(args: argparse.Namespace) -> int:
     finally:
         backend.close()
     out = FinderOutput(source="insect-gait finder: the settled fixed-point finder",
-                       config=asdict(cfg.finder), cells=cells)  # fmt: skip
+                       config=cfg.finder, cells=cells)  # fmt: skip
     (folder / BIFURCATION_FILE).write_text(out.model_dump_json())
     for c in cells:
         states = ", ".join(f"{a.d31:.3f} ({a.gait})" for a in c.stable()) or "none confirmed"

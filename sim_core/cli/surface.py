@@ -277,7 +277,7 @@ def describe(surface: Any) -> str:
             f"{f.beta_hi:g}" + ("" if f.resolved else " (its last zero unresolved)")
         )
     lines.append(f"{surface.sim_s:.0f} simulated s in {len(surface.points)} probes")
-    floor = 1e3 * float(surface.config.get("floor_rad", float("nan")))
+    floor = 1e3 * surface.config.floor_rad
     lines += [WORDS[w].format(floor=floor) for w in WORDS if w in used]
     return "\n".join(lines)
 

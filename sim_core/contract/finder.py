@@ -14,9 +14,9 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, BeforeValidator, ConfigDict
 
 from sim_core.contract.results import AtlasAxis
 
@@ -102,6 +102,21 @@ RunFn = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
 
 
 # --- the output schema (what reproduce, the REST kinds and the viewer read) --------------------
+# A file written before an option existed ran without it: its protocol reads as the option's
+# "off", not today's default (docs/figures/atlas_mass.json and atlas_slope.json were searched
+# before states were kicked or neighbours lent seeds; their states are "not checked").
+BEFORE_THE_OPTION: dict[str, Any] = {"kick_rad": 0.0, "neighbour_seeds": False}
+
+
+def _as_it_ran(value: Any) -> Any:
+    """A recorded protocol (a JSON object) with the options it predates off."""
+    return BEFORE_THE_OPTION | value if isinstance(value, dict) else value
+
+
+# The finder's protocol as an output records it: a `FinderConfig`, read as it ran.
+RecordedFinderConfig = Annotated[FinderConfig, BeforeValidator(_as_it_ran)]
+
+
 class _Model(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -225,7 +240,7 @@ class FinderOutput(_Model):
     `bifurcation` and `atlas` kinds and the viewer's panels read."""
 
     source: str
-    config: dict[str, Any]
+    config: RecordedFinderConfig
     cells: list[CellResult]
 
 
@@ -261,6 +276,14 @@ class AtlasFold(_Model):
     half_width: float
 
 
+class AtlasGrid(_Model):
+    """What a finder atlas searched, as it records it: its grid and the finder's protocol."""
+
+    betas: list[float]
+    values: list[float]
+    finder: RecordedFinderConfig
+
+
 class AtlasOutput(_Model):
     """The finder over a beta x (body mass | slope) grid: regions, attractors, fold lines."""
 
@@ -275,7 +298,7 @@ class AtlasOutput(_Model):
     sweep_beta: float  # the paper's Fig. 9 sweeps run at this beta ...
     sweep_range: tuple[float, float]  # ... over this range of the axis (ours, `ReproduceConfig`)
     paper_direction: str
-    config: dict[str, Any]
+    config: AtlasGrid
 
     def cell(self, value_index: int, beta_index: int) -> CellResult:
         return self.cells[value_index * len(self.betas) + beta_index]

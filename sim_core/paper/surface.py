@@ -358,7 +358,7 @@ def assemble(
         near += n
     branches, folds = branches_of(zeros, betas, cfg)
     return DriftSurface(
-        config=cfg.to_dict(),
+        config=cfg,
         betas=list(betas),
         points=list(points),
         zeros=zeros,

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import tempfile
 from collections.abc import Callable, Sequence
-from dataclasses import asdict
 from pathlib import Path
 
 import matplotlib
@@ -24,7 +23,9 @@ from sim_core.contract.surface import (
     AtlasPoint,
     DriftSurface,
     SurfaceAtlas,
+    SurfaceAtlasConfig,
     SurfaceConfig,
+    WalkConfig,
     region,
 )
 from sim_core.contract.template import RunTemplate
@@ -32,7 +33,7 @@ from sim_core.model.gait import classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.surface import drift_surfaces
-from sim_core.paper.surface_walks import WalkConfig, walk_cells, window_zeros
+from sim_core.paper.surface_walks import walk_cells, window_zeros
 from sim_core.runs.backends import Backend, Executor, InlineBackend, RunStats
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk
@@ -142,9 +143,7 @@ def surface_atlas(
         points=points,
         folds=folds,
         sim_s=sum(s.sim_s for s in surfaces) + walk_s,
-        config=cfg.to_dict()
-        | {"refine": refine}
-        | ({} if walks is None else {"walks": asdict(walks)}),
+        config=SurfaceAtlasConfig.of(cfg, refine=refine, walks=walks),
     )
 
 

@@ -170,7 +170,7 @@ def free_runs_on_zeros(surface: DriftSurface, beta: float, finals: Sequence[floa
 
 def held(surface: DriftSurface, xs: Sequence[float]) -> list[float]:
     """The values of `xs` inside the surface's held range of Delta31 (rad)."""
-    grid = surface.config.get("d31_grid") or [0.0, 2 * np.pi]
+    grid = surface.config.d31_grid or (0.0, 2 * np.pi)
     return [x for x in xs if min(grid) <= x <= max(grid)]
 
 
@@ -182,7 +182,7 @@ def _fig7(
     carries the reproduction rows' inputs (`fig7_rows` and, per beta, ghosts and the settled
     free runs that no stable zero explains)."""
     s = study.surface
-    floor = float(s.config.get("floor_rad", 3e-4))
+    floor = s.config.floor_rad
     maps: list[dict[str, Any]] = []
     rows: list[list[Any]] = []
     summary: dict[str, Any] = {"pattern_rows": fig7_rows(s, paper)}
@@ -228,7 +228,7 @@ def _fig8(
         "range_rows": fig8_rows(s, paper, beta_tol),
         "checks_ok": study.checks_ok,
         "checks_worst": worst,
-        "floor_rad": float(s.config.get("floor_rad", 3e-4)),
+        "floor_rad": s.config.floor_rad,
         "probes": len(s.points),
         "sim_s": s.sim_s,
         "surface_wall_s": study.surface_wall_s,

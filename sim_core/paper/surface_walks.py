@@ -25,16 +25,16 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.contract.finder import CLUSTER_TOL, FinderConfig
+from sim_core.contract.finder import CLUSTER_TOL
 from sim_core.contract.surface import (
     AtlasPoint,
     AtlasWalk,
     DriftSurface,
     SurfaceZero,
+    WalkConfig,
     region,
 )
 from sim_core.contract.template import RunTemplate
-from sim_core.contract.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
 from sim_core.model.gait import classify_gait, settling
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec
@@ -44,28 +44,9 @@ from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import Task, execute_chunk, run_task
 
-# Starts near the paper's branches (Fig. 5): the metachronal at 1.9, the tripod from 3.0, not
-# 2.9: at beta 0.62 the tripod's basin border sits at 2.88-2.91 (finder 2.884, surface's
-# unstable zero 2.913), so a start at 2.9 would test the saddle, not the branch.
-PAPER_STARTS = (METACHRONAL_BRANCH, TRIPOD_BRANCH + 0.1)
 # How finely a span's Delta31 is scanned for the gaits it could hold (`classify_gait`'s
 # borders move by ~0.02 rad per 0.01 of beta; 0.01 rad cannot step over a gait).
 SCAN_STEP_RAD = 0.01
-
-
-@dataclass(frozen=True)
-class WalkConfig:
-    """How an atlas cell's open spans are walked."""
-
-    # the finder's lengths (`FinderConfig`): a try that stops if settled by then, else runs on
-    try_s: float = FinderConfig().bisect_duration_s
-    duration_s: float = FinderConfig().duration_s
-    # starts this far outside a span: a span's ends are probes whose drift already cleared the
-    # noise floor, and a free run's first cycles wander by ~0.01-0.02 rad from its start
-    margin_rad: float = 0.03
-    # starts closer than this are one walk (the finder's "one attractor" distance)
-    merge_rad: float = CLUSTER_TOL
-    paper_starts: tuple[float, ...] = PAPER_STARTS
 
 
 def window_zeros(surface: DriftSurface, beta: float) -> list[SurfaceZero]:
