@@ -8,6 +8,7 @@ instruments the REST kinds call. The MuJoCo-free rules, words and schemas are
 name: tests/core/test_architecture.py)."""
 
 # `name as name`: an explicit re-export, for type checkers and linters
+from .contract.surface import WalkConfig as WalkConfig
 from .model.live import Simulation as Simulation
 from .model.params import ModelParams as ModelParams
 from .model.params import nominal_speed as nominal_speed
@@ -20,10 +21,8 @@ from .paper.finder import find as find  # the REST `bifurcation` kind's search (
 from .paper.returnmap import (
     return_map_from_series as return_map_from_series,  # Fig. 7's pairs: REST kind, viewer
 )
-from .paper.surface import Condition as Condition
 from .paper.surface import drift_surface as drift_surface
 from .paper.surface_atlas import surface_atlas as surface_atlas
-from .paper.surface_walks import WalkConfig as WalkConfig
 from .paper.sweep import sweep as sweep
 
 # the runs' machinery: the REST service's jobs run their simulations through it (one result

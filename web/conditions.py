@@ -12,8 +12,8 @@ slope, and the model's leaves off their defaults (`params`: a surface of other m
 parameters is not the walk's map either, `same_model`); a `FinderOutput` names mass and slope
 per cell, but not its ground: the results folder's bifurcation file is written by the core's
 default model (`insect-gait reproduce`, and `insect-gait finder` without model flags: with
-them it writes a file of another name whose config names its ground and leaves), so a file
-that does not name a ground in its config was walked on `GROUND_DEFAULT`. A `SurfaceAtlas`
+them it writes a file of another name that names its ground and leaves), so a file
+that names no ground was walked on `GROUND_DEFAULT`. A `SurfaceAtlas`
 names its ground, not the value it holds the other axis at: `insect-gait atlas` holds it at
 `RunSpec`'s default (3 g, level) unless told otherwise, and then names its file otherwise.
 """
@@ -89,8 +89,9 @@ def of_event(e: D31Event) -> Conditions:
 
 
 def finder_ground(out: FinderOutput) -> str:
-    """The ground a finder's output was walked on (module docstring: the default if unnamed)."""
-    return str(out.config.get("ground", GROUND_DEFAULT))
+    """The ground a finder's output was walked on (module docstring: the default unless it
+    names one)."""
+    return out.ground or GROUND_DEFAULT
 
 
 def finder_conditions(out: FinderOutput) -> list[Conditions]:

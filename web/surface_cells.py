@@ -48,7 +48,7 @@ def drift_cells(
     """The backdrop over the grid's extent, the usable first-pass probes as rects (a run of
     equal colour up a column one rect), the scale's top level and the number of probes drawn."""
     betas = sorted(surface.betas)
-    grid = sorted(surface.config.get("d31_grid") or {grid_key(p.pin_d31) for p in surface.points})
+    grid = sorted(surface.config.d31_grid or {grid_key(p.pin_d31) for p in surface.points})
     col = {grid_key(b): j for j, b in enumerate(betas)}
     row = {grid_key(d): i for i, d in enumerate(grid)}
     be, de = cell_edges(betas), cell_edges(grid)

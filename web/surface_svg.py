@@ -35,7 +35,6 @@ from web.svg import (
 
 D31_TICKS = (1.5, 2.0, 2.5, 3.0, 3.5)
 BETA_TICKS = (0.55, 0.60, 0.65, 0.70, 0.75, 0.80)
-LINK_TOL_RAD = 0.12  # the core's SurfaceConfig.link_tol_rad, if the file's config lacks it
 LEGEND: list[list[Entry]] = [  # one row, wrapped where the width ends
     [("● stable zero", "#000"), ("○ unstable zero", "#000"), ("faint: not resolved", "#888"),
      ("| near zero", "#777"), ("× fold", "#333"), ("■ not usable", "#bbb"), ("○ now", "#e00"),
@@ -130,7 +129,7 @@ def surface_svg(
             f'<text x="{LEFT - 3}" y="{f.y(v) + 3:.1f}" {FONT} text-anchor="end">{v:g}</text>'
         )
     out += reference_lines(f) + paper_transitions(f)
-    tol = float(surface.config.get("link_tol_rad", LINK_TOL_RAD))
+    tol = surface.config.link_tol_rad
     for a, b in _links(zeros, surface.betas, tol):
         dash = "" if a.stable else ' stroke-dasharray="2 1.5"'
         kind = "stable" if a.stable else "unstable"

@@ -28,9 +28,7 @@ WINDOW = (1.4, 3.4)  # the paper's window of Delta31
 
 def config_of(s: DriftSurface) -> SurfaceConfig:
     """The protocol the surface was made with (its recorded config)."""
-    known = SurfaceConfig.__dataclass_fields__
-    kw = {k: v for k, v in s.config.items() if k in known and k != "d31_grid"}
-    return SurfaceConfig(**kw, d31_grid=tuple(s.config["d31_grid"]))
+    return s.config
 
 
 def corrected(s: DriftSurface, cfg: SurfaceConfig) -> tuple[DriftSurface, int, int]:

@@ -106,11 +106,10 @@ def run(job: AtlasJob, compute: Compute) -> AtlasJobResult:
     """The atlas by the core's `surface_atlas`, its probes and walks through the shared cache
     (the keys of `insect-gait atlas`), with one flat row per (beta, value)."""
     sim = sim_core
-    at = sim.Condition(job.body_mass_g, job.slope_deg)
     moving = compute.moving(job.run_count())  # moves inside each chunk of probes run here
     atlas = sim.surface_atlas(
         job.axis, sorted(set(job.betas)), sorted(set(job.values)), config=job.config(),
-        params=job.model_params(), at=at, numerics=job.spec_numerics(), refine=job.refine,
+        params=job.model_params(), template=job.template(), refine=job.refine,
         walks=sim.WalkConfig() if job.walks else None, progress=False,
         on_progress=moving.on_progress, **compute.core(moving),
     )  # fmt: skip

@@ -12,11 +12,12 @@ engine.
 
 from __future__ import annotations
 
+import types
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, Generic, TypeVar
+from typing import TYPE_CHECKING, Any, Generic, TypeVar, Union, get_args, get_origin
 
-from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, field_validator
+from pydantic import BaseModel, ConfigDict, Field, ValidationInfo, create_model, field_validator
 
 from server.kinds.bounds import (
     BETA_BOUNDS,
@@ -32,8 +33,9 @@ from sim_core.contract import (
     DEFAULT_DT_S,
     DEFAULT_INTEGRATOR,
     INTEGRATORS,
-    Integrator,
     ModelChoice,
+    RunSpec,
+    RunTemplate,
     control_problem,
     cost_problem,
     numerics_problem,
@@ -64,36 +66,62 @@ class Strict(BaseModel):
     model_config = ConfigDict(extra="forbid", strict=True, allow_inf_nan=False, frozen=True)
 
 
-class Physics(ModelChoice, Strict):
+# The run's numerics, as the cross-field rules and the cost estimates read them.
+NUMERICS = ("integrator", "dt_s", "control_dt_s")
+# What the API states about a template field beyond the core's (each with its reason): a
+# tighter bound, or words for a null.
+TIGHTER: dict[str, dict[str, Any]] = {"dt_s": {"le": MAX_DT_S, "why": DT_REASON}}
+INTEGRATOR_HELP = (
+    f"MuJoCo integrator; allowed: {', '.join(INTEGRATORS)} or null (the default, "
+    f"{DEFAULT_INTEGRATOR})"
+)
+
+
+def _numeric(annotation: Any) -> tuple[bool, bool]:
+    """(whether a field is a number, whether it may be null) from its annotation."""
+    args = [a for a in get_args(annotation) if a is not type(None)]
+    nullable = get_origin(annotation) in (Union, types.UnionType) and len(args) == 1
+    inner = args[0] if nullable else annotation
+    return inner in (float, int), nullable
+
+
+def template_field(name: str) -> tuple[Any, Any]:
+    """A request field that is the run template's `name` (`sim_core.contract.RunTemplate`,
+    RunSpec's fields bar the per-run ones): its type, default, words and bounds read from
+    RunSpec (`core_field`), with the API's tighter bounds (`TIGHTER`). Every one is validated
+    as given and as defaulted, so a default that clashes with a given value is refused too."""
+    info = RunTemplate.model_fields[name]
+    if name == "integrator":
+        allowed = f"{', '.join(INTEGRATORS)} or null"
+        help_ = Field(
+            info.default, description=INTEGRATOR_HELP, json_schema_extra={"allowed": allowed}
+        )
+        return info.annotation, help_
+    number, nullable = _numeric(info.annotation)
+    if not number:  # a switch or a choice: RunSpec's default and words
+        return info.annotation, Field(info.default, description=info.description)
+    field = core_field(name, nullable=nullable, validate_default=True, **TIGHTER.get(name, {}))
+    return info.annotation, field
+
+
+class PhysicsRules(ModelChoice, Strict):
     """Fields every kind shares: the model's (`ModelChoice`: ground, a named setting, leaves
-    by name, every one reaching the core's `ModelParams`) and the run's, which map one to one
-    onto `sim_core.RunSpec`.
+    by name, every one reaching the core's `ModelParams`) and the run template's
+    (`RunTemplate`: every field of `sim_core.RunSpec` bar what a job sets run by run, added
+    as `Physics`), from which the job composes each run's spec (`spec`), so no field of the
+    spec is left behind.
 
     Cross-field rules run as field validators on the later field (so the 422 names it) with
     `validate_default`, so a default that clashes with a given value is refused too. Each
     kind adds `kind: Literal["<name>"] = "<name>"`, the tag of the request union.
     """
 
-    body_mass_g: float = core_field("body_mass_g")
-    slope_deg: float = core_field("slope_deg")
-    phase_reset: bool = core_field("phase_reset")
-    integrator: Integrator | None = Field(
-        None,
-        description=f"MuJoCo integrator; allowed: {', '.join(INTEGRATORS)} or null "
-        f"(the default, {DEFAULT_INTEGRATOR})",
-        json_schema_extra={"allowed": f"{', '.join(INTEGRATORS)} or null"},
-    )
-    dt_s: float | None = core_field(
-        "dt_s", le=MAX_DT_S, nullable=True, why=DT_REASON, validate_default=True
-    )
-    control_dt_s: float | None = core_field("control_dt_s", nullable=True, validate_default=True)
-
     @classmethod
     def kind_name(cls) -> str:
         """The kind's tag (`kind` in a request), the default of the subclass's `kind` field."""
         return str(cls.model_fields["kind"].default)
 
-    @field_validator("dt_s")
+    @field_validator("dt_s", check_fields=False)
     @classmethod
     def _stable_for_the_integrator(cls, v: float | None, info: ValidationInfo) -> Any:
         if "integrator" not in info.data:
@@ -103,7 +131,7 @@ class Physics(ModelChoice, Strict):
             raise ValueError(problem)
         return v
 
-    @field_validator("control_dt_s")
+    @field_validator("control_dt_s", check_fields=False)
     @classmethod
     def _control_not_faster_than_physics(cls, v: float | None, info: ValidationInfo) -> Any:
         # a field validator (not a model one) so the 422 names control_dt_s itself
@@ -114,11 +142,20 @@ class Physics(ModelChoice, Strict):
             raise ValueError(problem)
         return v
 
+    def template(self) -> RunTemplate:
+        """The job's run template: its fields that are the template's, as the core's type."""
+        return RunTemplate.model_validate({n: getattr(self, n) for n in RunTemplate.model_fields})
+
+    def spec(self, **per_run: Any) -> RunSpec:
+        """The RunSpec of one of the job's runs: its template and `per_run` on top
+        (`RunTemplate.spec`; without arguments, the template read as a RunSpec)."""
+        return self.template().spec(**per_run)
+
     def effective_control_dt_s(self) -> float:
-        return resolve_numerics(self.integrator, self.dt_s, self.control_dt_s)[2]
+        return resolve_numerics(**self.spec_numerics())[2]
 
     def effective_dt_s(self) -> float:
-        return resolve_numerics(self.integrator, self.dt_s, self.control_dt_s)[1]
+        return resolve_numerics(**self.spec_numerics())[1]
 
     def keeps_series(self) -> bool:
         return False
@@ -127,7 +164,7 @@ class Physics(ModelChoice, Strict):
         """The core's cost rule for the whole job (`sim_core.contract.cost_problem`): steps per
         run and the memory of all its runs at once; None if it fits."""
         return cost_problem(
-            self.sim_seconds_per_run(), self.integrator, self.dt_s, self.control_dt_s,
+            self.sim_seconds_per_run(), **self.spec_numerics(),
             runs=self.run_count(), series=self.keeps_series(),
         )  # fmt: skip
 
@@ -147,7 +184,8 @@ class Physics(ModelChoice, Strict):
         return step_weight(self.spec_numerics())
 
     def spec_numerics(self) -> dict[str, Any]:
-        return {"integrator": self.integrator, "dt_s": self.dt_s, "control_dt_s": self.control_dt_s}
+        """The job's integrator, dt_s and control_dt_s (each possibly null), in that order."""
+        return {n: getattr(self, n) for n in NUMERICS}
 
     def size_sim_seconds(self) -> float:
         """What the job-size limit (max_job_sim_seconds) counts: simulated seconds summed over
@@ -159,15 +197,17 @@ class Physics(ModelChoice, Strict):
         provenance leaves to the rows (`server.kinds.provenance`); none for most kinds."""
         return ()
 
-    def physics_fields(self) -> dict[str, Any]:
-        return {
-            "body_mass_g": self.body_mass_g,
-            "slope_deg": self.slope_deg,
-            "phase_reset": self.phase_reset,
-            "integrator": self.integrator,
-            "dt_s": self.dt_s,
-            "control_dt_s": self.control_dt_s,
-        }
+
+if TYPE_CHECKING:  # generated below; type checkers read the template's fields via `spec()`
+    Physics = PhysicsRules
+else:
+    Physics = create_model(
+        "Physics",
+        __base__=PhysicsRules,
+        __module__=__name__,
+        __doc__=PhysicsRules.__doc__,
+        **{name: template_field(name) for name in RunTemplate.model_fields},
+    )
 
 
 def run_cost_problem(duration_s: float, info: ValidationInfo) -> str | None:
@@ -202,10 +242,6 @@ class Timed(Physics):
 
     def sim_seconds_per_run(self) -> float:
         return self.duration_s
-
-    def run_fields(self) -> dict[str, Any]:
-        """The RunSpec keyword arguments shared by every run of this job."""
-        return {**self.physics_fields(), "duration_s": self.duration_s}
 
 
 class BetaRange(Strict):

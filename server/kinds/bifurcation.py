@@ -4,7 +4,6 @@ finder (`insect-gait finder`), the drift surface's independent check."""
 from __future__ import annotations
 
 import math
-from dataclasses import asdict
 from typing import TYPE_CHECKING, Any, Literal
 
 from pydantic import Field
@@ -104,11 +103,12 @@ def run(job: BifurcationJob, compute: Compute) -> BifurcationJobResult:
     """Fig. 8 from settled walking: the fixed-point finder (`find`, the function `reproduce`
     uses) at every beta of the grid, its runs through the shared cache; its typed output
     (`FinderOutput`) plus flat rows."""
-    cells = [Cell(beta=b, body_mass_g=job.body_mass_g, slope_deg=job.slope_deg)
+    held = job.spec()  # the job's template, typed: its mass and slope are each cell's
+    cells = [Cell(beta=b, body_mass_g=held.body_mass_g, slope_deg=held.slope_deg)
              for b in job.beta_range.values()]  # fmt: skip
     found = find(cells, job.finder_config(), finder_runner(job, compute))
     out = FinderOutput(source="REST bifurcation job: the settled fixed-point finder",
-                       config=asdict(job.finder_config()), cells=found)  # fmt: skip
+                       config=job.finder_config(), cells=found)  # fmt: skip
     return BifurcationJobResult(finder=out, records=finder_rows(found))
 
 

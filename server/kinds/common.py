@@ -57,8 +57,9 @@ def advice(job: Physics, failures: list[RunFailure]) -> str:
     step only where the step is the likely cause (a numerical blow-up, or a step coarser than
     the converged default); a fall or flip at a sound step is the insect's physics under these
     conditions."""
-    integrator: Integrator = job.integrator or DEFAULT_INTEGRATOR
-    dt = resolve_numerics(integrator, job.dt_s, job.control_dt_s)[1]
+    held = job.spec()  # the job's template, typed
+    integrator: Integrator = held.integrator or DEFAULT_INTEGRATOR
+    dt = resolve_numerics(integrator, held.dt_s, held.control_dt_s)[1]
     numerical = any(f.numerical for f in failures)
     if numerical or dt > DEFAULT_DT_S * (1 + 1e-9):
         return (
@@ -68,8 +69,8 @@ def advice(job: Physics, failures: list[RunFailure]) -> str:
         )
     what = " or ".join(dict.fromkeys(INSECT_WORDS.get(f.kind, "fell over") for f in failures))
     return (
-        f"the insect {what} under these conditions (slope_deg {job.slope_deg:g}, "
-        f"body_mass_g {job.body_mass_g:g}); this is the model's physics at a converged "
+        f"the insect {what} under these conditions (slope_deg {held.slope_deg:g}, "
+        f"body_mass_g {held.body_mass_g:g}); this is the model's physics at a converged "
         "timestep, not a numerical problem, so a smaller dt_s will not help: change the "
         "conditions"
     )

@@ -69,33 +69,23 @@ class Finder(Physics):
     def extra_sim_seconds_per_cell(self) -> float:
         return 0.0
 
-    def numerics_fields(self) -> dict[str, Any]:
-        """RunSpec fields besides beta, mass, slope (those come from the finder's cells)."""
-        out = self.physics_fields()
-        del out["body_mass_g"], out["slope_deg"]
-        return out
-
 
 def finder_runner(job: Finder, compute: Compute) -> RunFn:
     """The finder's `run` (the contract's `RunFn`, what `find` takes): each round's runs as
-    tasks through the shared cache (a run with the default numerics has the key `reproduce`'s
-    finder gives it: `sim_core.probe_task`), with the job's numerics; progress as the share
-    of the job's estimated simulated time done, moving inside a round too, never back, at most
-    `CAP`."""
+    tasks through the shared cache, each run's spec composed as the core's finder composes it (`probe_task`: the job's run template, a
+    cell's mass and slope and a probe's start and length on top; so a run with the default
+    numerics has the key `reproduce`'s finder gives it); progress as the share of the job's
+    estimated simulated time done, moving inside a round too, never back, at most `CAP`."""
     budget = max(job.total_sim_seconds(), 1e-9)
     done = 0.0
     shown = ChunkProgress(compute.progress, runs=1)  # only its monotone, capped `show`
     params = job.model_params()
+    template = job.template()
 
     def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
         nonlocal done
-        tasks = [
-            sim_core.run_task(
-                sim_core.RunSpec(**p.spec_fields(), **c.spec_fields(), **job.numerics_fields()),
-                params,
-            )
-            for c, p in batch
-        ]
+        tasks = [sim_core.run_task(template.spec(**p.spec_fields(), **c.spec_fields()), params)
+                 for c, p in batch]  # fmt: skip
         asked, before = sum(p.duration_s for _, p in batch), done
         results = compute.run(tasks, lambda f: shown.show((before + f * asked) / budget))
         # what `find` reads of a run (`fixedpoints._run_of`): its Delta31 series, its error

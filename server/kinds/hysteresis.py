@@ -157,12 +157,11 @@ class HysteresisJob(Physics):
     def sim_seconds_per_run(self) -> float:
         return self.ramp.duration_s
 
-    def run_fields(self) -> dict[str, Any]:
-        """The RunSpec of the sweep's start (its duration is set by the schedule)."""
-        out = {**self.physics_fields(), "beta": self.beta, "d31_init": self.d31_init}
-        out[self.ramp.param] = self.ramp.start
-        out["duration_s"] = self.sim_seconds_per_run()
-        return out
+    def start_spec(self) -> sim_core.RunSpec:
+        """The RunSpec of the sweep's start: the job's template, beta and start, the ramped
+        field at the ramp's start, the length the schedule's."""
+        start = {"beta": self.beta, self.ramp.param: self.ramp.start}
+        return self.spec(**start, d31_init=self.d31_init, duration_s=self.ramp.duration_s)
 
 
 class HysteresisRow(Row):
@@ -196,7 +195,7 @@ def run(job: HysteresisJob, compute: Compute) -> HysteresisJobResult:
     ramp task through the shared cache, the key `reproduce`'s ramps have); Delta31 against the
     value at every leg-1 touchdown, and the transitions on each leg of the ramp."""
     sim = sim_core
-    spec = sim.RunSpec(**job.run_fields())
+    spec = job.start_spec()
     moving = compute.moving(1)
     ramp = job.ramp
     res = sim.sweep(

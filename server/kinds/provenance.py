@@ -62,7 +62,7 @@ PROVENANCE_COLUMNS: tuple[str, ...] = tuple(Provenance.model_fields)
 def job_provenance(job: Physics) -> Provenance:
     """The job's provenance: the core's physics words plus its numerics and held conditions."""
     integrator, dt_s, control_dt_s, _ = resolve_numerics(
-        job.integrator, job.dt_s, job.control_dt_s, job.model_params()
+        **job.spec_numerics(), params=job.model_params()
     )
     varied = job.varied_conditions()
     held = {k: None if k in varied else getattr(job, k) for k in ("body_mass_g", "slope_deg")}

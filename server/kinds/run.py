@@ -85,7 +85,7 @@ def simulate_each(job: RunJob | ReturnMapJob, compute: Compute) -> list[dict[str
     `return_map` job, every run a task through the shared cache; `JobFailed` naming every run
     that failed."""
     params = job.model_params()
-    specs = [sim_core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
+    specs = [job.spec(beta=job.beta, d31_init=d, duration_s=job.duration_s) for d in job.d31_init]
     summaries = [sim_core.summary_of(r)
                  for r in compute.run([sim_core.run_task(s, params) for s in specs])]  # fmt: skip
     check_runs(job, run_labels(job), summaries)
@@ -103,7 +103,7 @@ def simulate_with_series(job: RunJob, compute: Compute) -> list[sim_core.RunResu
     the cache: a task keeps a run's summary and events, not its sampled series (storing them
     would change what every cached task holds), so a job with include_series is computed each
     time, on this worker, and counted as computed."""
-    specs = [sim_core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields()) for d in job.d31_init]
+    specs = [job.spec(beta=job.beta, d31_init=d, duration_s=job.duration_s) for d in job.d31_init]
     results = sim_core.simulate_batch(specs, job.model_params(), nthread=compute.nthread,
                                       progress=compute.progress)  # fmt: skip
     compute.computed_elsewhere(len(specs))

@@ -112,16 +112,16 @@ class SurfaceJobResult(Result):
 
 
 def run(job: SurfaceJob, compute: Compute) -> SurfaceJobResult:
-    """The surface by the core's `drift_surface`, its probes through the shared cache (the
+    """The surface by the core's `drift_surface` on the job's run template (so every field of
+    the job reaches every probe), its probes through the shared cache (the
     same keys as `insect-gait surface`'s, so either reads the other's back), refined
     (`refine`) as `insect-gait surface` refines it, with flat rows: one per probe, zero and
     near-zero band. Progress moves inside each chunk of probes run here (`ChunkProgress`)."""
     moving = compute.moving(job.run_count())
     s = sim_core.drift_surface(
         job.beta_range.values(), config=job.config(), params=job.model_params(),
-        body_mass_g=job.body_mass_g, slope_deg=job.slope_deg, numerics=job.spec_numerics(),
-        refine=job.refine, progress=False, on_progress=moving.on_progress,
-        **compute.core(moving),
+        template=job.template(), refine=job.refine, progress=False,
+        on_progress=moving.on_progress, **compute.core(moving),
     )  # fmt: skip
     rows: list[dict[str, Any]] = [
         {

@@ -40,7 +40,8 @@ def _grid(job: SweepJob, compute: Compute) -> list[tuple[float, float, dict[str,
     """Every (beta, d31_init) of the job's grid as independent runs, each a task through the
     shared cache: (beta, d31_init, the run's summary)."""
     pairs = [(b, d) for b in job.beta_range.values() for d in job.d31_init]
-    specs = sim_core.spec_grid(job.beta_range.values(), job.d31_init, **job.run_fields())
+    specs = sim_core.spec_grid(job.beta_range.values(), job.d31_init,
+                               **dict(job.template()), duration_s=job.duration_s)  # fmt: skip
     params = job.model_params()
     summaries = [sim_core.summary_of(r)
                  for r in compute.run([sim_core.run_task(s, params) for s in specs])]  # fmt: skip

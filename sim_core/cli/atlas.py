@@ -17,7 +17,7 @@ from sim_core.cli.common import EXIT_USAGE, UsageError, out_folder
 from sim_core.cli.fields import flag
 from sim_core.cli.model import choice_from_args, model_line
 from sim_core.cli.paper import backend_from_args, cache_from_args
-from sim_core.cli.runflags import output_tag, run_fields, split_condition, tagged
+from sim_core.cli.runflags import output_tag, run_fields, tagged
 from sim_core.cli.surface import (
     add_surface_args,
     check_probes,
@@ -94,9 +94,9 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     import time
     from dataclasses import replace
 
-    from sim_core.paper.surface import Condition
+    from sim_core.contract.surface import WalkConfig
+    from sim_core.contract.template import RunTemplate
     from sim_core.paper.surface_atlas import draw_atlas, surface_atlas
-    from sim_core.paper.surface_walks import WalkConfig
     from sim_core.runs.backends import RunStats
 
     prog = "insect-gait atlas"
@@ -111,7 +111,6 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
     for v in values:
         check_probes(args.beta, cfg, fields | {field: v})
     js = atlas_path(out_folder(args.out, "--out"), args.axis, choice, fields)
-    at, numerics = split_condition(fields)
     backend = backend_from_args(args, prog)
     if backend is None:
         return EXIT_USAGE
@@ -126,8 +125,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
             backend=backend,
             config=cfg,
             params=choice.model_params(),
-            at=Condition(**at),
-            numerics=numerics,
+            template=RunTemplate.model_validate(fields),
             refine=not args.no_refine,
             walks=None if args.no_walks else WalkConfig(),
             progress=not args.no_progress,

@@ -179,9 +179,9 @@ def _finder_fields(args: argparse.Namespace, betas: list[float]) -> dict[str, An
 
 def _cmd_finder(args: argparse.Namespace) -> int:
     import time
-    from dataclasses import asdict
 
     from sim_core.contract.finder import Cell, FinderOutput
+    from sim_core.contract.template import RunTemplate
     from sim_core.paper.figures import ReproduceConfig
     from sim_core.paper.finder import find
     from sim_core.paper.search import task_runner
@@ -208,7 +208,7 @@ def _cmd_finder(args: argparse.Namespace) -> int:
         bar = False if args.no_progress else "finder"
         run = task_runner(cache_from_args(args), backend, choice.model_params(),
                           chunk_size=cfg.chunk_size, progress=bar, stats=stats,
-                          fields=shared)  # fmt: skip
+                          template=RunTemplate.model_validate(shared))  # fmt: skip
         cells = find([Cell(b, **at) for b in betas], cfg.finder, run)
     except KeyboardInterrupt:
         print(f"{prog}: interrupted; finished runs are cached in {args.cache}: run the same "
@@ -216,9 +216,9 @@ def _cmd_finder(args: argparse.Namespace) -> int:
         return 130
     finally:
         backend.close()
-    config = asdict(cfg.finder) | provenance_fields(fields, choice)
     out = FinderOutput(source="insect-gait finder: the settled fixed-point finder",
-                       config=config, cells=cells)  # fmt: skip
+                       config=cfg.finder, cells=cells,
+                       **provenance_fields(fields, choice))  # fmt: skip
     path.write_text(out.model_dump_json())
     for c in cells:
         states = ", ".join(f"{a.d31:.3f} ({a.gait})" for a in c.stable()) or "none confirmed"

@@ -13,7 +13,7 @@ from typing import Any
 from sim_core.cli.common import EXIT_USAGE, UsageError, one_line, out_file
 from sim_core.cli.model import add_model_args, choice_from_args, model_line
 from sim_core.cli.paper import add_backend_args, backend_from_args, cache_from_args
-from sim_core.cli.runflags import add_run_flags, run_fields, split_condition, validation_message
+from sim_core.cli.runflags import add_run_flags, run_fields, validation_message
 from sim_core.contract.results import BIFURCATION_FILE, RESULTS_DIR
 from sim_core.model.spec import numerics_problem, pin_problem
 
@@ -145,6 +145,7 @@ def check_probes(betas: list[float], cfg: Any, fields: dict[str, Any]) -> None:
     UsageError otherwise."""
     from pydantic import ValidationError
 
+    from sim_core.contract.template import RunTemplate
     from sim_core.paper.surface import Probe, probe_spec
 
     problem = pin_problem(cfg.d31_grid[0], fields.get("phase_reset", True))
@@ -153,7 +154,7 @@ def check_probes(betas: list[float], cfg: Any, fields: dict[str, Any]) -> None:
     try:
         for b in betas:
             for d in (cfg.d31_grid[0], cfg.d31_grid[-1]):
-                probe_spec(Probe(b, d, cfg.average_s), cfg, **fields)
+                probe_spec(Probe(b, d, cfg.average_s), cfg, RunTemplate.model_validate(fields))
     except ValidationError as exc:
         raise UsageError(validation_message(exc)) from None
     problem = numerics_problem(fields.get("integrator"), fields.get("dt_s"),
@@ -176,13 +177,13 @@ def _run(args: argparse.Namespace, prog: str) -> Any:
     """The surface the arguments ask for (a UsageError names what they got wrong), with the
     model's setting recorded beside the parameters the core records. Its progress bar is
     labelled with the command's name (`prog`'s last word)."""
+    from sim_core.contract.template import RunTemplate
     from sim_core.paper.surface import drift_surface
 
     cfg = surface_config(args)
     choice = choice_from_args(args)
     fields = run_fields(args)
     check_probes(args.beta, cfg, fields)
-    at, numerics = split_condition(fields)
     backend = backend_from_args(args, prog)
     if backend is None:
         return None
@@ -193,10 +194,9 @@ def _run(args: argparse.Namespace, prog: str) -> Any:
             backend=backend,
             config=cfg,
             params=choice.model_params(),
-            numerics=numerics,
+            template=RunTemplate.model_validate(fields),
             refine=not args.no_refine,
             progress=False if args.no_progress else prog.split()[-1],
-            **at,
         )
     except KeyboardInterrupt:
         say_interrupted(prog, args.cache)
@@ -248,7 +248,7 @@ def describe(surface: Any) -> str:
             f"{f.beta_hi:g}" + ("" if f.resolved else " (its last zero unresolved)")
         )
     lines.append(f"{surface.sim_s:.0f} simulated s in {len(surface.points)} probes")
-    floor = 1e3 * float(surface.config.get("floor_rad", float("nan")))
+    floor = 1e3 * surface.config.floor_rad
     lines += [WORDS[w].format(floor=floor) for w in WORDS if w in used]
     return "\n".join(lines)
 
@@ -300,6 +300,7 @@ def _cmd_check(args: argparse.Namespace) -> int:
 def _cmd_robust(args: argparse.Namespace, prog: str) -> int:
     import time
 
+    from sim_core.contract.template import RunTemplate
     from sim_core.paper.surface_check import ROBUST_BETAS, robust_surfaces, robust_table
 
     betas = ROBUST_BETAS if args.beta == list(CHECK_BETAS) else tuple(sorted(args.beta))
@@ -307,7 +308,6 @@ def _cmd_robust(args: argparse.Namespace, prog: str) -> int:
     choice = choice_from_args(args)
     fields = run_fields(args)
     check_probes(list(betas), cfg, fields)
-    at, numerics = split_condition(fields)
     backend = backend_from_args(args, prog)
     if backend is None:
         return EXIT_USAGE
@@ -315,8 +315,8 @@ def _cmd_robust(args: argparse.Namespace, prog: str) -> int:
     try:
         surfaces = robust_surfaces(betas, cache=cache_from_args(args), backend=backend,
                                    config=cfg, params=choice.model_params(),
-                                   progress=not args.no_progress, numerics=numerics,
-                                   **at)  # fmt: skip
+                                   progress=not args.no_progress,
+                                   template=RunTemplate.model_validate(fields))  # fmt: skip
     except KeyboardInterrupt:
         say_interrupted(prog, args.cache)
         return 130

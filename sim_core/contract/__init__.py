@@ -17,6 +17,8 @@ named here; what the instruments produce is defined here, each in a small module
   (`SurfaceAtlas`, the viewer's atlas panel);
 - `summaries`: a run's summary and record (`RunSummary`, `RunRecord`, generated from the run's
   records' fields) and a triangle sweep's (`SweepSummary`), the REST results' leaves;
+- `template`: the run template (`RunTemplate`: RunSpec bar what an instrument sets run by run),
+  from which every REST job and the instruments compose their runs' specs;
 - `returnmap`: the paper's Fig. 7 pairs (`ReturnMap`); `results`: where result files live;
   `values`: what the paper states; `defaults`: the model's default numerics and the grounds'
   words.
@@ -82,6 +84,7 @@ from sim_core.contract.surface import (
     SurfaceConfig,
 )
 from sim_core.contract.surface import grid as surface_grid
+from sim_core.contract.template import RunTemplate  # RunSpec bar the per-run fields
 from sim_core.contract.values import PAPER, PaperValues  # what the paper states: beside ours
 from sim_core.model.anatomy import LEG_NAMES
 from sim_core.model.cost import (

@@ -14,10 +14,17 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Annotated, Any, Literal
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import (
+    BaseModel,
+    BeforeValidator,
+    ConfigDict,
+    SerializerFunctionWrapHandler,
+    model_serializer,
+)
 
+from sim_core.contract.choice import Leaf
 from sim_core.contract.results import AtlasAxis
 
 # Settled finals closer than this (rad) are one attractor: 10x the spread of a settled tail
@@ -102,6 +109,21 @@ RunFn = Callable[[list[tuple[Cell, Probe]]], list[dict[str, Any]]]
 
 
 # --- the output schema (what reproduce, the REST kinds and the viewer read) --------------------
+# A file written before an option existed ran without it: its protocol reads as the option's
+# "off", not today's default (docs/figures/atlas_mass.json and atlas_slope.json were searched
+# before states were kicked or neighbours lent seeds; their states are "not checked").
+BEFORE_THE_OPTION: dict[str, Any] = {"kick_rad": 0.0, "neighbour_seeds": False}
+
+
+def _as_it_ran(value: Any) -> Any:
+    """A recorded protocol (a JSON object) with the options it predates off."""
+    return BEFORE_THE_OPTION | value if isinstance(value, dict) else value
+
+
+# The finder's protocol as an output records it: a `FinderConfig`, read as it ran.
+RecordedFinderConfig = Annotated[FinderConfig, BeforeValidator(_as_it_ran)]
+
+
 class _Model(BaseModel):
     model_config = ConfigDict(extra="forbid", frozen=True)
 
@@ -222,11 +244,27 @@ class CellResult(_Model):
 
 class FinderOutput(_Model):
     """The finder over a set of conditions: the one data file Figs. 7-8, the REST
-    `bifurcation` and `atlas` kinds and the viewer's panels read."""
+    `bifurcation` and `atlas` kinds and the viewer's panels read. A file made with other than
+    the defaults records how (`insect-gait finder`'s model and run flags): its ground, named
+    setting, model leaves and run fields off their defaults; a default file has none of them
+    (they are left out of its JSON, so it reads as it was written)."""
 
     source: str
-    config: dict[str, Any]
+    config: RecordedFinderConfig
     cells: list[CellResult]
+    ground: str | None = None  # None: the core's default ground
+    setting: str | None = None
+    params: dict[str, Leaf] = {}
+    run: dict[str, Leaf] = {}  # RunSpec fields off their defaults, shared by every run
+
+    @model_serializer(mode="wrap")
+    def _provenance_only_if_made(self, handler: SerializerFunctionWrapHandler) -> Any:
+        out = handler(self)
+        if isinstance(out, dict):
+            for k in ("ground", "setting", "params", "run"):
+                if not out.get(k):
+                    out.pop(k, None)
+        return out
 
 
 # --- the gait atlas's schema (`sim_core.paper.atlas` writes it; the REST kind and the viewer
@@ -261,6 +299,14 @@ class AtlasFold(_Model):
     half_width: float
 
 
+class AtlasGrid(_Model):
+    """What a finder atlas searched, as it records it: its grid and the finder's protocol."""
+
+    betas: list[float]
+    values: list[float]
+    finder: RecordedFinderConfig
+
+
 class AtlasOutput(_Model):
     """The finder over a beta x (body mass | slope) grid: regions, attractors, fold lines."""
 
@@ -275,7 +321,7 @@ class AtlasOutput(_Model):
     sweep_beta: float  # the paper's Fig. 9 sweeps run at this beta ...
     sweep_range: tuple[float, float]  # ... over this range of the axis (ours, `ReproduceConfig`)
     paper_direction: str
-    config: dict[str, Any]
+    config: AtlasGrid
 
     def cell(self, value_index: int, beta_index: int) -> CellResult:
         return self.cells[value_index * len(self.betas) + beta_index]

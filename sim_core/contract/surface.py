@@ -5,12 +5,14 @@ a surface file, without loading the physics engine."""
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, field
+from dataclasses import asdict, dataclass, field, fields
 from typing import Any
 
-from pydantic import BaseModel, ConfigDict
+from pydantic import BaseModel, ConfigDict, SerializerFunctionWrapHandler, field_serializer
 
 from sim_core.contract.choice import Leaf
+from sim_core.contract.finder import CLUSTER_TOL, FinderConfig
+from sim_core.contract.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
 from sim_core.model.spec import PIN_GAIN_PER_S
 
 
@@ -84,6 +86,44 @@ class SurfaceConfig:
 # 271 probes, 60% beyond the floor, 7 signs flipped; `python -m lab.campaigns.short_probes`).
 SHORT_PROBES = SurfaceConfig(settle_s=0.25, average_s=0.5, block_s=0.25, refine_average_s=1.5)
 
+# Starts near the paper's branches (Fig. 5): the metachronal at 1.9, the tripod from 3.0, not
+# 2.9: at beta 0.62 the tripod's basin border sits at 2.88-2.91 (finder 2.884, surface's
+# unstable zero 2.913), so a start at 2.9 would test the saddle, not the branch.
+PAPER_STARTS = (METACHRONAL_BRANCH, TRIPOD_BRANCH + 0.1)
+
+
+@dataclass(frozen=True)
+class WalkConfig:
+    """How an atlas cell's open spans are walked (`sim_core.paper.surface_walks`)."""
+
+    # the finder's lengths (`FinderConfig`): a try that stops if settled by then, else runs on
+    try_s: float = FinderConfig().bisect_duration_s
+    duration_s: float = FinderConfig().duration_s
+    # starts this far outside a span: a span's ends are probes whose drift already cleared the
+    # noise floor, and a free run's first cycles wander by ~0.01-0.02 rad from its start
+    margin_rad: float = 0.03
+    # starts closer than this are one walk (the finder's "one attractor" distance)
+    merge_rad: float = CLUSTER_TOL
+    paper_starts: tuple[float, ...] = PAPER_STARTS
+
+
+@dataclass(frozen=True)
+class SurfaceAtlasConfig(SurfaceConfig):
+    """A surface atlas's protocol as it records it: its surfaces' (`SurfaceConfig`), whether
+    they were refined, and how its cells were walked (None: not walked; then left out of the
+    file, as atlases without walks were written)."""
+
+    refine: bool = True
+    walks: WalkConfig | None = None
+
+    @classmethod
+    def of(
+        cls, config: SurfaceConfig, *, refine: bool, walks: WalkConfig | None
+    ) -> SurfaceAtlasConfig:
+        """The atlas's record of its surfaces' protocol `config`, refined or not, walked so."""
+        shared = {f.name: getattr(config, f.name) for f in fields(SurfaceConfig)}
+        return cls(**shared, refine=refine, walks=walks)
+
 
 class _Model(BaseModel):
     model_config = ConfigDict(frozen=True, extra="forbid")
@@ -149,7 +189,7 @@ class Fold(_Model):
 class DriftSurface(_Model):
     """The drift surface over betas x D, with what it says."""
 
-    config: dict[str, Any]
+    config: SurfaceConfig  # the probes' protocol (a key absent from an old file: its default)
     betas: list[float]
     points: list[SurfacePoint]
     zeros: list[SurfaceZero]
@@ -247,9 +287,18 @@ class SurfaceAtlas(_Model):
     points: list[AtlasPoint]  # value-major
     folds: list[tuple[float, Fold]]  # (axis value, fold over beta at that value)
     sim_s: float
-    config: dict[str, Any]
+    config: SurfaceAtlasConfig
     params: dict[str, Leaf] = {}  # as DriftSurface's: the model's leaves off their defaults
     setting: str | None = None
+
+    @field_serializer("config", mode="wrap")
+    def _walks_only_if_walked(
+        self, config: SurfaceAtlasConfig, handler: SerializerFunctionWrapHandler
+    ) -> Any:
+        out = handler(config)
+        if isinstance(out, dict) and out.get("walks") is None:
+            out.pop("walks", None)
+        return out
 
     @property
     def regions(self) -> list[list[str]]:

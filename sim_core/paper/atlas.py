@@ -15,7 +15,7 @@ interrupted atlas resumes where it stopped.
 
 from __future__ import annotations
 
-from dataclasses import asdict, dataclass, field, replace
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -24,6 +24,7 @@ from sim_core.contract.finder import (
     AXIS_PARAM,
     REGIONS,
     AtlasFold,
+    AtlasGrid,
     AtlasOutput,
     Cell,
     CellResult,
@@ -132,8 +133,7 @@ def atlas_search(cfg: AtlasConfig, run: RunFn, *, log: Any = None) -> AtlasOutpu
         values=list(cfg.values), cells=[c for row in rows for c in row],
         regions=[[region_of(c) for c in row] for row in rows], folds=atlas_folds(cfg, rows),
         sweep_beta=SWEEP_BETA, sweep_range=rng, paper_direction=PAPER_DIRECTION[cfg.axis],
-        config={"betas": list(cfg.betas), "values": list(cfg.values),
-                "finder": asdict(cfg.finder)},
+        config=AtlasGrid(betas=list(cfg.betas), values=list(cfg.values), finder=cfg.finder),
     )  # fmt: skip
 
 

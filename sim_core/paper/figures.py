@@ -19,7 +19,7 @@ from typing import Any
 import numpy as np
 
 from sim_core.contract.finder import Cell, FinderConfig, Probe
-from sim_core.contract.surface import SHORT_PROBES, SurfaceConfig, grid
+from sim_core.contract.surface import SHORT_PROBES, SurfaceConfig, WalkConfig, grid
 from sim_core.contract.values import FIGURES, METACHRONAL_BRANCH, PAPER, TRIPOD_BRANCH
 from sim_core.model.gait import (
     angle_diff,
@@ -37,7 +37,6 @@ from sim_core.paper.analysis import (
 )
 from sim_core.paper.returnmap import initial_values
 from sim_core.paper.search import probe_task
-from sim_core.paper.surface_walks import WalkConfig
 from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
 
 BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch counts as on it

@@ -187,7 +187,7 @@ def reproduce(
 def surface_section(study: SurfaceStudy, backend: Backend) -> str:
     """What the surface behind Figs. 7-8 cost, and the protocol's checks on a sample."""
     s = study.surface
-    floor = float(s.config.get("floor_rad", 3e-4))
+    floor = s.config.floor_rad
     return "\n".join([
         f"Figs. 7-8 read from the drift surface: {len(s.points)} probes ({s.sim_s:.0f} "
         f"simulated s) over {len(s.betas)} betas in {study.surface_wall_s:.0f} s wall; "

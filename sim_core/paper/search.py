@@ -8,21 +8,24 @@ and goes to whichever backend `reproduce` or `atlas` was given.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from typing import Any
 
 from sim_core.contract.finder import Cell, Probe, RunFn
+from sim_core.contract.template import RunTemplate
 from sim_core.model.params import ModelParams
-from sim_core.model.spec import RunSpec
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import Task, execute_chunk, run_task
 
 
-def probe_task(cell: Cell, probe: Probe, params: ModelParams | None, **fields: Any) -> Task:
-    """The task of one finder run (the start wrapped onto [0, 2 pi)); `fields`: RunSpec's
-    other fields, shared by every run of a search (its numerics, phase resetting, ...)."""
-    return run_task(RunSpec(**probe.spec_fields(), **cell.spec_fields(), **fields), params)
+def probe_task(
+    cell: Cell, probe: Probe, params: ModelParams | None, *, template: RunTemplate | None = None
+) -> Task:
+    """The task of one finder run: the run `template` (RunSpec's defaults if None; every field
+    but the per-run ones), the cell's beta, mass and slope and the probe's start and length on
+    top."""
+    return run_task((template or RunTemplate()).spec(**probe.spec_fields(), **cell.spec_fields()),
+                    params)  # fmt: skip
 
 
 def task_runner(
@@ -34,16 +37,14 @@ def task_runner(
     progress: bool | str = True,
     stats: RunStats | None = None,
     executor: Executor = execute_chunk,
-    fields: Mapping[str, Any] | None = None,
+    template: RunTemplate | None = None,
 ) -> RunFn:
-    """A `RunFn` for `find` that runs each round through the cache on `backend`, every run
-    with `fields` (RunSpec's fields besides the cell's and the probe's; none: the defaults,
-    whose runs keep their keys); `stats`, if given, accumulates what every round computed
-    and read from the cache."""
-    shared = dict(fields or {})
+    """A `RunFn` for `find` that runs each round through the cache on `backend`, every run on
+    `template` (`probe_task`); `stats`, if given, accumulates what every round computed and
+    read from the cache."""
 
     def run(batch: list[tuple[Cell, Probe]]) -> list[dict[str, Any]]:
-        tasks = [probe_task(c, p, params, **shared) for c, p in batch]
+        tasks = [probe_task(c, p, params, template=template) for c, p in batch]
         results, st = run_tasks(tasks, cache, backend, chunk_size, progress, executor)
         if stats is not None:
             stats.tasks += st.tasks

@@ -46,6 +46,7 @@ from sim_core.contract.surface import (
     SurfaceZero,
     grid,
 )
+from sim_core.contract.template import RunTemplate
 from sim_core.model.gait import angle_diff, circular_mean, drift_per_cycle, phase_jumps
 from sim_core.model.params import ModelParams, phi_aep
 from sim_core.model.spec import RunSpec
@@ -63,16 +64,16 @@ class Probe(NamedTuple):
     average_s: float
 
 
-def probe_spec(probe: Probe, cfg: SurfaceConfig, **fields: Any) -> RunSpec:
-    """The pinned run of `probe`: it starts on the gait family member D (eqs. 5-6) and walks
+def probe_spec(probe: Probe, cfg: SurfaceConfig, template: RunTemplate | None = None) -> RunSpec:
+    """The pinned run of `probe` on `template` (every field of the run but the per-run ones;
+    None: RunSpec's defaults): it starts on the gait family member D (eqs. 5-6) and walks
     `cfg.settle_s` plus its averaging time."""
-    return RunSpec(
+    return (template or RunTemplate()).spec(
         beta=probe.beta,
         d31_init=probe.d,
         pin_d31=probe.d,
         pin_gain_per_s=cfg.gain_per_s,
         duration_s=cfg.settle_s + probe.average_s,
-        **fields,
     )
 
 
@@ -360,7 +361,7 @@ def assemble(
         near += n
     branches, folds = branches_of(zeros, betas, cfg)
     return DriftSurface(
-        config=cfg.to_dict(),
+        config=cfg,
         betas=list(betas),
         points=list(points),
         zeros=zeros,
@@ -375,13 +376,6 @@ def assemble(
     )
 
 
-class Condition(NamedTuple):
-    """Where a surface's probes walk besides beta and D: body mass (g) and slope (deg)."""
-
-    body_mass_g: float = RunSpec.model_fields["body_mass_g"].default  # the paper's 3 g
-    slope_deg: float = RunSpec.model_fields["slope_deg"].default
-
-
 def drift_surface(
     betas: Sequence[float],
     *,
@@ -389,9 +383,7 @@ def drift_surface(
     backend: Backend | None = None,
     config: SurfaceConfig | None = None,
     params: ModelParams | None = None,
-    body_mass_g: float = 3.0,
-    slope_deg: float = 0.0,
-    numerics: Mapping[str, Any] | None = None,
+    template: RunTemplate | None = None,
     refine: bool = True,
     progress: bool | str = True,
     stats: RunStats | None = None,
@@ -407,9 +399,9 @@ def drift_surface(
             probes run (None: in this process, one batch after another).
         config: the probes' protocol (`SurfaceConfig()` if None).
         params: model parameters (defaults if None); its ground names the surface's.
-        body_mass_g, slope_deg: the body mass (g) and slope (deg) every probe walks at.
-        numerics: RunSpec's other fields every probe shares: the integrator, dt_s,
-            control_dt_s (the model's if absent), phase_reset, ... (RunSpec's defaults).
+        template: every field of the probes' runs but the per-run ones (`RunTemplate`: the
+            body mass, slope, numerics, phase resetting ...; RunSpec's defaults if None); a
+            probe adds its beta, start, pin and length (`probe_spec`).
         refine: bisect every zero's bracket and every dip of |d| down to
             `resolve_width_rad` (`bisection_probes`, at most `bisect_rounds` rounds), then
             (`band_pass`) probe finer and longer inside every zero still unresolved and every
@@ -425,45 +417,45 @@ def drift_surface(
         over beta the stable branches and their folds.
     """
     (surface,) = drift_surfaces(
-        betas, [Condition(body_mass_g, slope_deg)], cache=cache, backend=backend,
-        config=config, params=params, numerics=numerics, refine=refine, progress=progress,
-        stats=stats, on_progress=on_progress, executor=executor,
+        betas, [template or RunTemplate()], cache=cache, backend=backend, config=config,
+        params=params, refine=refine, progress=progress, stats=stats, on_progress=on_progress,
+        executor=executor,
     )  # fmt: skip
     return surface
 
 
 def drift_surfaces(
     betas: Sequence[float],
-    conditions: Sequence[Condition],
+    templates: Sequence[RunTemplate],
     *,
     cache: ResultCache | None = None,
     backend: Backend | None = None,
     config: SurfaceConfig | None = None,
     params: ModelParams | None = None,
-    numerics: Mapping[str, Any] | None = None,
     refine: bool = True,
     progress: bool | str = True,
     stats: RunStats | None = None,
     on_progress: Callable[[float], None] | None = None,
     executor: Executor = execute_chunk,
 ) -> list[DriftSurface]:
-    """`drift_surface` at each of `conditions` (body mass, slope), every pass of all of them
-    handed to the backend at once: one pool or cluster stays busy across an atlas's rows."""
+    """`drift_surface` on each of `templates` (an atlas's rows: a mass or slope each), every
+    pass of all of them handed to the backend at once: one pool or cluster stays busy across
+    an atlas's rows."""
     if cache is None:
         with tempfile.TemporaryDirectory(prefix="surface-") as tmp:
             return drift_surfaces(
-                betas, conditions, cache=ResultCache(tmp), backend=backend, config=config,
-                params=params, numerics=numerics, refine=refine, progress=progress,
-                stats=stats, on_progress=on_progress, executor=executor,
+                betas, templates, cache=ResultCache(tmp), backend=backend, config=config,
+                params=params, refine=refine, progress=progress, stats=stats,
+                on_progress=on_progress, executor=executor,
             )  # fmt: skip
     backend = backend or InlineBackend()
     cfg = config or SurfaceConfig()
     p = params or ModelParams()
-    conds = list(conditions)
+    conds = list(templates)
 
     def run(probes: list[list[Probe]], share: tuple[float, float]) -> list[list[SurfacePoint]]:
         tasks = [
-            [run_task(probe_spec(q, cfg, **c._asdict(), **(numerics or {})), p) for q in qs]
+            [run_task(probe_spec(q, cfg, c), p) for q in qs]
             for c, qs in zip(conds, probes, strict=True)
         ]
         flat = [t for ts in tasks for t in ts]
@@ -481,18 +473,12 @@ def drift_surfaces(
         ]
 
     def surfaces() -> list[DriftSurface]:
+        held = [c.spec() for c in conds]  # each template's fields, typed
         return [
-            assemble(
-                betas,
-                pts,
-                cfg,
-                sim_s=_sim_s(qs, cfg),
-                ground=p.contact.ground,
-                params=leaves,
-                **c._asdict(),
-            )
-            for c, pts, qs in zip(conds, points, probes, strict=True)
-        ]
+            assemble(betas, pts, cfg, sim_s=_sim_s(qs, cfg), ground=p.contact.ground,
+                     body_mass_g=h.body_mass_g, slope_deg=h.slope_deg, params=leaves)
+            for h, pts, qs in zip(held, points, probes, strict=True)
+        ]  # fmt: skip
 
     leaves = changed_leaves(p)  # what each surface records of the model
     probes = [grid_probes(betas, cfg) for _ in conds]

@@ -9,10 +9,8 @@ walks decide it (`surface_walks`), so the atlas agrees with walking at every cel
 from __future__ import annotations
 
 import tempfile
-from collections.abc import Callable, Mapping, Sequence
-from dataclasses import asdict
+from collections.abc import Callable, Sequence
 from pathlib import Path
-from typing import Any
 
 import matplotlib
 
@@ -26,14 +24,17 @@ from sim_core.contract.surface import (
     AtlasPoint,
     DriftSurface,
     SurfaceAtlas,
+    SurfaceAtlasConfig,
     SurfaceConfig,
+    WalkConfig,
     region,
 )
+from sim_core.contract.template import RunTemplate
 from sim_core.model.gait import classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
-from sim_core.paper.surface import Condition, drift_surfaces
-from sim_core.paper.surface_walks import WalkConfig, walk_cells, window_zeros
+from sim_core.paper.surface import drift_surfaces
+from sim_core.paper.surface_walks import walk_cells, window_zeros
 from sim_core.runs.backends import Backend, Executor, InlineBackend, RunStats
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk
@@ -71,8 +72,7 @@ def surface_atlas(
     backend: Backend | None = None,
     config: SurfaceConfig | None = None,
     params: ModelParams | None = None,
-    at: Condition | None = None,
-    numerics: Mapping[str, Any] | None = None,
+    template: RunTemplate | None = None,
     refine: bool = True,
     walks: WalkConfig | None = None,
     progress: bool | str = True,
@@ -82,8 +82,9 @@ def surface_atlas(
     executor: Executor = execute_chunk,
 ) -> SurfaceAtlas:
     """A drift surface over `betas` at each of `values` of `axis` ("mass": body_mass_g, g;
-    "slope": slope_deg, deg), the other held at `at`'s (default: 3 g, level), read as regions
-    and folds; `numerics` as `drift_surface`'s. All values' probes go to the backend
+    "slope": slope_deg, deg), on `template` (`drift_surface`'s: every field of the runs but the
+    per-run ones; RunSpec's defaults if None, so 3 g, level) with the axis's field at each
+    value, read as regions and folds. All values' probes go to the backend
     together, pass by pass (`drift_surfaces`), through the cache, so an interrupted atlas
     resumes; `on_value` hears each value's surface once all are done. With `walks`, every
     cell where an unresolved zero could change the region is decided by settled free walks
@@ -94,15 +95,15 @@ def surface_atlas(
         with tempfile.TemporaryDirectory(prefix="atlas-") as tmp:
             return surface_atlas(
                 axis, betas, values, cache=ResultCache(tmp), backend=backend, config=config,
-                params=params, at=at, numerics=numerics, refine=refine, walks=walks,
+                params=params, template=template, refine=refine, walks=walks,
                 progress=progress, stats=stats, on_value=on_value, on_progress=on_progress,
                 executor=executor,
             )  # fmt: skip
     cfg = config or SurfaceConfig()
     p = params or ModelParams()
     param = AXIS_PARAM[axis]
-    base = at or Condition()
-    conds = [base._replace(**{param: v}) for v in values]
+    base = template or RunTemplate()
+    rows = [base.replace(**{param: v}) for v in values]
     # the walks' share of the progress: about what they cost in a measured row (docs)
     split = 1.0 if walks is None else 0.7
 
@@ -112,17 +113,16 @@ def surface_atlas(
     # the bar's label on a terminal: "atlas" for the surfaces, "atlas walks" for the walks
     label = progress if isinstance(progress, str) else "atlas"
     surfaces = drift_surfaces(
-        betas, conds, cache=cache, backend=backend, config=config, params=p, numerics=numerics,
-        refine=refine, progress=label if progress else False, stats=stats,
-        on_progress=share(0.0, split),
+        betas, rows, cache=cache, backend=backend, config=config, params=p, refine=refine,
+        progress=label if progress else False, stats=stats, on_progress=share(0.0, split),
         executor=executor,
     )  # fmt: skip
     points: list[AtlasPoint] = []
     folds = []
     cells = []
-    for v, c, s in zip(values, conds, surfaces, strict=True):
+    for v, row, s in zip(values, rows, surfaces, strict=True):
         points += atlas_points(s, v)
-        cells += [(pt, s, c._asdict() | dict(numerics or {})) for pt in points[-len(s.betas) :]]
+        cells += [(pt, s, row) for pt in points[-len(s.betas) :]]
         folds += [(v, f) for f in s.folds if PAPER_WINDOW[0] <= f.d31 <= PAPER_WINDOW[1]]
         if on_value is not None:
             on_value(v, s)
@@ -144,9 +144,7 @@ def surface_atlas(
         points=points,
         folds=folds,
         sim_s=sum(s.sim_s for s in surfaces) + walk_s,
-        config=cfg.to_dict()
-        | {"refine": refine}
-        | ({} if walks is None else {"walks": asdict(walks)}),
+        config=SurfaceAtlasConfig.of(cfg, refine=refine, walks=walks),
         params=changed_leaves(p),
     )
 

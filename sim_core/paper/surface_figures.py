@@ -181,7 +181,7 @@ def table_rows(surface: DriftSurface, paper: PaperValues, beta_tol: float) -> li
 def _grid(surface: DriftSurface) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(betas, D grid, drift (nD, nb)) of the first pass (NaN where a probe was not used)."""
     betas = np.array(sorted(surface.betas))
-    ds = np.array(sorted(surface.config["d31_grid"]))
+    ds = np.array(sorted(surface.config.d31_grid))
     z = np.full((ds.size, betas.size), np.nan)
     bi = {round(b, 6): k for k, b in enumerate(betas)}
     di = {round(d, 6): k for k, d in enumerate(ds)}
@@ -231,7 +231,7 @@ def fig8_surface(
     norm = SymLogNorm(linthresh=1.0, vmin=-lim, vmax=lim, base=10)
     mesh = ax.pcolormesh(_edges(betas), _edges(ds), z, cmap="RdBu_r", norm=norm, shading="flat")
     fig.colorbar(mesh, ax=ax, label="drift of Δ31 per gait cycle (mrad; red: Δ31 grows)")
-    tol = float(surface.config.get("link_tol_rad", 0.12))
+    tol = surface.config.link_tol_rad
     for stable, style in ((True, "-"), (False, "--")):
         for chain in _chains(surface, stable, tol):
             xs, ys = [c.beta for c in chain], [c.d31 for c in chain]

@@ -27,11 +27,11 @@ from typing import Any
 import numpy as np
 
 from sim_core.contract.results import SURFACE_FILE
-from sim_core.contract.surface import AtlasPoint, AtlasWalk, DriftSurface, SurfaceConfig
+from sim_core.contract.surface import AtlasPoint, AtlasWalk, DriftSurface, SurfaceConfig, WalkConfig
+from sim_core.contract.template import RunTemplate
 from sim_core.contract.values import PaperValues
 from sim_core.model.gait import angle_diff, classify_gait, settling
 from sim_core.model.params import ModelParams
-from sim_core.model.spec import RunSpec
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.figures import FigureData, Lookup, ReproduceConfig, figure_tasks
 from sim_core.paper.returnmap import return_map_from_series
@@ -39,7 +39,7 @@ from sim_core.paper.surface import drift_surface
 from sim_core.paper.surface_atlas import atlas_points
 from sim_core.paper.surface_check import SAMPLE_BETAS, SAMPLE_D31, VariantRow, variant_rows
 from sim_core.paper.surface_figures import decided_ranges, fig7_rows, fig8_rows
-from sim_core.paper.surface_walks import WalkConfig, read_walk, walk_cells, walk_spec
+from sim_core.paper.surface_walks import read_walk, walk_cells, walk_spec
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk, run_task
@@ -134,15 +134,16 @@ def surface_study(
         ),
         "dt/2": drift_surface(
             SAMPLE_BETAS, config=sample, params=params, refine=False,
-            numerics={"dt_s": params.numerics.dt / 2}, **kw,
+            template=RunTemplate.model_validate({"dt_s": params.numerics.dt / 2}), **kw,
         ),
     }  # fmt: skip
     checks, ok = variant_rows(surface, variants, cfg.floor_rad)
     cells: list[AtlasPoint] = []
     off: list[OffGrid] = []
     if walks is not None:
-        mass_g = RunSpec().body_mass_g  # the surface's cells: the default body, level
-        cells = walk_cells([(pt, surface, {}) for pt in atlas_points(surface, mass_g)],
+        base = RunTemplate()  # the surface's cells: the default body, level
+        mass_g = base.spec().body_mass_g
+        cells = walk_cells([(pt, surface, base) for pt in atlas_points(surface, mass_g)],
                            cache=cache, backend=backend, params=params, config=walks,
                            chunk_size=cfg.chunk_size, progress="walks" if progress else False,
                            stats=stats, executor=executor)  # fmt: skip
@@ -191,7 +192,7 @@ def off_grid_checks(
     """Settled walks at betas off the grid beside every end of the decided tripod and
     metachronal ranges (`off_grid_betas`): does each hold its gait where the range says?"""
     plan = [(g, b, e, x) for g in ("tripod", "metachronal") for b, e, x in off_grid_betas(cells, g)]
-    tasks = [run_task(walk_spec(b, x, walks), params) for _, b, _, x in plan]
+    tasks = [run_task(walk_spec(b, x, walks, RunTemplate()), params) for _, b, _, x in plan]
     results, st = run_tasks(tasks, cache, backend, 1, False, executor)
     if stats is not None:
         for name in ("tasks", "computed", "cached", "compute_s"):
@@ -266,7 +267,7 @@ def free_runs_on_zeros(surface: DriftSurface, beta: float, finals: Sequence[floa
 
 def held(surface: DriftSurface, xs: Sequence[float]) -> list[float]:
     """The values of `xs` inside the surface's held range of Delta31 (rad)."""
-    grid = surface.config.get("d31_grid") or [0.0, 2 * np.pi]
+    grid = surface.config.d31_grid or (0.0, 2 * np.pi)
     return [x for x in xs if min(grid) <= x <= max(grid)]
 
 
@@ -278,7 +279,7 @@ def _fig7(
     carries the reproduction rows' inputs (`fig7_rows` and, per beta, ghosts and the settled
     free runs that no stable zero explains)."""
     s = study.surface
-    floor = float(s.config.get("floor_rad", 3e-4))
+    floor = s.config.floor_rad
     maps: list[dict[str, Any]] = []
     rows: list[list[Any]] = []
     summary: dict[str, Any] = {"pattern_rows": fig7_rows(s, paper, study.cells or None)}
@@ -336,7 +337,7 @@ def _fig8(
         ],
         "checks_ok": study.checks_ok,
         "checks_worst": worst,
-        "floor_rad": float(s.config.get("floor_rad", 3e-4)),
+        "floor_rad": s.config.floor_rad,
         "probes": len(s.points),
         "sim_s": s.sim_s,
         "surface_wall_s": study.surface_wall_s,

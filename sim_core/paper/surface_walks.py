@@ -25,15 +25,16 @@ from typing import Any
 
 import numpy as np
 
-from sim_core.contract.finder import CLUSTER_TOL, FinderConfig
+from sim_core.contract.finder import CLUSTER_TOL
 from sim_core.contract.surface import (
     AtlasPoint,
     AtlasWalk,
     DriftSurface,
     SurfaceZero,
+    WalkConfig,
     region,
 )
-from sim_core.contract.values import METACHRONAL_BRANCH, TRIPOD_BRANCH
+from sim_core.contract.template import RunTemplate
 from sim_core.model.gait import classify_gait, settling
 from sim_core.model.params import ModelParams
 from sim_core.model.spec import RunSpec
@@ -43,28 +44,9 @@ from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import Task, execute_chunk, run_task
 
-# Starts near the paper's branches (Fig. 5): the metachronal at 1.9, the tripod from 3.0, not
-# 2.9: at beta 0.62 the tripod's basin border sits at 2.88-2.91 (finder 2.884, surface's
-# unstable zero 2.913), so a start at 2.9 would test the saddle, not the branch.
-PAPER_STARTS = (METACHRONAL_BRANCH, TRIPOD_BRANCH + 0.1)
 # How finely a span's Delta31 is scanned for the gaits it could hold (`classify_gait`'s
 # borders move by ~0.02 rad per 0.01 of beta; 0.01 rad cannot step over a gait).
 SCAN_STEP_RAD = 0.01
-
-
-@dataclass(frozen=True)
-class WalkConfig:
-    """How an atlas cell's open spans are walked."""
-
-    # the finder's lengths (`FinderConfig`): a try that stops if settled by then, else runs on
-    try_s: float = FinderConfig().bisect_duration_s
-    duration_s: float = FinderConfig().duration_s
-    # starts this far outside a span: a span's ends are probes whose drift already cleared the
-    # noise floor, and a free run's first cycles wander by ~0.01-0.02 rad from its start
-    margin_rad: float = 0.03
-    # starts closer than this are one walk (the finder's "one attractor" distance)
-    merge_rad: float = CLUSTER_TOL
-    paper_starts: tuple[float, ...] = PAPER_STARTS
 
 
 def window_zeros(surface: DriftSurface, beta: float) -> list[SurfaceZero]:
@@ -123,11 +105,12 @@ def walk_starts(spans: Sequence[tuple[float, float]], cfg: WalkConfig) -> list[f
     return out
 
 
-def walk_spec(beta: float, start: float, cfg: WalkConfig, **fields: Any) -> RunSpec:
+def walk_spec(beta: float, start: float, cfg: WalkConfig, template: RunTemplate) -> RunSpec:
     """A free walk (no pin) from Delta31 = `start`: a `cfg.try_s` try, on to `cfg.duration_s`
-    only if it has not settled by then; `fields` are the cell's mass, slope and numerics."""
-    return RunSpec(beta=beta, d31_init=start, duration_s=cfg.duration_s,
-                   stop_if_settled_s=cfg.try_s, **fields)  # fmt: skip
+    only if it has not settled by then; `template` is the cell's run (its surface's template:
+    mass, slope, numerics and the rest)."""
+    return template.spec(beta=beta, d31_init=start, duration_s=cfg.duration_s,
+                         stop_if_settled_s=cfg.try_s)  # fmt: skip
 
 
 def read_walk(start: float, result: Mapping[str, Any], asked_s: float) -> AtlasWalk:
@@ -193,7 +176,7 @@ def decide(
 
 
 def walk_cells(
-    cells: Sequence[tuple[AtlasPoint, DriftSurface, Mapping[str, Any]]],
+    cells: Sequence[tuple[AtlasPoint, DriftSurface, RunTemplate]],
     *,
     cache: ResultCache,
     backend: Backend,
@@ -205,17 +188,17 @@ def walk_cells(
     on_progress: Callable[[float], None] | None = None,
     executor: Executor = execute_chunk,
 ) -> list[AtlasPoint]:
-    """Each (cell, its surface, its RunSpec fields besides beta and the start) decided: the
+    """Each (cell, its surface, its run template) decided: the
     walks of every cell that has an open span go to the backend as one batch; a cell with none
     comes back checked, unchanged."""
     cfg = config or WalkConfig()
     plans: list[list[tuple[float, Task]]] = []
     brackets: list[list[tuple[float, float] | None]] = []
-    for pt, surface, fields in cells:
+    for pt, surface, template in cells:
         b = pt.beta
         spans = open_spans(b, certain_gaits(surface, b), spans_at(surface, b))
         starts = walk_starts(spans, cfg)
-        plans.append([(x, run_task(walk_spec(b, x, cfg, **fields), params)) for x in starts])
+        plans.append([(x, run_task(walk_spec(b, x, cfg, template), params)) for x in starts])
         zs = [z for z in window_zeros(surface, b) if z.stable]
         brackets.append([None if z.resolved else (z.lo, z.hi) for z in zs])
     tasks = [t for plan in plans for _, t in plan]

@@ -135,4 +135,5 @@ def test_the_toy_atlas_walks_where_its_coarse_surface_hides_the_tripod(tmp_path:
     assert p.provenance == ["walk", "surface+walk"]
     assert sorted(w.start for w in p.walks) == [1.9, 2.57, 3.0, 3.33]
     assert walked.sim_s == plain.sim_s + sum(w.sim_s for w in p.walks)
-    assert walked.config["walks"]["duration_s"] == WalkConfig().duration_s
+    assert walked.config.walks == WalkConfig() and plain.config.walks is None
+    assert "walks" not in plain.model_dump()["config"]  # an atlas not walked says nothing

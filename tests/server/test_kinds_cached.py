@@ -46,7 +46,7 @@ def _before_issue_54(job: AnyJob) -> dict[str, Any]:
     no cache (the runners of the time, rebuilt from the core's public calls)."""
     params = job.model_params()
     if isinstance(job, RunJob | ReturnMapJob):
-        specs = [sim_core.RunSpec(beta=job.beta, d31_init=d, **job.run_fields())
+        specs = [job.spec(beta=job.beta, d31_init=d, duration_s=job.duration_s)
                  for d in job.d31_init]  # fmt: skip
         results = sim_core.simulate_batch(specs, params, nthread=1)
         summaries = [r.summary() for r in results]
@@ -68,7 +68,7 @@ def _before_issue_54(job: AnyJob) -> dict[str, Any]:
         ))  # fmt: skip
     if isinstance(job, SweepJob):
         pairs = [(b, d) for b in job.beta_range.values() for d in job.d31_init]
-        specs = sim_core.spec_grid(job.beta_range.values(), job.d31_init, **job.run_fields())
+        specs = [job.spec(beta=b, d31_init=d, duration_s=job.duration_s) for b, d in pairs]
         results = sim_core.simulate_batch(specs, params, nthread=1)
         records = [summary_row(d, r.summary()) | {"beta": b}
                    for (b, d), r in zip(pairs, results, strict=True)]  # fmt: skip
@@ -76,7 +76,7 @@ def _before_issue_54(job: AnyJob) -> dict[str, Any]:
         return stored(job, SweepJobResult(records=records, warnings=warnings))
     if isinstance(job, HysteresisJob):
         ramp = job.ramp
-        res = sim_core.sweep(sim_core.RunSpec(**job.run_fields()), parameter=ramp.param,
+        res = sim_core.sweep(job.start_spec(), parameter=ramp.param,
                              turn=ramp.turn, hold_s=ramp.hold_s, ramp_s=ramp.ramp_s,
                              params=params)  # fmt: skip
         turn_t = ramp.hold_s + ramp.ramp_s
@@ -88,8 +88,7 @@ def _before_issue_54(job: AnyJob) -> dict[str, Any]:
     assert isinstance(job, BifurcationJob)
 
     def rounds(batch: list[Any]) -> list[dict[str, Any]]:  # the finder's runner of the time
-        specs = [sim_core.RunSpec(**p.spec_fields(), **c.spec_fields(), **job.numerics_fields())
-                 for c, p in batch]  # fmt: skip
+        specs = [job.spec(**p.spec_fields(), **c.spec_fields()) for c, p in batch]
         results = sim_core.simulate_batch(specs, params, nthread=1)
         return [{"d31": r.events.d31.tolist(), "error": r.error,
                  "duration_s": r.measures.duration_s or p.duration_s}

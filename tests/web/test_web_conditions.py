@@ -98,8 +98,12 @@ def test_the_finder_cells_of_the_walks_conditions_only() -> None:
     mixed = out.model_copy(update={"cells": heavy + out.cells[half:]})
     six = finder_for(mixed, Conditions("constraint", 6.0, 0.0))
     assert six is not None and len(six.cells) == half
-    penalty = mixed.model_copy(update={"config": {**out.config, "ground": "penalty"}})
-    assert finder_for(penalty, TODAY) is None and finder_for(penalty, PAPER) is not None
+    # its config is the finder's protocol (`FinderConfig`), which names no ground: a file
+    # that names one there is refused, not read as walked on the default ground
+    named = json.loads(out.model_dump_json())
+    named["config"]["ground"] = "penalty"
+    with pytest.raises(ValueError, match="ground"):
+        FinderOutput.model_validate(named)
 
 
 def test_the_bifurcation_panel_says_which_conditions_the_file_holds(tmp_path: Path) -> None:

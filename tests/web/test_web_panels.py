@@ -303,7 +303,7 @@ def test_the_drift_surface_draws_its_zeros_bands_folds_and_first_pass_cells() ->
     assert re.search(r'class="link" data-kind="stable"(?![^>]*dasharray)', svg)
     assert re.search(r'class="link" data-kind="unstable"[^>]*stroke-dasharray', svg)
     # one cell per usable probe of the first pass; refinement probes lie off its grid
-    grid = {round(d, 6) for d in surface.config["d31_grid"]}
+    grid = {round(d, 6) for d in surface.config.d31_grid}
     cells = [p for p in surface.points
              if p.usable and p.drift is not None and round(p.pin_d31, 6) in grid]  # fmt: skip
     assert len(cells) < sum(p.usable for p in surface.points)
