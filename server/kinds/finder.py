@@ -72,10 +72,11 @@ class Finder(Physics):
 
 def finder_runner(job: Finder, compute: Compute) -> RunFn:
     """The finder's `run` (the contract's `RunFn`, what `find` takes): each round's runs as
-    tasks through the shared cache, each run's spec composed as the core's finder composes it (`probe_task`: the job's run template, a
-    cell's mass and slope and a probe's start and length on top; so a run with the default
-    numerics has the key `reproduce`'s finder gives it); progress as the share of the job's
-    estimated simulated time done, moving inside a round too, never back, at most `CAP`."""
+    tasks through the shared cache, each run's spec composed as the core's finder composes it
+    (`probe_task`: the job's run template, a cell's mass and slope and a probe's start and
+    length on top; so a run with the default numerics has the key `reproduce`'s finder gives
+    it); progress as the share of the job's estimated simulated time done, moving inside a
+    round too, never back, at most `CAP`."""
     budget = max(job.total_sim_seconds(), 1e-9)
     done = 0.0
     shown = ChunkProgress(compute.progress, runs=1)  # only its monotone, capped `show`
