@@ -143,15 +143,17 @@ def instruments(folder: Path) -> dict[str, Any]:
 
 def viewer() -> dict[str, Any]:
     """The viewer walking a spec that sets the option: the job body its panel offers to
-    submit, and its settings export."""
+    submit, its settings export, and that file read back (the spec a loaded file walks)."""
     from web.export import run_job, settings_json
-    from web.settings_file import JobInputs
+    from web.settings_file import JobInputs, load_settings
     from web.state import ViewerState
 
     state = ViewerState.of(spec_module.RunSpec.model_validate({"beta": 0.66, NAME: VALUE}))
     settings = state.settings(JobInputs(ramp=None, duration_s=1.0, api_url="http://x"))
-    exported = json.loads(settings_json(settings, made=state.provenance()))
-    return {"submit_body": _both(run_job(settings)), "export": _both(exported)}
+    file = settings_json(settings, made=state.provenance())
+    loaded = load_settings(file).spec().model_dump()
+    return {"submit_body": _both(run_job(settings)), "export": _both(json.loads(file)),
+            "loaded": _both(loaded)}  # fmt: skip
 
 
 def main(folder: Path) -> None:

@@ -2,7 +2,7 @@
 edited: `insect-gait run`'s flags, every REST job's schema in /openapi.json, a job's echoed spec
 and its result, the runs of the surface, atlas and bifurcation jobs (the drift surface's
 probes, the atlas's probes and walks, the finder's runs: each composed from the job's run
-template), and the viewer's job body and settings export.
+template), and the viewer's job body and settings export (and that file read back).
 
 The field is added in a fresh interpreter (tests/new_run_option.py: a subclass of the real
 RunSpec takes its place before anything else imports it, as a field declared in
@@ -23,13 +23,6 @@ from typing import Any
 import pytest
 
 REPO = Path(__file__).resolve().parents[1]
-# Not yet: the viewer's job body and settings file are built from a hand list of fields
-# (web/export.py `HELD_FIELDS` = the live sliders, plus d31_init and duration_s; `Settings`
-# and `load_settings` in web/settings_file.py name each field), though the walk keeps its whole
-# spec (`ViewerState.spec`): a new RunSpec field reaches neither. Strict: passing fails too.
-VIEWER_GAP = pytest.mark.xfail(
-    strict=True, reason="web/export.py and web/settings_file.py list the run's fields by hand"
-)
 
 
 @pytest.fixture(scope="module")
@@ -68,8 +61,9 @@ def _shown(report: dict[str, Any], path: str) -> Any:
         ("instruments.surface", "every run's"),  # every probe of a surface job
         ("instruments.atlas", "every run's"),  # every probe (and walk) of an atlas job
         ("instruments.bifurcation", "every run's"),  # every run of the finder
-        pytest.param("viewer.submit_body", "value", marks=VIEWER_GAP),
-        pytest.param("viewer.export", "value", marks=VIEWER_GAP),
+        ("viewer.submit_body", "value"),  # the run job the viewer's panel offers
+        ("viewer.export", "value"),  # the viewer's settings file
+        ("viewer.loaded", "value"),  # that file read back: the spec the walk restarts at
     ],
 )  # fmt: skip
 def test_a_new_run_option_reaches_the_edge(

@@ -20,8 +20,15 @@ from collections.abc import Iterable, Sequence
 from dataclasses import asdict
 from typing import Any
 
-from sim_core.contract import LEG_NAMES, EventConditions, ModelChoice, Ramp, RunSpec, provenance
-from web import controls
+from sim_core.contract import (
+    LEG_NAMES,
+    EventConditions,
+    ModelChoice,
+    Ramp,
+    RunSpec,
+    RunTemplate,
+    provenance,
+)
 from web.record import D31Event, Interval
 from web.settings_file import Settings, load_settings
 
@@ -122,34 +129,28 @@ def ramp_csv(
     return _csv((*D31_COLUMNS, "scheduled"), rows)
 
 
-# The run fields the viewer sets, as RunSpec (the contract) names them; the job bodies carry
-# these from a validated RunSpec, so a body holds what the core itself would run.
-HELD_FIELDS = controls.LIVE_NAMES
+def _tidy(v: Any) -> Any:
+    """A number to 1e-6 of its unit (a ramp's value is continuous: 3.015, not
+    3.0149999999999864); anything else as is."""
+    return round(v, 6) if isinstance(v, float) else v
 
 
-def _fields(spec: RunSpec, names: Sequence[str]) -> dict[str, Any]:
-    """RunSpec fields to 1e-6 of their unit (a ramp's value is continuous: 3.015, not
-    3.0149999999999864)."""
-    return {n: round(getattr(spec, n), 6) for n in names}
-
-
-def run_spec(s: Settings, **override: float) -> RunSpec:
-    """The contract's spec of the current walk (beta, mass, slope, the last start), checked by
-    the core's own rules; `override` replaces what a ramp sets."""
-    return RunSpec(
-        **({n: getattr(s, n) for n in HELD_FIELDS} | {"d31_init": s.d31_init} | override)
-    )
+def _fields(spec: RunSpec, per_run: Sequence[str]) -> dict[str, Any]:
+    """A job's run fields from a validated RunSpec: every field of the run template (the
+    server composes every job from the same `RunTemplate`, so no field is left behind) and
+    the per-run ones the job takes, so a body holds what the core itself would run."""
+    return {n: _tidy(getattr(spec, n)) for n in (*RunTemplate.model_fields, *per_run)}
 
 
 def run_job(s: Settings) -> dict[str, Any]:
-    """A `run` job at the current beta, mass and slope from the last initial Delta31, with its
-    time series (the viewer draws the job's Delta31 beside the live walk's)."""
-    spec = run_spec(s, duration_s=s.job_duration_s)
+    """A `run` job at the current settings from the last initial Delta31, with its time series
+    (the viewer draws the job's Delta31 beside the live walk's)."""
+    spec = s.spec(duration_s=s.job_duration_s)
     return {
         "kind": "run",
-        **_fields(spec, (*HELD_FIELDS, "duration_s")),
+        **_fields(spec, ("beta", "duration_s")),
         "d31_init": [round(spec.d31_init, 6)],  # the run job takes a list of starts
-        **s.choice().body(),  # ground, and setting and params where not the defaults
+        **s.model.body(),  # ground, and setting and params where not the defaults
         "include_series": True,
     }
 
@@ -157,12 +158,12 @@ def run_job(s: Settings) -> dict[str, Any]:
 def hysteresis_job(s: Settings, ramp: Ramp) -> dict[str, Any]:
     """The same ramp as a `hysteresis` job (the job holds the contract's `Ramp`, as `ramp`):
     the held parameters are the current ones, the ramped one starts at the ramp's start."""
-    spec = run_spec(s, **{ramp.param: ramp.start})
+    spec = s.spec(**{ramp.param: ramp.start})
     return {
         "kind": "hysteresis",
         "ramp": dataclasses.asdict(ramp),
-        **_fields(spec, (*HELD_FIELDS, "d31_init")),
-        **s.choice().body(),
+        **_fields(spec, ("beta", "d31_init")),
+        **s.model.body(),
     }
 
 
@@ -208,7 +209,10 @@ def settings_json(s: Settings, *, made: Provenance) -> bytes:
     """The settings in force, as a person reads them: "speed" is a multiple of real time or
     "max" (as fast as the machine steps), never null; "provenance": what made the walk's
     numbers (read back by nobody: a loaded file walks on today's physics)."""
-    out = asdict(s)
+    # flat: each run field by its RunSpec name, as a job body names it (`load_settings`)
+    out = s.run.model_dump(mode="json") | s.model.model_dump(mode="json")  # + ground, params
+    out |= {f.name: getattr(s, f.name) for f in dataclasses.fields(s)
+            if f.name not in ("run", "model")}  # fmt: skip
     out["provenance"] = dict(made)
     out["speed"] = "max" if s.speed is None else s.speed
     out["ramp"] = None if s.ramp is None else asdict(s.ramp)

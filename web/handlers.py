@@ -149,7 +149,8 @@ def _load(v: Viewer, req: LoadSettings) -> None:
         state.set(name, value)
         state.write[name] = value  # the sliders show what was loaded
     state.speed = s.speed
-    state.restart(s.d31_init, model=s.choice())  # its ground, setting and parameters
+    # its ground, setting and parameters, and every field of its run (phase_reset, ...)
+    state.restart(s.d31_init, model=s.choice(), run=s.run)
     v.panels.walk.show_d31_init(state.d31_init)
     v.panels.load(s)
 

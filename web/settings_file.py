@@ -2,17 +2,26 @@
 control takes, refused in the file's own terms.
 
 Apart from web/export.py (which writes it, with the job bodies and the CSV files) so that each
-stays a module a person reads at once; `Settings` is what both say.
+stays a module a person reads at once; `Settings` is what both say. The run is the core's own
+types: the walk's run template (`RunTemplate`: every field of RunSpec bar what a run sets for
+itself) and model choice (`ModelChoice`), and the per-run fields the viewer sets (beta, the
+initial Delta31, a job's duration), so a field added to RunSpec is in the file, read back and
+in every job body with no edit here. The file is flat (each field by its RunSpec name at the
+top level), so a file written before the template held more fields still loads: a field it
+lacks is at RunSpec's default.
 """
 
 from __future__ import annotations
 
 import json
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from sim_core.contract import GROUND_DEFAULT, ModelChoice, Ramp
+from pydantic import ValidationError
+
+from sim_core.contract import GROUND_DEFAULT, ModelChoice, Ramp, RunSpec, RunTemplate
 from web import controls
 from web.paths import DEFAULT_API_URL
 
@@ -21,9 +30,8 @@ from web.paths import DEFAULT_API_URL
 class Settings:
     """The viewer's state a person set, as the export and the job bodies say it."""
 
-    beta: float
-    body_mass_g: float
-    slope_deg: float
+    run: RunTemplate  # the walk's spec bar the per-run fields, live mass and slope included
+    beta: float  # now (a per-run field: the template leaves it out)
     d31_init: float  # of the last (re)start
     speed: float | None  # multiple of real time; None = as fast as possible
     time_s: float  # simulated time now
@@ -32,14 +40,29 @@ class Settings:
     ramp_started_at_s: float | None
     job_duration_s: float = 30.0
     api_url: str = DEFAULT_API_URL
-    ground: str = GROUND_DEFAULT  # `ModelParams.ground` of the walk (the jobs' `ground` too)
-    setting: str | None = None  # the named model setting of the walk (the jobs' too)
-    params: dict[str, Any] = field(default_factory=dict)  # leaves on top (the jobs' `params`)
+    # the walk's model parameters: ground, named setting, leaves (the jobs' too)
+    model: ModelChoice = field(default_factory=ModelChoice)
+
+    def spec(self, **override: Any) -> RunSpec:
+        """The contract's spec of the walk (its template, beta and the last start), checked by
+        the core's own rules; `override` replaces what a ramp or a job sets."""
+        return self.run.spec(**({"beta": self.beta, "d31_init": self.d31_init} | override))
 
     def choice(self) -> ModelChoice:
         """The walk's model parameters, as the contract's type (checked)."""
-        return ModelChoice.read({"ground": self.ground, "setting": self.setting,
-                                 "params": self.params})  # fmt: skip
+        return self.model
+
+    @property
+    def body_mass_g(self) -> float:
+        return self.spec().body_mass_g
+
+    @property
+    def slope_deg(self) -> float:
+        return self.spec().slope_deg
+
+    @property
+    def ground(self) -> str:
+        return self.model.ground
 
 
 @dataclass(frozen=True)
@@ -62,6 +85,38 @@ def speed_problem(speed: object) -> str:
     if isinstance(speed, str) and speed.endswith("x"):
         hint = f' (write {speed[:-1]}, a number, not "{speed}")'
     return f'speed: a multiple of real time ({allowed}) or "max", the file has {speed!r}{hint}'
+
+
+def _words(exc: ValidationError) -> str:
+    """A validation error in one line, each refused field by name ("dt_s: Input should...")."""
+    words = [f"{'.'.join(map(str, e['loc'])) or 'run'}: {e['msg']}" for e in exc.errors()]
+    return "; ".join(words).replace("Value error, ", "")
+
+
+def read_run(raw: Mapping[str, Any]) -> RunTemplate:
+    """The run template among the file's fields (RunSpec's names; one it lacks at RunSpec's
+    default), strict as a job (no "3" for 3, no "yes" for true); a ValueError naming each
+    refused field."""
+    try:
+        fields = {k: raw[k] for k in RunTemplate.model_fields if k in raw}
+        return RunTemplate.model_validate(fields, strict=True)
+    except ValidationError as exc:
+        raise ValueError(_words(exc)) from None
+
+
+def read_ramp(r: Any) -> Ramp | None:
+    """The file's ramp (None: none set up), of a parameter a slider drives."""
+    if r is None:
+        return None
+    try:
+        ramp = Ramp(r["param"], float(r["start"]), float(r["turn"]), float(r["hold_s"]),
+                    float(r["ramp_s"]))  # fmt: skip
+    except (KeyError, TypeError, ValueError) as exc:
+        raise ValueError(f"ramp: param, start, turn, hold_s and ramp_s expected ({exc})") from None
+    if ramp.param not in controls.RAMP_SLIDERS:
+        raise ValueError(f"ramp.param: one of {list(controls.RAMP_SLIDERS)}, the file has "
+                         f"{ramp.param!r}")  # fmt: skip
+    return ramp
 
 
 def load_settings(data: bytes) -> Settings:
@@ -94,24 +149,14 @@ def load_settings(data: bytes) -> Settings:
     if ground not in controls.GROUND_LABEL:
         raise ValueError(f"ground: one of {list(controls.GROUND_LABEL)}, the file has {ground!r}")
     model = ModelChoice.read(raw)  # setting and params, checked on the file's ground
-    ramp = None
-    r = raw.get("ramp")
-    if r is not None:
-        try:
-            ramp = Ramp(r["param"], float(r["start"]), float(r["turn"]), float(r["hold_s"]),
-                        float(r["ramp_s"]))  # fmt: skip
-        except (KeyError, TypeError, ValueError) as exc:
-            raise ValueError(
-                f"ramp: param, start, turn, hold_s and ramp_s expected ({exc})"
-            ) from None
-        if ramp.param not in controls.RAMP_SLIDERS:
-            raise ValueError(f"ramp.param: one of {list(controls.RAMP_SLIDERS)}, the file has "
-                             f"{ramp.param!r}")  # fmt: skip
-    return Settings(
-        beta=number("beta", controls.BETA),
-        body_mass_g=number("body_mass_g", controls.BODY_MASS_G),
-        slope_deg=number("slope_deg", controls.SLOPE_DEG),
-        d31_init=number("d31_init", lo=0.0, hi=2 * math.pi),
+    ramp = read_ramp(raw.get("ramp"))
+    # the live parameters in their sliders' ranges (RunSpec's own are wider)
+    live = {p.name: number(p.name, p.slider) for p in controls.LIVE}
+    d31_init = number("d31_init", lo=0.0, hi=2 * math.pi)
+    settings = Settings(
+        run=read_run(raw),
+        beta=live["beta"],
+        d31_init=d31_init,
         speed=None if speed == "max" else float(speed),
         time_s=0.0,
         ramp=ramp,
@@ -119,7 +164,10 @@ def load_settings(data: bytes) -> Settings:
         ramp_started_at_s=None,
         job_duration_s=number("job_duration_s", default=30.0, lo=1.0, hi=600.0),
         api_url=str(raw.get("api_url") or DEFAULT_API_URL),
-        ground=ground,
-        setting=model.setting,
-        params=dict(model.params),
+        model=model,
     )
+    try:
+        settings.spec()  # RunSpec's cross-field rules (the numerics), each refusal by name
+    except ValidationError as exc:
+        raise ValueError(_words(exc)) from None
+    return settings

@@ -17,7 +17,7 @@ from collections import deque
 from dataclasses import dataclass, field
 
 from sim_core import RunSpec, Simulation
-from sim_core.contract import ModelChoice, Ramp, RampParam
+from sim_core.contract import ModelChoice, Ramp, RampParam, RunTemplate
 from web import controls
 from web.conditions import Conditions
 from web.export import made_by
@@ -195,44 +195,48 @@ class ViewerState:
         self.sim.stop_ramp()
 
     def restart(
-        self, d31_init: float, ground: str | None = None, model: ModelChoice | None = None
-    ) -> None:
+        self, d31_init: float, ground: str | None = None, model: ModelChoice | None = None,
+        run: RunTemplate | None = None,
+    ) -> None:  # fmt: skip
         """A new walk from `d31_init` at the parameters in force, on `ground` (None: the
         same one) with `model`'s parameters (None: the ones in force, which another ground
-        keeps: a leaf the other ground lacks is refused, naming it); other parameters build a
-        new simulation; its record starts over."""
+        keeps: a leaf the other ground lacks is refused, naming it) and `run`'s fields (a
+        loaded file's; None: the walk's); others build a new simulation; the record restarts."""
         want = model or self.model
         if ground is not None and ground != want.ground:  # the other leaves kept, checked
             want = ModelChoice.read(want.model_dump() | {"ground": ground})
         self.stop_ramp()
-        self.d31_init = d31_init = controls.d31_init_value(d31_init)
-        if want == self.model:
-            self.sim.reset(d31_init=d31_init)
+        self.d31_init = controls.d31_init_value(d31_init)
+        now = self.now()
+        if run is not None:  # the file's fields; the walk's per-run ones (beta, the start)
+            now = run.spec(**{n: v for n, v in now if n not in RunTemplate.model_fields})
+        if want == self.model and now == self.now():
+            self.sim.reset(d31_init=self.d31_init)
         else:
-            sim = self.sim
-            live = {"beta": sim.beta, "body_mass_g": sim.body_mass_g, "slope_deg": sim.slope_deg,
-                    "d31_init": d31_init}  # fmt: skip
-            self.sim = Simulation(self.spec.model_copy(update=live), want.model_params())
-            self.model, self.model_words = want, want.words()
+            self.sim = Simulation(now, want.model_params())
+            self.spec, self.model, self.model_words = now, want, want.words()
         self.d31_conditions.clear()
         self.walk += 1
         self.clock.reset()
         self.error = None
         self.playing = True
 
+    def now(self) -> RunSpec:
+        """The walk's spec now: the one it started from, the live parameters in force on top."""
+        live = {name: self.sim.get(name) for name in controls.LIVE_NAMES}
+        return self.spec.model_copy(update=live | {"d31_init": self.d31_init})
+
     def settings(self, inputs: JobInputs) -> Settings:
-        """The walk's settings as the export and the job bodies say them."""
-        running, sim = self.ramp is not None, self.sim
+        """The walk's settings as the export and the job bodies say them: its whole spec (the
+        core's run template, the beta now and the last start) and its model parameters."""
+        running, now = self.ramp is not None, self.now()
         return Settings(
-            beta=sim.beta,
-            body_mass_g=sim.body_mass_g,
-            slope_deg=sim.slope_deg,
-            d31_init=self.d31_init,
+            run=RunTemplate.of(now),
+            beta=now.beta,
+            d31_init=now.d31_init,
             speed=self.speed,
-            time_s=sim.time_s,
-            ground=self.ground,
-            setting=self.model.setting,
-            params=dict(self.model.params),
+            time_s=self.sim.time_s,
+            model=self.model,
             ramp=self.ramp if running else inputs.ramp,  # the one running, else the one set up
             ramp_running=running,
             ramp_started_at_s=self.ramp_t0 if running else None,

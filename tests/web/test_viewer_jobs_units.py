@@ -19,6 +19,7 @@ from sim_core.contract import (
     EventConditions,
     ModelChoice,
     ModelParams,
+    RunTemplate,
     params_hash,
     provenance,
 )
@@ -154,7 +155,8 @@ def test_every_export_names_the_physics_that_made_it() -> None:
         [[(0.5, 0.7), (1.5, 1.6)]] + [[]] * 5, events, at[0], made=made).decode())))  # fmt: skip
     # each stance with the mass in force at the latest touchdown before it began
     assert [r["body_mass_g"] for r in foot] == ["3.0", "4.0"]
-    s = export.Settings(0.62, 3.0, 0.0, 2.09, 1.0, 0.0, None, False, None, ground="penalty")
+    s = export.Settings(RunTemplate(), 0.62, 2.09, 1.0, 0.0, None, False, None,
+                        model=ModelChoice(ground="penalty"))  # fmt: skip
     assert json.loads(export.settings_json(s, made=made))["provenance"] == made
 
 

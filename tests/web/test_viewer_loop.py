@@ -286,10 +286,25 @@ def test_paused_the_walk_steps_one_gait_cycle_at_a_time() -> None:
         app.stop()
 
 
+def test_a_restart_with_other_run_fields_builds_a_new_simulation_only_then() -> None:
+    """A loaded file's run (`restart(run=...)`): a field the walk does not have (phase resetting
+    off) builds a new simulation of it; the same fields restart the one there."""
+    from sim_core.contract import RunTemplate
+    from web.state import ViewerState
+
+    state = ViewerState.of()
+    first = state.sim
+    state.restart(2.0, run=RunTemplate.of(state.now()))
+    assert state.sim is first and state.spec.phase_reset
+    state.restart(2.5, run=RunTemplate(phase_reset=False))
+    assert state.sim is not first and state.spec.phase_reset is False
+    assert (state.spec.d31_init, state.sim.beta) == (2.5, first.beta)
+
+
 def test_loaded_settings_restart_the_walk_where_the_file_says() -> None:
     from dataclasses import replace
 
-    from sim_core.contract import Ramp
+    from sim_core.contract import ModelChoice, Ramp
     from web.export import load_settings, settings_json
     from web.requests import LoadSettings
 
@@ -297,13 +312,19 @@ def test_loaded_settings_restart_the_walk_where_the_file_says() -> None:
     try:
         app.step(0.05, time.perf_counter() + 600)
         now = app.state.settings(app.panels.job_inputs())
+        assert now.run.spec().phase_reset  # the walk resets its phases; the file says not
+        run = now.run.replace(body_mass_g=4.5, slope_deg=5.0, phase_reset=False)
         saved = replace(
-            now, beta=0.62, body_mass_g=4.5, slope_deg=5.0, d31_init=3.0, speed=None,
-            ground="penalty", ramp=Ramp("body_mass_g", 3.0, 6.0, 2.0, 10.0), job_duration_s=45.0,
+            now, run=run, beta=0.62, d31_init=3.0, speed=None, model=ModelChoice(ground="penalty"),
+            ramp=Ramp("body_mass_g", 3.0, 6.0, 2.0, 10.0), job_duration_s=45.0,
         )  # fmt: skip
+        walked = app.state.sim
         app.apply(LoadSettings(load_settings(settings_json(saved, made=app.state.provenance()))))
         sim = app.state.sim
         assert (sim.beta, sim.body_mass_g, sim.slope_deg, sim.time_s) == (0.62, 4.5, 5.0, 0.0)
+        # every field of the file's run reaches the walk, and the next export
+        assert sim is not walked and app.state.spec.phase_reset is False  # a new simulation
+        assert app.state.settings(app.panels.job_inputs()).run == run
         assert (app.state.ground, app.state.d31_init, app.state.speed) == ("penalty", 3.0, None)
         assert app.panels.ramp.param_name == "body_mass_g" and app.panels.ramp.turn.value == 6.0
         assert (

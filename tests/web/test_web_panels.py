@@ -181,8 +181,11 @@ def test_the_footfall_export_is_the_records_stance_intervals() -> None:
 
 
 def _settings(**kw: Any) -> export.Settings:
-    base = dict(beta=0.66, body_mass_g=3.0, slope_deg=0.0, d31_init=2.09, speed=1.0,
-                time_s=12.0, ramp=None, ramp_running=False, ramp_started_at_s=None)  # fmt: skip
+    from sim_core.contract import RunTemplate
+
+    run = RunTemplate(body_mass_g=kw.pop("body_mass_g", 3.0), slope_deg=kw.pop("slope_deg", 0.0))
+    base = dict(run=run, beta=0.66, d31_init=2.09, speed=1.0, time_s=12.0, ramp=None,
+                ramp_running=False, ramp_started_at_s=None)  # fmt: skip
     return export.Settings(**{**base, **kw})
 
 

@@ -353,19 +353,23 @@ def test_a_turned_insect_is_explained_not_left_to_guess() -> None:
 def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
     import json
 
-    from sim_core.contract import Ramp
+    from sim_core.contract import ModelChoice, Ramp, RunTemplate
     from web.export import Settings, load_settings, made_by, settings_json
 
     s = Settings(
-        beta=0.62, body_mass_g=4.5, slope_deg=-7.5, d31_init=3.0, speed=None, time_s=12.0,
+        run=RunTemplate(body_mass_g=4.5, slope_deg=-7.5, phase_reset=False, integrator="rk4",
+                        dt_s=1e-4),
+        beta=0.62, d31_init=3.0, speed=None, time_s=12.0,
         ramp=Ramp("beta", 0.70, 0.62, 5.0, 20.0), ramp_running=False, ramp_started_at_s=None,
-        job_duration_s=45.0, api_url="http://h:1", ground="penalty", setting="soft_legs",
-        params={"ground_stiffness": 1000.0},
+        job_duration_s=45.0, api_url="http://h:1",
+        model=ModelChoice(ground="penalty", setting="soft_legs",
+                          params={"ground_stiffness": 1000.0}),
     )  # fmt: skip
     made = made_by(s.choice())
     back = load_settings(settings_json(s, made=made))
     assert (back.beta, back.body_mass_g, back.slope_deg, back.d31_init) == (0.62, 4.5, -7.5, 3.0)
     assert back.speed is None and back.ground == "penalty" and back.ramp == s.ramp
+    assert back.run == s.run  # every field of the run, phase_reset and the numerics too
     assert back.choice() == s.choice()  # the model parameters come back too
     # ... and go into every job body the file offers
     bodies = json.loads(settings_json(s, made=made))["jobs"]
@@ -375,6 +379,8 @@ def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
         "params": {"ground_stiffness": 1000.0},
     }
     assert bodies["hysteresis"]["params"] == {"ground_stiffness": 1000.0}
+    for body in bodies.values():  # ... and so does every field of the run
+        assert body | s.run.model_dump() == body
     assert (back.job_duration_s, back.api_url) == (45.0, "http://h:1")
     raw = json.loads(settings_json(s, made=made))
     for key, value, words in (
@@ -388,11 +394,45 @@ def test_exported_settings_load_back_and_a_bad_file_names_its_field() -> None:
         ("params", {"kp_lift": -1.0}, "params: kp_lift: Input should be greater than 0"),
         ("setting", "stiff", "setting: no model setting 'stiff'"),
         ("ground", "constraint", "ground_stiffness is a parameter of the penalty ground only"),
+        ("phase_reset", "no", "phase_reset: Input should be a valid boolean"),
+        ("control_dt_s", 1e-5, r"control_dt_s \(1e-05\) must be >= dt_s"),  # RunSpec's rule
     ):
         with pytest.raises(ValueError, match=words):
             load_settings(json.dumps(raw | {key: value}).encode())
     with pytest.raises(ValueError, match="not JSON"):
         load_settings(b"beta,0.62\n")
+
+
+# A settings file as the viewer wrote it before the file held the whole run template (beta, mass,
+# slope and start by hand; the model choice; the job bodies of then).
+OLD_FILE = """{"beta": 0.62, "body_mass_g": 4.5, "slope_deg": -7.5, "d31_init": 3.0, "speed": "max",
+ "time_s": 12.0, "ramp": {"param": "beta", "start": 0.7, "turn": 0.62, "hold_s": 5.0,
+ "ramp_s": 20.0}, "ramp_running": false, "ramp_started_at_s": null, "job_duration_s": 45.0,
+ "api_url": "http://h:1", "ground": "penalty", "setting": null, "params": {"kp_lift": 0.001},
+ "provenance": {"physics_version": "x", "params_hash": "y", "ground": "penalty", "dt_s": 5e-05,
+ "params": "{}"}, "jobs": {"run": {"kind": "run", "beta": 0.62, "body_mass_g": 4.5,
+ "slope_deg": -7.5, "duration_s": 45.0, "d31_init": [3.0], "ground": "penalty",
+ "include_series": true}}, "jobs_url": "http://h:1/v1/jobs"}"""
+
+
+def test_a_settings_file_of_the_old_format_still_loads() -> None:
+    """A field the old file lacks is at RunSpec's default; what it says comes back."""
+    import json
+
+    from sim_core.contract import RunTemplate
+    from web.export import load_settings, run_job
+
+    s = load_settings(OLD_FILE.encode())
+    assert (s.beta, s.body_mass_g, s.slope_deg, s.d31_init, s.speed) == (0.62, 4.5, -7.5, 3.0, None)
+    assert s.run == RunTemplate(body_mass_g=4.5, slope_deg=-7.5)  # the rest at the defaults
+    assert s.spec() == RunSpec(beta=0.62, body_mass_g=4.5, slope_deg=-7.5, d31_init=3.0)
+    assert (s.ground, s.model.params, s.job_duration_s, s.api_url) == (
+        "penalty", {"kp_lift": 0.001}, 45.0, "http://h:1")  # fmt: skip
+    assert s.ramp is not None and (s.ramp.param, s.ramp.turn) == ("beta", 0.62)
+    # its run job is the old one's, with every field of the run the old one left to the API
+    old_body = json.loads(OLD_FILE)["jobs"]["run"]
+    assert run_job(s) == old_body | RunTemplate(body_mass_g=4.5, slope_deg=-7.5).model_dump() | {
+        "params": {"kp_lift": 0.001}}  # fmt: skip
 
 
 def test_the_d31_history_marks_what_a_person_changed_and_each_ramp_phase() -> None:
