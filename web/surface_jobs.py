@@ -121,17 +121,21 @@ class SurfaceJobs:
             job = api_json(f"{api}/v1/jobs", surface_job_body(want, model), self.timeout_s)
             while True:
                 view = view_of(job, api, key=0)  # one job per condition: no list key
-                self._set(key, view)
                 if job["status"] in TERMINAL:
                     break
+                self._set(key, view)
                 time.sleep(self.poll_s)
                 job = api_json(view.url, None, self.timeout_s)
-            if job["status"] == "done":
-                answer = api_json(f"{view.url}/result", None, 60.0)
-                surface, note = surface_of(answer, want, model)
-                if surface is None:
-                    self._set(key, replace(view, status="failed", message=note))
-                else:
-                    self._set(key, view, surface)
+            # a finished job is published with its surface, never before it: between the two
+            # the panel would offer to compute the surface being fetched (a second job)
+            if job["status"] != "done":
+                self._set(key, view)
+                return
+            answer = api_json(f"{view.url}/result", None, 60.0)
+            surface, note = surface_of(answer, want, model)
+            if surface is None:
+                self._set(key, replace(view, status="failed", message=note))
+            else:
+                self._set(key, view, surface)
         except Exception as exc:  # the API absent, refusing, or answering nonsense
             self._set(key, replace(view, status="unreachable", message=api_failure(exc)))
