@@ -126,6 +126,8 @@ def reproduce(
     t0 = time.perf_counter()
     p = params or ModelParams()
     figs = expand(figures)
+    if doc is not None:  # before the work, not after it: say now where the table cannot go
+        _check_doc(doc.read_text(), surface="7" in figs or "8" in figs)
     tasks: list[Task] = [t for f in figs for t in figure_tasks(f, cfg, p)]
     cache = ResultCache(cache_dir)
     results, stats = run_tasks(tasks, cache, backend, cfg.chunk_size, progress, executor)
@@ -182,6 +184,15 @@ def reproduce(
             text = replace_section(text, "surface", surface_section(study, backend))
         doc.write_text(text)
     return Report(figs, files, stats, wall, table, summaries)
+
+
+def _check_doc(text: str, *, surface: bool) -> None:
+    """The doc holds the sections a run will write (the table; with Figs. 7-8 the surface's),
+    else a ValueError naming the missing markers."""
+    for name in ("reproduce", "surface") if surface else ("reproduce",):
+        begin, end = markers(name)
+        if begin not in text or end not in text:
+            raise ValueError(f"the document has no {begin} ... {end} section for reproduce")
 
 
 def surface_section(study: SurfaceStudy, backend: Backend) -> str:

@@ -95,8 +95,7 @@ def fig7_rows(
     map is bistable (two stable points, no gait named), they are a tripod and a metachronal
     state; a match with a near-zero band in the window (which may hide a narrow pair of zeros)
     is only "partly". With `cells` decided by walks (issue 52, point 1), a stable state only a
-    walk found is named and breaks the match (the pattern lacks it), and a band the walks
-    decided without finding one no longer makes it "partly"."""
+    walk found is named and breaks the match (the pattern lacks it)."""
     rows: list[Row] = []
     for beta, pat, gait in paper.fixed_points:
         label = f"Fig. 7: fixed points at β = {beta}"
@@ -127,7 +126,7 @@ def fig7_rows(
                 ours += "; settled walks add " + ", ".join(
                     f"{x:.2f} ({classify_gait(x, beta)})" for x in walked
                 )
-            ok, hidden = ok and not walked, hidden and cell.undecided
+            ok = ok and not walked  # a band stays "partly": walks cannot see an unstable zero
         rows.append((label, want, ours, "partly" if hidden else "yes" if ok else "**no**"))
     return rows
 

@@ -262,3 +262,17 @@ def test_a_slope_sweep_that_turned_says_so_and_shows_the_paper_ground_beside_it(
     ours = rows["Fig. 9b: slope"][2]
     assert "turned up to 97 deg" in ours and "Paper's ground: uphill: metachronal" in ours
     assert ours.count("turned") == 1  # the paper's ground kept its heading (0.8 deg)
+
+
+def test_reproduce_refuses_a_doc_without_its_sections_before_running(tmp_path: Path) -> None:
+    """A doc missing the surface's markers is refused before any simulation (it used to fail
+    after the whole run, losing the table's update)."""
+    doc = tmp_path / "doc.md"
+    doc.write_text(f"{DOC_BEGIN}\n{DOC_END}\n")
+
+    def no_runs(*_: object) -> object:
+        raise AssertionError("a simulation ran")
+
+    with pytest.raises(ValueError, match="surface:begin"):
+        reproduce(["8"], ReproduceConfig.quick(), tmp_path / "out", tmp_path / "cache",
+                  InlineBackend(), doc=doc, progress=False, executor=no_runs)  # fmt: skip
