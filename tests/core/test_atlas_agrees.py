@@ -1,10 +1,14 @@
 """The README's headline point, read three ways: at beta 0.62, 3 g, today's contact
 ("constraint" ground), the atlas's cell (surface plus deciding walks, as `insect-gait atlas`
 computes it), the drift-surface panel's file (docs/figures/surface.json) and a settled walk
-from Delta31 = 3.0 name the same stable gaits (issue 55, D2)."""
+from Delta31 = 3.0 name the same stable gaits (issue 55, D2). Since reproduce's short probes
+(issue 54) the panel's surface leaves the tripod's narrow pair at 0.62 in a near-zero band
+(it cannot tell there, and says so) and reproduce's own walks decide it (issue 52, point 1:
+docs/figures/fig8.json's cells): a gait the panel lacks must lie where it cannot tell."""
 
 from __future__ import annotations
 
+import json
 from dataclasses import replace
 from pathlib import Path
 
@@ -21,6 +25,22 @@ from sim_core.runs.cache import ResultCache
 
 SURFACE_JSON = Path(__file__).resolve().parents[2] / "docs" / "figures" / "surface.json"
 BETA = 0.62
+
+
+def _cannot_tell(surface: DriftSurface, beta: float) -> list[tuple[float, float]]:
+    """Where the panel's surface cannot tell at `beta`: its unresolved zeros' brackets and its
+    near-zero bands."""
+    spans = [(z.lo, z.hi) for z in surface.zeros_at(beta) if not z.resolved]
+    return spans + [(n.lo, n.hi) for n in surface.near_zeros if abs(n.beta - beta) < 1e-9]
+
+
+def _agrees(gaits: set[str], stable: list[float], surface: DriftSurface) -> bool:
+    """The panel names the same gaits, or each it lacks sits where it cannot tell."""
+    panel = {classify_gait(z.d31, BETA) for z in window_zeros(surface, BETA) if z.stable}
+    spans = _cannot_tell(surface, BETA)
+    missing = [x for x in stable if classify_gait(x, BETA) not in panel]
+    return panel <= gaits and all(any(a - 0.03 <= x <= b + 0.03 for a, b in spans)
+                                  for x in missing)  # fmt: skip
 
 
 @pytest.mark.slow
@@ -48,8 +68,8 @@ def test_atlas_surface_and_a_walk_from_3_name_the_same_gaits_at_beta_062(tmp_pat
     assert settled.settled and settled.final is not None, settled.why
     gait = classify_gait(settled.final, BETA)
 
-    assert set(cell.gaits) == panel, (cell, panel)
-    assert gait in panel and gait == "tripod"
+    assert _agrees(set(cell.gaits), cell.stable, surface), (cell, panel)
+    assert gait in cell.gaits and gait == "tripod"
     # the walk's state is one the atlas lists (within the finder's one-attractor distance)
     assert any(abs(x - settled.final) <= 0.05 for x in cell.stable), (cell.stable, settled)
 
@@ -64,8 +84,11 @@ def test_the_committed_atlas_the_surface_panel_and_a_walk_from_3_agree_at_beta_0
     )
     (cell,) = [p for p in atlas.points if abs(p.beta - BETA) < 1e-9 and p.value == 3.0]
     surface = DriftSurface.model_validate_json(SURFACE_JSON.read_text())
-    panel = {classify_gait(z.d31, BETA) for z in window_zeros(surface, BETA) if z.stable}
-    assert set(cell.gaits) == panel and not cell.undecided, (cell, panel)
+    assert _agrees(set(cell.gaits), cell.stable, surface) and not cell.undecided, cell
+    # reproduce's cell at 0.62, decided by its own walks, names the atlas's gaits
+    fig8 = json.loads((SURFACE_JSON.parent / "fig8.json").read_text())["data"]["cells"]
+    (decided,) = [c for c in fig8 if abs(c["beta"] - BETA) < 1e-9]
+    assert set(decided["gaits"]) == set(cell.gaits), (decided, cell)
 
     walk = simulate(
         RunSpec(beta=BETA, d31_init=3.0, duration_s=WalkConfig().duration_s,
@@ -73,5 +96,6 @@ def test_the_committed_atlas_the_surface_panel_and_a_walk_from_3_agree_at_beta_0
     )  # fmt: skip
     settled = settling(walk.events.d31)
     assert settled.settled and settled.final is not None, settled.why
-    assert classify_gait(settled.final, BETA) in panel
+    assert classify_gait(settled.final, BETA) in cell.gaits
     assert any(abs(x - settled.final) <= 0.05 for x in cell.stable), (cell.stable, settled)
+    assert any(abs(x - settled.final) <= 0.05 for x in decided["stable"]), decided
