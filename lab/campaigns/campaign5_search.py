@@ -17,6 +17,7 @@ import json
 import os
 import tempfile
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -51,25 +52,27 @@ def _space(ground: str) -> dict[str, Range]:
     return SPACE5 | (CONSTRAINT_SPACE if ground == "constraint" else PENALTY_SPACE)
 
 
-def distributions(ground: str) -> dict[str, Any]:
+def distributions(ground: str, space: Callable[[str], dict[str, Range]] = _space) -> dict[str, Any]:
+    """optuna's distributions of a trial on `ground` (`space`: the ranges on each ground)."""
     import optuna
 
     d: dict[str, Any] = {
         "ground": optuna.distributions.CategoricalDistribution(GROUNDS),
         "trajectory_frame": optuna.distributions.CategoricalDistribution(FRAMES),
     }
-    for n, r in _space(ground).items():
+    for n, r in space(ground).items():
         d[n] = optuna.distributions.FloatDistribution(r.low, r.high, log=r.log)
     return d
 
 
-def suggest(trial: Any) -> dict[str, Any]:
+def suggest(trial: Any, space: Callable[[str], dict[str, Range]] = _space) -> dict[str, Any]:
+    """A trial's values: the ground, the trajectories' frame and `space(ground)`'s ranges."""
     ground = trial.suggest_categorical("ground", GROUNDS)
     values: dict[str, Any] = {
         "ground": ground,
         "trajectory_frame": trial.suggest_categorical("trajectory_frame", FRAMES),
     }
-    for n, r in _space(ground).items():
+    for n, r in space(ground).items():
         values[n] = trial.suggest_float(n, r.low, r.high, log=r.log)
     return values
 
@@ -131,15 +134,22 @@ def rescore(row: dict[str, Any]) -> dict[str, Any]:
 def reseed(study: Any, path: Path) -> int:
     """Add the exported trials, re-read by `rescore`, to an empty study (a fresh machine, or
     after a reading of the margins changed)."""
+    rows = [rescore(r) for r in json.loads(path.read_text())["trials"]]
+    return add_trials(study, rows)
+
+
+def add_trials(
+    study: Any, rows: list[dict[str, Any]], space: Callable[[str], dict[str, Range]] = _space
+) -> int:
+    """The completed exported `rows` added to `study` (their distributions from `space`)."""
     import optuna
 
-    rows = [rescore(r) for r in json.loads(path.read_text())["trials"]]
     n = 0
     for r in rows:
         if r["state"] != "COMPLETE":
             continue
         study.add_trial(optuna.trial.create_trial(
-            params=r["params"], distributions=distributions(r["params"]["ground"]),
+            params=r["params"], distributions=distributions(r["params"]["ground"], space),
             value=r["value"], user_attrs=r["user_attrs"],
         ))  # fmt: skip
         n += 1

@@ -25,12 +25,10 @@ from pathlib import Path
 from typing import Any
 
 from lab.calibrate import reachable
-from lab.campaigns.campaign5_search import export
+from lab.campaigns.campaign5_search import add_trials, export, suggest
 from lab.space import Range
 from lab.surface_search import (
     CONSTRAINT_SPACE,
-    FRAMES,
-    GROUNDS,
     PENALTY_SPACE,
     SPACE5,
     coordinates,
@@ -86,29 +84,6 @@ def point_of(p: ModelParams) -> dict[str, Any]:
     return out
 
 
-def distributions(ground: str) -> dict[str, Any]:
-    import optuna
-
-    d: dict[str, Any] = {
-        "ground": optuna.distributions.CategoricalDistribution(GROUNDS),
-        "trajectory_frame": optuna.distributions.CategoricalDistribution(FRAMES),
-    }
-    for n, r in _space(ground).items():
-        d[n] = optuna.distributions.FloatDistribution(r.low, r.high, log=r.log)
-    return d
-
-
-def suggest(trial: Any) -> dict[str, Any]:
-    ground = trial.suggest_categorical("ground", GROUNDS)
-    values: dict[str, Any] = {
-        "ground": ground,
-        "trajectory_frame": trial.suggest_categorical("trajectory_frame", FRAMES),
-    }
-    for n, r in _space(ground).items():
-        values[n] = trial.suggest_float(n, r.low, r.high, log=r.log)
-    return values
-
-
 def _clip(point: dict[str, Any]) -> dict[str, Any]:
     """A starting point inside the box (a default that sits on an edge stays there)."""
     out = dict(point)
@@ -126,18 +101,7 @@ def starting_points() -> list[dict[str, Any]]:
 
 def reseed(study: Any, path: Path) -> int:
     """Add the exported trials to an empty study (a fresh machine)."""
-    import optuna
-
-    n = 0
-    for r in json.loads(path.read_text())["trials"]:
-        if r["state"] != "COMPLETE":
-            continue
-        study.add_trial(optuna.trial.create_trial(
-            params=r["params"], distributions=distributions(r["params"]["ground"]),
-            value=r["value"], user_attrs=r["user_attrs"],
-        ))  # fmt: skip
-        n += 1
-    return n
+    return add_trials(study, json.loads(path.read_text())["trials"], _space)
 
 
 def main() -> None:
@@ -169,7 +133,7 @@ def main() -> None:
 
     def objective(trial: Any) -> float:
         t0 = time.perf_counter()
-        values = suggest(trial)
+        values = suggest(trial, _space)
         try:
             params = params_of(values)
         except ValueError as exc:
