@@ -57,6 +57,9 @@ FOLD_STEP = 0.015  # a fold beyond the betas' ends is read this far outside them
 FAILED_SCORE = 2.0
 
 
+OTHER = {"metachronal": "tripod", "tripod": "metachronal"}
+
+
 def lives(side: str, beta: float) -> bool:
     """The paper's answer: does the `side` gait exist at `beta` (Fig. 8)?"""
     if side == "metachronal":
@@ -129,6 +132,36 @@ def fold_from_holds(
     return best[2], best[0]
 
 
+def in_window(final: float | None, side: str) -> bool:
+    lo, hi = WINDOWS[side]
+    return final is not None and lo <= final <= hi
+
+
+def settled_elsewhere(w: Walk) -> bool:
+    """The walk left its branch where the paper has only the other gait, and settled
+    (|drift| below `HOLD_DRIFT`) outside the other gait's window: a third state, e.g. an upper
+    state sliding past pi + 0.1 with beta. A walk still moving is on its way (a slow leaver
+    through a ghost) and is not counted: 16 s cannot say where it ends."""
+    return (
+        not w.failed and not w.holds and w.drift is not None and abs(w.drift) < HOLD_DRIFT
+        and not lives(w.side, w.beta) and not in_window(w.final, OTHER[w.side])
+    )  # fmt: skip
+
+
+def against_paper(w: Walk) -> bool:
+    """Does the walk disagree with the paper's answer? Where the paper has its gait, the walk
+    must hold it; where the paper has only the other gait, it must leave, and not for a third
+    state (`settled_elsewhere`)."""
+    if lives(w.side, w.beta):
+        return not w.holds
+    return w.holds or w.failed or settled_elsewhere(w)
+
+
+def third_states(walks: Sequence[Walk]) -> int:
+    """Walks settled in a third state where the paper has only the other gait."""
+    return sum(map(settled_elsewhere, walks))
+
+
 @dataclass
 class WalkScore:
     """One candidate's walks read against the paper, and its score (lower is better)."""
@@ -168,7 +201,7 @@ def score_walks(walks: Sequence[Walk]) -> WalkScore:
     trip = [by[("tripod", b)].holds for b in betas]
     f_m, miss_m = fold_from_holds(betas, meta, rising=True)
     f_t, miss_t = fold_from_holds(betas, trip, rising=False)
-    against = sum(by[(s, b)].holds != lives(s, b) for s in STARTS for b in betas)
+    against = sum(against_paper(w) for w in walks)
     mv = by[("metachronal", betas[-1])]
     tv = by[("tripod", betas[0])]
     ok = [w for w in walks if not w.failed]
@@ -192,6 +225,7 @@ def score_walks(walks: Sequence[Walk]) -> WalkScore:
         "metachronal_fold": abs(f_m - PAPER_METACHRONAL_FOLD),
         "tripod_fold": abs(f_t - PAPER_TRIPOD_FOLD),
         "mismatches": MISMATCH_WEIGHT * (miss_m + miss_t),
+        "third_states": MISMATCH_WEIGHT * third_states(walks),
         "metachronal_value": VALUE_WEIGHT * value_error(mv, METACHRONAL_TARGET),
         "tripod_value": VALUE_WEIGHT * value_error(tv, TRIPOD_TARGET),
         "sanity": SANITY_WEIGHT * sanity,

@@ -18,6 +18,7 @@ from typing import Any
 
 import numpy as np
 
+from lab.campaigns.campaign6_search import rescore
 from lab.surface_search import PAPER_METACHRONAL_FOLD, PAPER_TRIPOD_FOLD
 from lab.walk_objective import FAILED_SCORE
 
@@ -49,7 +50,7 @@ def pareto(points: list[tuple[float, float, int]]) -> list[tuple[float, float, i
 
 def main() -> None:
     path = Path(sys.argv[1] if len(sys.argv) > 1 else "docs/data/campaign6_trials.json")
-    trials: list[dict[str, Any]] = json.loads(path.read_text())["trials"]
+    trials = [rescore(t) for t in json.loads(path.read_text())["trials"]]
     done = [t for t in trials if t["state"] == "COMPLETE"]
     scored = [t for t in done if t["value"] < FAILED_SCORE]
     print(f"{len(done)} candidates, {len(done) - len(scored)} not walkable (out of reach or "

@@ -4,12 +4,15 @@ zero on the folds."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 
 from lab.walk_objective import (
     FOLD_STEP,
     HOLD_DRIFT,
+    OTHER,
     STARTS,
     WALK_BETAS,
     Walk,
@@ -58,15 +61,43 @@ def _walk(side: str, beta: float, holds: bool, final: float) -> Walk:
     return Walk(side, beta, final, 0.0, holds, False, 1.0, 0.01, 0.98)
 
 
+TARGET = {"metachronal": 1.9, "tripod": 2.9}
+
+
+def _paper_walk(side: str, beta: float, present: bool) -> Walk:
+    """A walk that holds its branch where `present`, else ends on the other gait."""
+    return _walk(side, beta, present, TARGET[side] if present else TARGET[OTHER[side]])
+
+
 def test_the_papers_answer_scores_only_its_branch_values() -> None:
-    target = {"metachronal": 1.9, "tripod": 2.9}
-    walks = [_walk(s, b, lives(s, b), target[s]) for b in WALK_BETAS for s in STARTS]
+    walks = [_paper_walk(s, b, lives(s, b)) for b in WALK_BETAS for s in STARTS]
     sc = score_walks(walks)
     assert sc.against_paper == 0
     assert sc.metachronal_fold == pytest.approx(0.645) and sc.tripod_fold == pytest.approx(0.67)
     assert sc.score == pytest.approx(0.0)
     # the stiff defaults' pattern: the metachronal gait everywhere, the tripod to ~0.645
-    stiff = [_walk(s, b, s == "metachronal" or b < 0.645, target[s]) for b in WALK_BETAS
+    stiff = [_paper_walk(s, b, s == "metachronal" or b < 0.645) for b in WALK_BETAS
              for s in STARTS]  # fmt: skip
     worse = score_walks(stiff)
     assert worse.against_paper == 3 and worse.score > 0.05
+
+
+def test_leaving_for_a_third_state_is_not_the_papers_switch() -> None:
+    """An upper state that slides out of the tripod's window as beta grows (the soft legs with
+    a short lift time constant: 3.12 at 0.62 to 3.27 at 0.70) reads as a tripod that "leaves"
+    above 0.67; the paper's tripod ends by jumping to the metachronal gait, so the walk counts
+    against the paper and costs a mismatch, although the folds read right."""
+    paper = [_paper_walk(s, b, lives(s, b)) for b in WALK_BETAS for s in STARTS]
+    slid = [w if w.side == "metachronal" or lives(w.side, w.beta)
+            else _walk("tripod", w.beta, False, 3.27) for w in paper]  # fmt: skip
+    right, wrong = score_walks(paper), score_walks(slid)
+    assert wrong.tripod_fold == pytest.approx(right.tripod_fold)
+    assert wrong.against_paper == 2 and right.against_paper == 0
+    assert wrong.parts["third_states"] == pytest.approx(0.02) and wrong.score > right.score
+    # a tripod still sliding away at 16 s (the defaults' ghost at 0.685: 2.81 at -3.8
+    # mrad/cycle) is on its way, not in a third state
+    away = Walk("tripod", 0.0, 2.81, -3.8e-3, False, False, 1.0, 0.01, 0.98)
+    moving = [replace(away, beta=w.beta) if w.side == "tripod" and not lives(w.side, w.beta)
+              else w for w in paper]  # fmt: skip
+    on_its_way = score_walks(moving)
+    assert on_its_way.against_paper == 0 and on_its_way.parts["third_states"] == 0.0
