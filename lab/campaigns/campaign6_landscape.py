@@ -77,6 +77,13 @@ def main() -> None:
         "\nPareto front of the fold errors (metachronal, tripod; #):",
         ", ".join(f"({a:.4f}, {b:.4f}; #{n})" for a, b, n in front),
     )
+    # a fold read where a walk settled in a third state is the window's edge, not an end
+    clean = [t for t in scored if t["user_attrs"].get("part_third_states", 0.0) == 0.0]
+    front = pareto([(*errs(t), t["number"]) for t in clean])
+    print(
+        f"Pareto front among the {len(clean)} without a third state:",
+        ", ".join(f"({a:.4f}, {b:.4f}; #{n})" for a, b, n in front),
+    )
     both = [t for t in scored if max(errs(t)) <= FOLD_OK]
     meta = [t for t in scored if errs(t)[0] <= FOLD_OK]
     trip = [t for t in scored if errs(t)[1] <= FOLD_OK]
@@ -84,6 +91,12 @@ def main() -> None:
         f"\nboth folds within {FOLD_OK}: {len(both)}; metachronal's: {len(meta)}; "
         f"tripod's: {len(trip)} (of {len(scored)})"
     )
+    print("tripod's fold within it: # | score | tripod value | walks against | third states")
+    for t in sorted(trip, key=lambda t: t["value"]):
+        u = t["user_attrs"]
+        tv = "-" if u["tripod_value"] is None else f"{u['tripod_value']:.2f}"
+        print(f"  #{t['number']} | {t['value']:.4f} | {tv} | {u['against_paper']} | "
+              f"{round(u.get('part_third_states', 0.0) / 0.01)}")  # fmt: skip
     skip = ("ground", "trajectory_frame")
     names = sorted({k for t in scored for k in t["params"] if k not in skip})
     y = np.array([t["value"] for t in scored])

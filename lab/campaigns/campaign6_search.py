@@ -21,6 +21,7 @@ from __future__ import annotations
 import argparse
 import json
 import time
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
@@ -129,6 +130,50 @@ def reseed(study: Any, path: Path) -> int:
     return add_trials(study, rows, _space)
 
 
+def objective_of(
+    backend: Any, cache: ResultCache, values_of: Callable[[Any], dict[str, Any]]
+) -> Callable[[Any], float]:
+    """The search's objective: a trial's values (`values_of(trial)`) walked from both of the
+    paper's branch values (`evaluate_walks`), the reading kept in the trial's attributes."""
+
+    def objective(trial: Any) -> float:
+        t0 = time.perf_counter()
+        values = values_of(trial)
+        try:
+            params = params_of(values)
+        except ValueError as exc:
+            trial.set_user_attr("error", str(exc)[:300])
+            return FAILED_SCORE
+        if not reachable(params):
+            trial.set_user_attr("error", "a tip target out of reach")
+            return FAILED_SCORE
+        score = evaluate_walks(params, cache, backend)
+        for k, v in score.attrs().items():
+            trial.set_user_attr(k, v)
+        trial.set_user_attr("wall_s", round(time.perf_counter() - t0, 1))
+        return score.score
+
+    return objective
+
+
+def reporter(exported: Path) -> Callable[[Any, Any], None]:
+    """A callback that exports the study after every trial and prints one line per trial."""
+
+    def report(study: Any, trial: Any) -> None:
+        export(study, exported)
+        u = trial.user_attrs
+        best = study.best_trial
+        print(
+            f"#{trial.number} {trial.params.get('ground', '?')[:4]} score {trial.value:.4f} "
+            f"folds M {u.get('metachronal_fold', float('nan')):.3f} "
+            f"T {u.get('tripod_fold', float('nan')):.3f} against {u.get('against_paper')} "
+            f"{u.get('wall_s')} s | best #{best.number} {best.value:.4f}",
+            flush=True,
+        )
+
+    return report
+
+
 def main() -> None:
     import optuna
 
@@ -155,37 +200,10 @@ def main() -> None:
             for point in starting_points():
                 study.enqueue_trial(point)
     backend, cache = get_backend("local", a.workers), ResultCache(a.cache)
-
-    def objective(trial: Any) -> float:
-        t0 = time.perf_counter()
-        values = suggest(trial, _space)
-        try:
-            params = params_of(values)
-        except ValueError as exc:
-            trial.set_user_attr("error", str(exc)[:300])
-            return FAILED_SCORE
-        if not reachable(params):
-            trial.set_user_attr("error", "a tip target out of reach")
-            return FAILED_SCORE
-        score = evaluate_walks(params, cache, backend)
-        for k, v in score.attrs().items():
-            trial.set_user_attr(k, v)
-        trial.set_user_attr("wall_s", round(time.perf_counter() - t0, 1))
-        return score.score
-
-    def report(study: Any, trial: Any) -> None:
-        export(study, exported)
-        u = trial.user_attrs
-        best = study.best_trial
-        print(
-            f"#{trial.number} {trial.params.get('ground', '?')[:4]} score {trial.value:.4f} "
-            f"folds M {u.get('metachronal_fold', float('nan')):.3f} "
-            f"T {u.get('tripod_fold', float('nan')):.3f} against {u.get('against_paper')} "
-            f"{u.get('wall_s')} s | best #{best.number} {best.value:.4f}",
-            flush=True,
-        )
-
-    study.optimize(objective, n_trials=a.trials, timeout=a.timeout_s, callbacks=[report])
+    objective = objective_of(backend, cache, lambda t: suggest(t, _space))
+    study.optimize(
+        objective, n_trials=a.trials, timeout=a.timeout_s, callbacks=[reporter(exported)]
+    )
 
 
 if __name__ == "__main__":
