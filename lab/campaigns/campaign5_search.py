@@ -17,7 +17,7 @@ import json
 import os
 import tempfile
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -65,12 +65,18 @@ def distributions(ground: str, space: Callable[[str], dict[str, Range]] = _space
     return d
 
 
-def suggest(trial: Any, space: Callable[[str], dict[str, Range]] = _space) -> dict[str, Any]:
-    """A trial's values: the ground, the trajectories' frame and `space(ground)`'s ranges."""
-    ground = trial.suggest_categorical("ground", GROUNDS)
+def suggest(
+    trial: Any,
+    space: Callable[[str], dict[str, Range]] = _space,
+    grounds: Sequence[str] = GROUNDS,
+    frames: Sequence[str] = FRAMES,
+) -> dict[str, Any]:
+    """A trial's values: the ground and the trajectories' frame (one of `grounds`, `frames`: a
+    single choice holds it) and `space(ground)`'s ranges."""
+    ground = trial.suggest_categorical("ground", tuple(grounds))
     values: dict[str, Any] = {
         "ground": ground,
-        "trajectory_frame": trial.suggest_categorical("trajectory_frame", FRAMES),
+        "trajectory_frame": trial.suggest_categorical("trajectory_frame", tuple(frames)),
     }
     for n, r in space(ground).items():
         values[n] = trial.suggest_float(n, r.low, r.high, log=r.log)

@@ -20,7 +20,7 @@ import numpy as np
 
 from lab.campaigns.campaign6_search import rescore
 from lab.surface_search import PAPER_METACHRONAL_FOLD, PAPER_TRIPOD_FOLD
-from lab.walk_objective import FAILED_SCORE
+from lab.walk_objective import FAILED_SCORE, MISMATCH_WEIGHT
 
 FOLD_OK = 0.015  # issue 52's adoption tolerance on each fold
 
@@ -96,7 +96,7 @@ def main() -> None:
         u = t["user_attrs"]
         tv = "-" if u["tripod_value"] is None else f"{u['tripod_value']:.2f}"
         print(f"  #{t['number']} | {t['value']:.4f} | {tv} | {u['against_paper']} | "
-              f"{round(u.get('part_third_states', 0.0) / 0.01)}")  # fmt: skip
+              f"{round(u.get('part_third_states', 0.0) / MISMATCH_WEIGHT)}")  # fmt: skip
     skip = ("ground", "trajectory_frame")
     names = sorted({k for t in scored for k in t["params"] if k not in skip})
     y = np.array([t["value"] for t in scored])

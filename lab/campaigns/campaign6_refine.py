@@ -9,7 +9,7 @@ ground and trajectory frame held. The seed itself is each study's first trial (i
 from the result cache, so it costs nothing). The studies advance in turn, one generation
 (`--popsize` trials) each per round, so a timeout leaves every seed refined alike. Resumable:
 the studies in SQLite, every walk in the campaign's cache, the trials exported after each one
-(`--export`, committed).
+(`--export-dir`/campaign6_refine_<seed>.json, committed).
 """
 
 from __future__ import annotations
@@ -17,14 +17,15 @@ from __future__ import annotations
 import argparse
 import time
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any
 
 from lab.calibrate import reachable
+from lab.campaigns.campaign5_search import suggest
 from lab.campaigns.campaign6_confirm import trial_values
 from lab.campaigns.campaign6_search import (
     _space,
-    export,
     objective_of,
     params_of,
     reporter,
@@ -35,20 +36,10 @@ SIGMA0 = 0.03  # 3% of each range: at 0.1 (a tenth) 10 of 12 samples lost the se
 POPSIZE = 8  # trials per CMA-ES generation (its default for 30 coordinates is 14): 4 rounds fit
 
 
-def fixed_suggest(seed: dict[str, Any]) -> Any:
-    """A trial's values: the seed's ground and frame held, every range of `_space` searched."""
-    ground, frame = seed["ground"], seed["trajectory_frame"]
-
-    def values_of(trial: Any) -> dict[str, Any]:
-        out: dict[str, Any] = {
-            "ground": trial.suggest_categorical("ground", [ground]),
-            "trajectory_frame": trial.suggest_categorical("trajectory_frame", [frame]),
-        }
-        for n, r in _space(ground).items():
-            out[n] = trial.suggest_float(n, r.low, r.high, log=r.log)
-        return out
-
-    return values_of
+def held(seed: dict[str, Any]) -> Callable[[Any], dict[str, Any]]:
+    """A trial's values with the seed's ground and frame held, every range of `_space` searched."""
+    grounds, frames = (seed["ground"],), (seed["trajectory_frame"],)
+    return lambda trial: suggest(trial, _space, grounds, frames)
 
 
 def main() -> None:
@@ -84,7 +75,7 @@ def main() -> None:
         if not study.trials:
             study.enqueue_trial(seed)
         exported = Path(a.export_dir) / f"campaign6_refine_{n}.json"
-        studies.append((n, study, objective_of(backend, cache, fixed_suggest(seed)), exported))
+        studies.append((n, study, objective_of(backend, cache, held(seed)), exported))
     t0 = time.monotonic()
     for r in range(a.rounds):
         for n, study, objective, exported in studies:
@@ -94,8 +85,6 @@ def main() -> None:
             print(f"round {r + 1}, seed #{n}", flush=True)
             study.optimize(objective, n_trials=a.popsize, timeout=left,
                            callbacks=[reporter(exported)])  # fmt: skip
-    for _n, study, _, exported in studies:
-        export(study, exported)
 
 
 if __name__ == "__main__":
