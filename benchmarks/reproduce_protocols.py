@@ -1,10 +1,13 @@
 """`insect-gait reproduce` on two protocols side by side in one run, each from an empty cache:
-the protocol before issue 54 (`ReproduceConfig.long_protocol()`, 558-573 s on 2 cores) and
-today's default. Prints each one's wall time, simulations and compute, their ratio, and every
-row of the reproduction table beside the other's, marking the rows whose verdict or number
-moved (docs/NUMERICS.md, "reproduce within 5 minutes").
+an earlier protocol (`--before dense`, the default: `ReproduceConfig.dense_protocol()`, the
+protocol of 2026-12-02, 552-600 s on 2 cores; `--before long`: the one before issue 54,
+`ReproduceConfig.long_protocol()`) and today's default. Prints each one's wall time,
+simulations and compute, their ratio, and every row of the reproduction table beside the
+other's, marking the rows whose verdict or number moved (docs/NUMERICS.md, "reproduce within
+5 minutes").
 
-    .venv/bin/python benchmarks/reproduce_protocols.py [--workers 2] [--json out.json]
+    .venv/bin/python benchmarks/reproduce_protocols.py [--before dense|long] [--workers 2]
+        [--json out.json]
 
 Both runs use fresh temporary caches and output folders and touch no file of the repository
 (no --doc); a run on a loaded machine measures the load, so run it alone.
@@ -54,12 +57,14 @@ def run(cfg: ReproduceConfig, workers: int, root: Path) -> dict[str, Any]:
 
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--before", choices=("dense", "long"), default="dense")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--json", type=Path, help="also write the measurement here")
     args = ap.parse_args()
     with tempfile.TemporaryDirectory(prefix="reproduce-protocols-") as tmp:
+        before = {"dense": ReproduceConfig.dense_protocol, "long": ReproduceConfig.long_protocol}
         runs = [run(c, args.workers, Path(tmp)) for c in
-                (ReproduceConfig.long_protocol(), ReproduceConfig())]  # fmt: skip
+                (before[args.before](), ReproduceConfig())]  # fmt: skip
     old, new = runs
     for r in runs:
         print(f"{r['protocol']:>5}: {r['wall_s']:7.1f} s wall, {r['simulations']} simulations, "
@@ -72,7 +77,7 @@ def main() -> None:
         same = ours_new == ours_old and verdict_new == verdict_old
         moved += not same
         mark = "  " if same else ("V " if verdict_new != verdict_old else "* ")
-        print(f"{mark}{key}\n     long: {ours_old} [{verdict_old}]")
+        print(f"{mark}{key}\n     {old['protocol']}: {ours_old} [{verdict_old}]")
         if not same:
             print(f"     now:  {ours_new} [{verdict_new}]")
     print(f"\n{moved} of {len(old['rows'])} rows moved (V: the verdict, *: the number only)")

@@ -40,6 +40,10 @@ from sim_core.paper.search import probe_task
 from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
 
 BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch counts as on it
+MAP_BETAS = (0.64, 0.655, 0.675)  # Fig. 7's return maps (the paper's panels)
+# `reproduce`'s probes: short (`contract.surface.SHORT_PROBES`: measured there against the
+# longer ones), the last pass only at the Fig. 7 betas, whose zeros the rows read
+REPRODUCE_PROBES = replace(SHORT_PROBES, band_pass_betas=MAP_BETAS)
 
 
 @dataclass(frozen=True)
@@ -51,24 +55,30 @@ class ReproduceConfig:
     # (40 s, ~360 strides at 0.70: past the tripod fold a start near pi slides for 30-60 s
     # through the ghost, docs/studies/gait_campaign3.md)
     fig5_betas: tuple[float, ...] = (0.62, 0.70)
-    map_betas: tuple[float, ...] = (0.64, 0.655, 0.675)  # Fig. 7
+    map_betas: tuple[float, ...] = MAP_BETAS  # Fig. 7
     # Fig. 5's runs stop here if they have settled (`RunSpec.stop_if_settled_s`: bit for bit a
     # run this long), else run on to `finder.duration_s`: 10 of the 16 have settled by 20 s,
     # on the finals they reach at 40 s (docs/NUMERICS.md, "reproduce within 5 minutes").
-    # Fig. 7's runs have no try: there a 20 s try reads two ghosts at 2.97 (beta 0.655) as
-    # settled, and re-running the tries the surface does not explain re-ran 6 of 15 and
-    # saved nothing. None: every run whole
     fig5_try_s: float | None = FinderConfig().bisect_duration_s  # the finder's try, 20 s
+    # Fig. 7's free runs (its own check: they end on the surface's stable zeros) stop at
+    # `map_try_s` if settled. Read from the same 40 s runs cut at 30 s, every run settled by
+    # then is settled at 40 s on the same final within 0.002 rad; a 20 s or 25 s try reads a
+    # ghost at 2.97 (beta 0.655) as settled. Every one of the finder's 8 starts is kept: every
+    # other one drops the two runs per beta that end off the surface's zeros (near 1.5 rad)
+    # and turns the check's "no" into a "yes" (docs/NUMERICS.md, "reproduce within 5
+    # minutes"). None: every run whole
+    map_try_s: float | None = 30.0
     # Figs. 7-8 are read from the drift surface (`paper.surface`, protocol in SurfaceConfig)
-    # over these 19 betas, containing the Fig. 7 betas: 0.005 apart from 0.62 to 0.68 (both
-    # of the paper's transitions, 0.645 and 0.67, and our tripod's end), 0.01 outside, where
-    # no range end of ours or the paper's lies (the 25-beta grid 0.005 apart read the same
-    # rows and folds: docs/NUMERICS.md, "reproduce within 5 minutes")
+    # over these 15 betas, containing the Fig. 7 betas: 0.005 apart from 0.64 to 0.68 (both
+    # of the paper's transitions, 0.645 and 0.67, and our tripod's end, 0.645), 0.01 below
+    # and 0.02 above, where no range end of ours or the paper's lies (docs/NUMERICS.md,
+    # "reproduce within 5 minutes")
     surface_betas: tuple[float, ...] = (
-        0.60, 0.61, *(round(0.62 + 0.005 * k, 3) for k in range(13)), 0.69, 0.70, 0.71, 0.72,
+        0.60, 0.61, 0.62, 0.63, *(round(0.64 + 0.005 * k, 3) for k in range(9)), 0.70, 0.72,
     )  # fmt: skip
-    # short probes (`contract.surface.SHORT_PROBES`: measured there against the longer ones)
-    surface: SurfaceConfig = SHORT_PROBES
+    # `REPRODUCE_PROBES`; where it runs no last pass a cell's unresolved spans are decided by
+    # the walks (`walks`), as an atlas decides its cells
+    surface: SurfaceConfig = REPRODUCE_PROBES
     # the mechanism figure's surface on the paper's ground (`surface_repro.MECHANISM_BETAS`):
     # its first pass only, no bisection or last pass: the figure draws the drift's curves and
     # no row reads its zeros (the refinement was 3/4 of its cost, at twice a constraint-ground
@@ -119,7 +129,20 @@ class ReproduceConfig:
                                   block_s=0.25, bisect_rounds=0),
             ramp_s=0.6, ablation_betas=(0.66,), ablation_inits=2, ablation_duration_s=0.5,
             footprint_window_s=0.3, fig5_try_s=None, walks=WalkConfig(try_s=0.5, duration_s=1.0),
-            name="quick",
+            map_try_s=None, name="quick",
+        )  # fmt: skip
+
+    @classmethod
+    def dense_protocol(cls) -> ReproduceConfig:
+        """The protocol of 2026-12-02 (552-600 s on 2 cores from an empty cache): 19 surface
+        betas, the last pass at every beta, Fig. 7's free runs 40 s each (no try). Kept to
+        re-validate the default against (`benchmarks/reproduce_protocols.py`)."""
+        return cls(
+            surface_betas=(
+                0.60, 0.61, *(round(0.62 + 0.005 * k, 3) for k in range(13)), 0.69, 0.70,
+                0.71, 0.72,
+            ),
+            surface=SHORT_PROBES, map_try_s=None, name="dense",
         )  # fmt: skip
 
     @classmethod
@@ -130,7 +153,8 @@ class ReproduceConfig:
         (`benchmarks/reproduce_protocols.py`)."""
         return cls(
             surface_betas=tuple(round(0.60 + 0.005 * k, 3) for k in range(25)),
-            surface=SurfaceConfig(), mechanism_refine=True, fig5_try_s=None, name="long",
+            surface=SurfaceConfig(), mechanism_refine=True, fig5_try_s=None, map_try_s=None,
+            name="long",
         )  # fmt: skip
 
     def to_dict(self) -> dict[str, Any]:
@@ -194,7 +218,7 @@ def figure_tasks(fig: str, cfg: ReproduceConfig, p: ModelParams) -> list[Task]:
         return [_ramp_task(beta_ramp(cfg, s, u), cfg, p) for u in (False, True)
                 for s in (False, True)]  # fmt: skip
     if fig == "7":  # the free runs its return maps are checked against (the surface aside)
-        return spread_tasks(cfg.map_betas, cfg, p)
+        return spread_tasks(cfg.map_betas, cfg, p, cfg.map_try_s)
     if fig == "8":
         return [_ramp_task(beta_ramp(cfg, up=u), cfg, p) for u in (False, True)]
     if fig == "9":

@@ -85,9 +85,13 @@ def grid_probes(betas: Sequence[float], cfg: SurfaceConfig) -> list[Probe]:
 def refinement_probes(surface: DriftSurface, cfg: SurfaceConfig) -> list[Probe]:
     """The last pass: probes every `cfg.refine_step` inside each unresolved zero's bracket
     and near-zero band (from a little below it: the sample sits above D), averaged over
-    `cfg.refine_average_s`; D values already probed at that beta are skipped."""
+    `cfg.refine_average_s`; D values already probed at that beta are skipped; only at
+    `cfg.band_pass_betas` where that is set."""
     out: list[Probe] = []
+    only = cfg.band_pass_betas
     for b in surface.betas:
+        if only is not None and not any(abs(b - x) < 1e-9 for x in only):
+            continue
         done = {round(p.pin_d31, 6) for p in surface.points_at(b)}
         spans = [(z.lo, z.hi) for z in surface.zeros_at(b) if not z.resolved]
         spans += [(n.lo, n.hi) for n in surface.near_zeros if abs(n.beta - b) < 1e-9]
