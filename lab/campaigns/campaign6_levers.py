@@ -2,13 +2,15 @@
 before the local refinement)
 
     python -m lab.campaigns.campaign6_levers --trial 78
+    python -m lab.campaigns.campaign6_levers --trial 78 --scale 0.1   # the +-10% check
 
 One coordinate at a time, a step down and a step up from the candidate (`STEP` of the search
 box's width, on the log axis for log ranges; clipped to the box), each variant scored by the
 sixth campaign's full walk objective (`lab.walk_objective.evaluate_walks`, the search's ten 16 s
 walks, through its cache). Prints, per coordinate, the two variants' folds, the walks against
 the paper and the scores beside the candidate's, and writes them to `--out` (JSON), resumable
-(variants already written are not walked again).
+(variants already written are not walked again). With `--scale s`, each coordinate is instead
+multiplied by 1 - s and 1 + s (not clipped to the box): the +-10% check a claim needs.
 
 Why: #78 (soft regime) has the paper's metachronal fold and the jump from it to the tripod but
 keeps the tripod up to 0.70; a lever that ends the tripod near 0.67 without losing the jump is
@@ -59,11 +61,13 @@ def main() -> None:
         default=[],
         help="name=v1,v2,...: a scan of one coordinate at these values instead",
     )
+    ap.add_argument("--scale", type=float, default=None, help="s: each coordinate x (1 -+ s)")
     ap.add_argument("--workers", type=int, default=2)
     ap.add_argument("--cache", default="out/campaign6/cache")
     ap.add_argument("--out", default=None)
     a = ap.parse_args()
-    out = Path(a.out or f"docs/data/campaign6_levers_{a.trial}.json")
+    kind = "levers" if a.scale is None else f"pm{round(100 * a.scale)}"
+    out = Path(a.out or f"docs/data/campaign6_{kind}_{a.trial}.json")
     done: dict[str, Any] = json.loads(out.read_text()) if out.exists() else {}
     base = trial_values(a.trial)
     backend, cache = get_backend("local", a.workers), ResultCache(a.cache)
@@ -72,7 +76,9 @@ def main() -> None:
     if "base" not in done:
         done["base"] = {"values": base, **summary(evaluate_walks(params_of(base), cache, backend))}
     variants: list[tuple[str, str, float]] = [
-        (f"{n}{'-' if sign < 0 else '+'}", n, stepped(float(base[n]), space[n], sign))
+        (f"{n}{'-' if sign < 0 else '+'}", n,
+         stepped(float(base[n]), space[n], sign) if a.scale is None
+         else float(base[n]) * (1 + sign * a.scale))
         for n in names for sign in (-1, 1)
     ] if not a.values else [
         (f"{n}={v}", n, float(v)) for item in a.values

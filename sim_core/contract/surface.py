@@ -65,11 +65,6 @@ class SurfaceConfig:
     # 40% of Fig. 8; an atlas, which asks only which gaits have a stable zero, may skip it
     # and mark such cells unresolved
     band_pass: bool = True
-    # the betas the last pass runs at (None: every beta). `reproduce` runs it only where a
-    # row reads the surface's zeros themselves (Fig. 7's map betas); elsewhere the cells'
-    # unresolved spans are decided by settled free walks, as the atlases decide theirs
-    # (docs/NUMERICS.md, "Reproduce within 5 minutes")
-    band_pass_betas: tuple[float, ...] | None = None
     link_tol_rad: float = 0.12  # a stable zero continues a branch at the next beta within this
     chunk_size: int = 8
 

@@ -41,9 +41,6 @@ from sim_core.runs.tasks import Ramp, Task, ramp_task, run_task
 
 BRANCH_TOL = 0.2  # rad: a settled Delta31 this close to the paper's branch counts as on it
 MAP_BETAS = (0.64, 0.655, 0.675)  # Fig. 7's return maps (the paper's panels)
-# `reproduce`'s probes: short (`contract.surface.SHORT_PROBES`: measured there against the
-# longer ones), the last pass only at the Fig. 7 betas, whose zeros the rows read
-REPRODUCE_PROBES = replace(SHORT_PROBES, band_pass_betas=MAP_BETAS)
 
 
 @dataclass(frozen=True)
@@ -76,9 +73,12 @@ class ReproduceConfig:
     surface_betas: tuple[float, ...] = (
         0.60, 0.61, 0.62, 0.63, *(round(0.64 + 0.005 * k, 3) for k in range(9)), 0.70, 0.72,
     )  # fmt: skip
-    # `REPRODUCE_PROBES`; where it runs no last pass a cell's unresolved spans are decided by
-    # the walks (`walks`), as an atlas decides its cells
-    surface: SurfaceConfig = REPRODUCE_PROBES
+    # short probes (`contract.surface.SHORT_PROBES`: measured there against the longer ones)
+    surface: SurfaceConfig = SHORT_PROBES
+    # the surface's last pass only at these betas (None: every beta): the Fig. 7 betas, whose
+    # zeros the rows read; elsewhere a cell's unresolved spans are decided by the walks
+    # (`walks`), as an atlas decides its cells (docs/NUMERICS.md, "reproduce within 5 minutes")
+    last_pass_betas: tuple[float, ...] | None = MAP_BETAS
     # the mechanism figure's surface on the paper's ground (`surface_repro.MECHANISM_BETAS`):
     # its first pass only, no bisection or last pass: the figure draws the drift's curves and
     # no row reads its zeros (the refinement was 3/4 of its cost, at twice a constraint-ground
@@ -142,7 +142,7 @@ class ReproduceConfig:
                 0.60, 0.61, *(round(0.62 + 0.005 * k, 3) for k in range(13)), 0.69, 0.70,
                 0.71, 0.72,
             ),
-            surface=SHORT_PROBES, map_try_s=None, name="dense",
+            last_pass_betas=None, map_try_s=None, name="dense",
         )  # fmt: skip
 
     @classmethod
@@ -154,7 +154,7 @@ class ReproduceConfig:
         return cls(
             surface_betas=tuple(round(0.60 + 0.005 * k, 3) for k in range(25)),
             surface=SurfaceConfig(), mechanism_refine=True, fig5_try_s=None, map_try_s=None,
-            name="long",
+            last_pass_betas=None, name="long",
         )  # fmt: skip
 
     def to_dict(self) -> dict[str, Any]:

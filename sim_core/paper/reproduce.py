@@ -141,8 +141,8 @@ def reproduce(
     if "7" in figs or "8" in figs:
         study = surface_study(cfg.surface_betas, cfg.surface, p, cache, backend,
                               progress=progress, executor=executor,
-                              mechanism_refine=cfg.mechanism_refine,
-                              walks=cfg.walks)  # fmt: skip
+                              mechanism_refine=cfg.mechanism_refine, walks=cfg.walks,
+                              last_pass_betas=cfg.last_pass_betas)  # fmt: skip
         stats = _add_stats(stats, study.stats)
 
     out.mkdir(parents=True, exist_ok=True)

@@ -82,13 +82,14 @@ def grid_probes(betas: Sequence[float], cfg: SurfaceConfig) -> list[Probe]:
     return [Probe(b, d, cfg.average_s) for b in betas for d in cfg.d31_grid]
 
 
-def refinement_probes(surface: DriftSurface, cfg: SurfaceConfig) -> list[Probe]:
+def refinement_probes(
+    surface: DriftSurface, cfg: SurfaceConfig, only: Sequence[float] | None = None
+) -> list[Probe]:
     """The last pass: probes every `cfg.refine_step` inside each unresolved zero's bracket
     and near-zero band (from a little below it: the sample sits above D), averaged over
-    `cfg.refine_average_s`; D values already probed at that beta are skipped; only at
-    `cfg.band_pass_betas` where that is set."""
+    `cfg.refine_average_s`; D values already probed at that beta are skipped; only at the
+    betas `only` where that is given."""
     out: list[Probe] = []
-    only = cfg.band_pass_betas
     for b in surface.betas:
         if only is not None and not any(abs(b - x) < 1e-9 for x in only):
             continue
@@ -389,6 +390,7 @@ def drift_surface(
     params: ModelParams | None = None,
     template: RunTemplate | None = None,
     refine: bool = True,
+    last_pass_betas: Sequence[float] | None = None,
     progress: bool | str = True,
     stats: RunStats | None = None,
     on_progress: Callable[[float], None] | None = None,
@@ -410,6 +412,8 @@ def drift_surface(
             `resolve_width_rad` (`bisection_probes`, at most `bisect_rounds` rounds), then
             (`band_pass`) probe finer and longer inside every zero still unresolved and every
             near-zero band (`refinement_probes`).
+        last_pass_betas: where that last pass runs (None: at every beta); `reproduce` runs it
+            only where a row reads the zeros themselves, and walks decide the other cells.
         progress: a tqdm bar on stderr (a str: its label); stats: accumulates what was
             computed and read back.
         on_progress: called with the share of probes done (0..1) as chunks finish.
@@ -422,8 +426,8 @@ def drift_surface(
     """
     (surface,) = drift_surfaces(
         betas, [template or RunTemplate()], cache=cache, backend=backend, config=config,
-        params=params, refine=refine, progress=progress, stats=stats, on_progress=on_progress,
-        executor=executor,
+        params=params, refine=refine, last_pass_betas=last_pass_betas, progress=progress,
+        stats=stats, on_progress=on_progress, executor=executor,
     )  # fmt: skip
     return surface
 
@@ -437,6 +441,7 @@ def drift_surfaces(
     config: SurfaceConfig | None = None,
     params: ModelParams | None = None,
     refine: bool = True,
+    last_pass_betas: Sequence[float] | None = None,
     progress: bool | str = True,
     stats: RunStats | None = None,
     on_progress: Callable[[float], None] | None = None,
@@ -449,8 +454,8 @@ def drift_surfaces(
         with tempfile.TemporaryDirectory(prefix="surface-") as tmp:
             return drift_surfaces(
                 betas, templates, cache=ResultCache(tmp), backend=backend, config=config,
-                params=params, refine=refine, progress=progress, stats=stats,
-                on_progress=on_progress, executor=executor,
+                params=params, refine=refine, last_pass_betas=last_pass_betas,
+                progress=progress, stats=stats, on_progress=on_progress, executor=executor,
             )  # fmt: skip
     backend = backend or InlineBackend()
     cfg = config or SurfaceConfig()
@@ -490,7 +495,11 @@ def drift_surfaces(
     out = surfaces()
     if not refine:
         return out
-    passes = [bisection_probes] * cfg.bisect_rounds + [refinement_probes] * cfg.band_pass
+
+    def last_pass(sf: DriftSurface, c: SurfaceConfig) -> list[Probe]:
+        return refinement_probes(sf, c, last_pass_betas)
+
+    passes = [bisection_probes] * cfg.bisect_rounds + [last_pass] * cfg.band_pass
     for k, step in enumerate(passes):
         extra = [step(sf, cfg) for sf in out]
         if not any(extra):

@@ -111,6 +111,7 @@ def surface_study(
     executor: Executor = execute_chunk,
     mechanism_refine: bool = True,
     walks: WalkConfig | None = None,
+    last_pass_betas: Sequence[float] | None = None,
 ) -> SurfaceStudy:
     """The surface over `betas` on `params`' ground, the mechanism's surface on the paper's
     ground (refined as `drift_surface` does only with `mechanism_refine`) and the K/3 and dt/2
@@ -121,7 +122,8 @@ def surface_study(
     stats = RunStats()
     kw: dict[str, Any] = {"cache": cache, "backend": backend, "progress": progress,
                           "stats": stats, "executor": executor}  # fmt: skip
-    surface = drift_surface(betas, config=cfg, params=params, **kw)
+    surface = drift_surface(betas, config=cfg, params=params, last_pass_betas=last_pass_betas,
+                            **kw)  # fmt: skip
     t_surface = time.perf_counter() - t0
     penalty = params.replace(**{"ground": "penalty"})
     paper_ground = drift_surface(MECHANISM_BETAS, config=cfg, params=penalty,

@@ -9,7 +9,7 @@ import pytest
 
 from sim_core.contract.surface import AtlasPoint, SurfaceConfig, SurfacePoint, grid
 from sim_core.contract.values import PAPER
-from sim_core.paper.surface import assemble, bisection_probes
+from sim_core.paper.surface import assemble, bisection_probes, refinement_probes
 from sim_core.paper.surface_atlas import atlas_points, draw_atlas, region, surface_atlas
 from sim_core.paper.surface_check import robust_table
 from sim_core.paper.surface_figures import fig7_rows, fig8_rows, table_rows
@@ -96,6 +96,20 @@ def test_bisection_halves_wide_brackets_and_dips_and_leaves_narrow_ones() -> Non
     found = [(round(z.d31, 3), z.stable) for z in halved.zeros]
     assert found[:3] == [(1.86, True), (1.942, False), (1.972, True)]
     assert bisection_probes(halved, cfg) == []
+
+
+def test_the_last_pass_probes_unresolved_zeros_only_at_the_betas_it_is_given() -> None:
+    # at both betas a stable zero between 1.80 and 1.90 that no probe pair resolves
+    cfg = SurfaceConfig(d31_grid=grid(1.5, 2.5, 0.1), refine_step=0.02)
+    curve = [(1.7, 3.0), (1.8, 2.0), (1.9, -2.0), (2.0, -3.0)]
+    pts = [_pt(b, x, d) for b in (0.64, 0.66) for x, d in curve]
+    s = assemble([0.64, 0.66], pts, cfg, sim_s=0.0)
+    assert [(z.beta, z.resolved) for z in s.zeros] == [(0.64, False), (0.66, False)]
+    every = refinement_probes(s, cfg)
+    assert {p.beta for p in every} == {0.64, 0.66}
+    assert {p.average_s for p in every} == {cfg.refine_average_s}
+    only = refinement_probes(s, cfg, only=(0.66,))
+    assert only == [p for p in every if p.beta == 0.66] and only
 
 
 def test_a_ghost_is_a_dip_of_the_drift_that_keeps_its_sign() -> None:
