@@ -162,24 +162,36 @@ def add_trials(
     return n
 
 
-def main() -> None:
+def search_setup(
+    doc: str,
+    name: str,
+    trials: int,
+    n_startup: int,
+    seed: int,
+    reseed: Callable[[Any, Path], int],
+    starting_points: Callable[[], list[dict[str, Any]]],
+) -> tuple[Any, argparse.Namespace]:
+    """A campaign search's command line (`--trials`, `--timeout-s`, `--storage`, `--cache`,
+    `--export`, `--workers`, `--seed`; defaults under out/<name> and docs/data) and its study
+    `name`: TPE, opened from SQLite (resumed), else re-seeded from the export (`reseed`), else
+    started with `starting_points`."""
     import optuna
 
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trials", type=int, default=400)
+    ap = argparse.ArgumentParser(description=doc.splitlines()[0])
+    ap.add_argument("--trials", type=int, default=trials)
     ap.add_argument("--timeout-s", type=float, default=None)
-    ap.add_argument("--storage", default="sqlite:///out/campaign5/search.db")
-    ap.add_argument("--cache", default="out/campaign5/cache")
-    ap.add_argument("--export", default="docs/data/campaign5_trials.json")
+    ap.add_argument("--storage", default=f"sqlite:///out/{name}/search.db")
+    ap.add_argument("--cache", default=f"out/{name}/cache")
+    ap.add_argument("--export", default=f"docs/data/{name}_trials.json")
     ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--seed", type=int, default=5)
+    ap.add_argument("--seed", type=int, default=seed)
     a = ap.parse_args()
-    Path("out/campaign5").mkdir(parents=True, exist_ok=True)
+    Path(f"out/{name}").mkdir(parents=True, exist_ok=True)
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     sampler = optuna.samplers.TPESampler(seed=a.seed, multivariate=True, group=True,
-                                         n_startup_trials=40)  # fmt: skip
-    study = optuna.create_study(study_name=STUDY, storage=a.storage, sampler=sampler,
-                                load_if_exists=True)  # fmt: skip
+                                         n_startup_trials=n_startup)  # fmt: skip
+    study = optuna.create_study(study_name=name, storage=a.storage,
+                                sampler=sampler, load_if_exists=True)  # fmt: skip
     exported = Path(a.export)
     if not study.trials:
         if exported.exists():
@@ -187,6 +199,12 @@ def main() -> None:
         else:
             for point in starting_points():
                 study.enqueue_trial(point)
+    return study, a
+
+
+def main() -> None:
+    study, a = search_setup(__doc__ or "", STUDY, 400, 40, 5, reseed, starting_points)
+    exported = Path(a.export)
     backend, cache = get_backend("local", a.workers), ResultCache(a.cache)
 
     def objective(trial: Any) -> float:

@@ -18,7 +18,6 @@ Not in the space (said so in docs/studies/campaign6.md): the penalty ground abov
 
 from __future__ import annotations
 
-import argparse
 import json
 import time
 from collections.abc import Callable
@@ -26,7 +25,7 @@ from pathlib import Path
 from typing import Any
 
 from lab.calibrate import reachable
-from lab.campaigns.campaign5_search import add_trials, export, suggest
+from lab.campaigns.campaign5_search import add_trials, export, search_setup, suggest
 from lab.space import Range
 from lab.surface_search import (
     CONSTRAINT_SPACE,
@@ -175,30 +174,8 @@ def reporter(exported: Path) -> Callable[[Any, Any], None]:
 
 
 def main() -> None:
-    import optuna
-
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--trials", type=int, default=600)
-    ap.add_argument("--timeout-s", type=float, default=None)
-    ap.add_argument("--storage", default="sqlite:///out/campaign6/search.db")
-    ap.add_argument("--cache", default="out/campaign6/cache")
-    ap.add_argument("--export", default="docs/data/campaign6_trials.json")
-    ap.add_argument("--workers", type=int, default=2)
-    ap.add_argument("--seed", type=int, default=6)
-    a = ap.parse_args()
-    Path("out/campaign6").mkdir(parents=True, exist_ok=True)
-    optuna.logging.set_verbosity(optuna.logging.WARNING)
-    sampler = optuna.samplers.TPESampler(seed=a.seed, multivariate=True, group=True,
-                                         n_startup_trials=60)  # fmt: skip
-    study = optuna.create_study(study_name=STUDY, storage=a.storage, sampler=sampler,
-                                load_if_exists=True)  # fmt: skip
+    study, a = search_setup(__doc__ or "", STUDY, 600, 60, 6, reseed, starting_points)
     exported = Path(a.export)
-    if not study.trials:
-        if exported.exists():
-            print(f"re-seeded {reseed(study, exported)} trials from {exported}")
-        else:
-            for point in starting_points():
-                study.enqueue_trial(point)
     backend, cache = get_backend("local", a.workers), ResultCache(a.cache)
     objective = objective_of(backend, cache, lambda t: suggest(t, _space))
     study.optimize(
