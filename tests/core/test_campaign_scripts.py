@@ -42,3 +42,22 @@ def test_the_border_sweeps_go_through_the_result_cache(tmp_path) -> None:
     assert len(list(tmp_path.glob("*.json"))) == 1
     again = border_sweeps(jobs, InlineBackend(), ResultCache(tmp_path))
     assert again == [sw]
+
+
+def test_the_atlas_comparison_names_each_changed_cell() -> None:
+    """`atlas_short_probes.compare` lists the cells whose region (or decidedness) differ, and
+    refuses atlases whose cells are not in the same order."""
+    from lab.campaigns.atlas_short_probes import committed, compare
+
+    before = committed("mass")
+    assert compare(before, before) == []
+    points = list(before.points)
+    cell = points[5]
+    other = "tripod only" if cell.region != "tripod only" else "metachronal only"
+    points[5] = cell.model_copy(update={"region": other})
+    diffs = compare(before, before.model_copy(update={"points": points}))
+    assert [(d["beta"], d["value"]) for d in diffs] == [(cell.beta, cell.value)]
+    assert diffs[0]["after"]["region"] == other  # type: ignore[index]
+    shuffled = before.model_copy(update={"points": points[::-1]})
+    with pytest.raises(ValueError, match="same order"):
+        compare(before, shuffled)
