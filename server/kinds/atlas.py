@@ -63,8 +63,9 @@ class AtlasJob(Held):
     walks: bool = Field(
         True,
         description="decide by settled free walks every cell where an unresolved zero could "
-        "change the region (as `insect-gait atlas`; false: as `--no-walks`, such cells are "
-        "marked unresolved)",
+        "change the region, and walk every cell from the paper's start of each gait a "
+        "neighbouring cell holds and it lacks (as `insect-gait atlas`; false: as `--no-walks`, "
+        "such cells are marked unresolved)",
     )
 
     @field_validator("values")

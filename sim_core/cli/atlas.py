@@ -80,6 +80,13 @@ def register(sub: Any) -> None:
         help="do not decide by settled free walks the cells where an unresolved zero could "
         "change the region (such cells are then marked unresolved)",
     )
+    a.add_argument(
+        "--no-neighbour-walks",
+        action="store_true",
+        help="do not also walk each cell from the paper's start of every gait a neighbouring "
+        "cell holds and it lacks (the surface can miss a narrow pair where it leaves nothing "
+        "open; docs/REPRODUCTION.md)",
+    )
     add_surface_args(a)
     a.set_defaults(func=_cmd_atlas)
 
@@ -128,6 +135,7 @@ def _cmd_atlas(args: argparse.Namespace) -> int:
             template=RunTemplate.model_validate(fields),
             refine=not args.no_refine,
             walks=None if args.no_walks else WalkConfig(),
+            neighbour_walks=not args.no_neighbour_walks,
             progress=not args.no_progress,
             stats=stats,
         )

@@ -115,14 +115,23 @@ class SurfaceAtlasConfig(SurfaceConfig):
 
     refine: bool = True
     walks: WalkConfig | None = None
+    # whether each cell was also walked from the paper's start of every gait a neighbouring
+    # cell holds and it lacks (`surface_walks.walk_neighbours`); left out of the file when
+    # not, as atlases written before it were
+    neighbour_walks: bool = False
 
     @classmethod
     def of(
-        cls, config: SurfaceConfig, *, refine: bool, walks: WalkConfig | None
+        cls,
+        config: SurfaceConfig,
+        *,
+        refine: bool,
+        walks: WalkConfig | None,
+        neighbour_walks: bool = False,
     ) -> SurfaceAtlasConfig:
         """The atlas's record of its surfaces' protocol `config`, refined or not, walked so."""
         shared = {f.name: getattr(config, f.name) for f in fields(SurfaceConfig)}
-        return cls(**shared, refine=refine, walks=walks)
+        return cls(**shared, refine=refine, walks=walks, neighbour_walks=neighbour_walks)
 
 
 class _Model(BaseModel):
@@ -248,6 +257,10 @@ class AtlasWalk(_Model):
     settled: bool
     why: str  # why not settled ("" if settled), or the run's failure
     sim_s: float  # simulated seconds it took (it stops early where settled)
+    # a neighbour walk (`surface_walks.walk_neighbours`) that did not settle but has left the
+    # gait it started in for one its cell holds already: wherever it settles there, the region
+    # stays, so it does not leave the cell undecided
+    left_gait: bool = False
 
 
 class AtlasPoint(_Model):
@@ -271,7 +284,7 @@ class AtlasPoint(_Model):
         """Whether the cell's region may hide a gait: a walk did not settle, or (in an atlas
         not checked by walks) the surface left a zero or band unresolved."""
         if self.checked:
-            return any(not w.settled for w in self.walks)
+            return any(not w.settled and not w.left_gait for w in self.walks)
         return self.unresolved > 0
 
 
@@ -298,6 +311,8 @@ class SurfaceAtlas(_Model):
         out = handler(config)
         if isinstance(out, dict) and out.get("walks") is None:
             out.pop("walks", None)
+        if isinstance(out, dict) and not out.get("neighbour_walks"):
+            out.pop("neighbour_walks", None)
         return out
 
     @property

@@ -3,7 +3,10 @@
 (`PAPER_WINDOW`) and where their branches fold. The finder's atlas (`paper.atlas`) reads the
 same question from settled free runs; this one also sees the folds, at a fixed price per cell.
 Where the surface leaves a zero unresolved and that could change a cell's region, settled free
-walks decide it (`surface_walks`), so the atlas agrees with walking at every cell it shows.
+walks decide it (`surface_walks`); a cell is also walked from the paper's start of every gait
+a neighbouring cell holds and it lacks, since a surface that leaves nothing open can still miss
+a narrow pair (three committed slope cells did: docs/REPRODUCTION.md). What the atlas shows
+then agrees with every walk it made; a cell that neither rule walks is the surface's word.
 """
 
 from __future__ import annotations
@@ -34,7 +37,7 @@ from sim_core.model.gait import classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.surface import drift_surfaces
-from sim_core.paper.surface_walks import walk_cells, window_zeros
+from sim_core.paper.surface_walks import walk_cells, walk_neighbours, window_zeros
 from sim_core.runs.backends import Backend, Executor, InlineBackend, RunStats
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk
@@ -75,6 +78,7 @@ def surface_atlas(
     template: RunTemplate | None = None,
     refine: bool = True,
     walks: WalkConfig | None = None,
+    neighbour_walks: bool = True,
     progress: bool | str = True,
     stats: RunStats | None = None,
     on_value: Callable[[float, DriftSurface], None] | None = None,
@@ -88,7 +92,9 @@ def surface_atlas(
     together, pass by pass (`drift_surfaces`), through the cache, so an interrupted atlas
     resumes; `on_value` hears each value's surface once all are done. With `walks`, every
     cell where an unresolved zero could change the region is decided by settled free walks
-    (`surface_walks.walk_cells`: all cells' walks in one batch, through the same cache)."""
+    (`surface_walks.walk_cells`: all cells' walks in one batch, through the same cache); with
+    `neighbour_walks` too, each cell is then walked from the paper's start of every gait a
+    neighbouring cell holds and it lacks (`surface_walks.walk_neighbours`)."""
     if axis not in AXIS_PARAM:
         raise ValueError(f"unknown atlas axis {axis!r}; choose from {sorted(AXIS_PARAM)}")
     if cache is None:
@@ -96,8 +102,8 @@ def surface_atlas(
             return surface_atlas(
                 axis, betas, values, cache=ResultCache(tmp), backend=backend, config=config,
                 params=params, template=template, refine=refine, walks=walks,
-                progress=progress, stats=stats, on_value=on_value, on_progress=on_progress,
-                executor=executor,
+                neighbour_walks=neighbour_walks, progress=progress, stats=stats,
+                on_value=on_value, on_progress=on_progress, executor=executor,
             )  # fmt: skip
     cfg = config or SurfaceConfig()
     p = params or ModelParams()
@@ -132,8 +138,15 @@ def surface_atlas(
             cells, cache=cache, backend=backend or InlineBackend(), params=p, config=walks,
             chunk_size=cfg.chunk_size, progress=f"{label} walks" if progress else False,
             stats=stats, executor=executor,
-            on_progress=share(split, 1.0),
+            on_progress=share(split, 0.95 if neighbour_walks else 1.0),
         )  # fmt: skip
+    if walks is not None and neighbour_walks:
+        points = walk_neighbours(
+            points, cells, len(betas), cache=cache, backend=backend or InlineBackend(),
+            params=p, config=walks, chunk_size=cfg.chunk_size, stats=stats, executor=executor,
+            progress=f"{label} neighbour walks" if progress else False,
+        )  # fmt: skip
+    if walks is not None:
         walk_s = sum(w.sim_s for pt in points for w in pt.walks)
     return SurfaceAtlas(
         axis=axis,
@@ -144,7 +157,9 @@ def surface_atlas(
         points=points,
         folds=folds,
         sim_s=sum(s.sim_s for s in surfaces) + walk_s,
-        config=SurfaceAtlasConfig.of(cfg, refine=refine, walks=walks),
+        config=SurfaceAtlasConfig.of(
+            cfg, refine=refine, walks=walks, neighbour_walks=walks is not None and neighbour_walks
+        ),
         params=changed_leaves(p),
     )
 

@@ -175,6 +175,13 @@ def decide(
     )
 
 
+def stable_brackets(surface: DriftSurface, beta: float) -> list[tuple[float, float] | None]:
+    """Per stable zero of the window at `beta`: its bracket if unresolved, else None (what
+    `decide` places a walk's final in)."""
+    zs = [z for z in window_zeros(surface, beta) if z.stable]
+    return [None if z.resolved else (z.lo, z.hi) for z in zs]
+
+
 def walk_cells(
     cells: Sequence[tuple[AtlasPoint, DriftSurface, RunTemplate]],
     *,
@@ -193,14 +200,12 @@ def walk_cells(
     comes back checked, unchanged."""
     cfg = config or WalkConfig()
     plans: list[list[tuple[float, Task]]] = []
-    brackets: list[list[tuple[float, float] | None]] = []
+    brackets = [stable_brackets(surface, pt.beta) for pt, surface, _ in cells]
     for pt, surface, template in cells:
         b = pt.beta
         spans = open_spans(b, certain_gaits(surface, b), spans_at(surface, b))
         starts = walk_starts(spans, cfg)
         plans.append([(x, run_task(walk_spec(b, x, cfg, template), params)) for x in starts])
-        zs = [z for z in window_zeros(surface, b) if z.stable]
-        brackets.append([None if z.resolved else (z.lo, z.hi) for z in zs])
     tasks = [t for plan in plans for _, t in plan]
     results, st = run_tasks(tasks, cache, backend, chunk_size, progress, executor, on_progress)
     if stats is not None:
@@ -210,3 +215,87 @@ def walk_cells(
         decide(pt, [read_walk(x, results[t.key], cfg.duration_s) for x, t in plan], br)
         for (pt, _, _), plan, br in zip(cells, plans, brackets, strict=True)
     ]
+
+
+# The four cells beside a cell of an atlas's (value, beta) grid.
+NEIGHBOURS = ((0, -1), (0, 1), (-1, 0), (1, 0))
+
+
+def neighbour_starts(
+    points: Sequence[AtlasPoint], n_betas: int, cfg: WalkConfig
+) -> list[list[float]]:
+    """Per cell of a value-major grid of `n_betas` betas: the paper's start of each gait that a
+    neighbouring cell holds and this cell lacks (`cfg.paper_starts`, named by `classify_gait`
+    at the cell's beta), unless the cell has walked from within `cfg.merge_rad` of it."""
+    n_values = len(points) // n_betas
+    out: list[list[float]] = []
+    for k, pt in enumerate(points):
+        i, j = divmod(k, n_betas)
+        near: set[str] = set()
+        for di, dj in NEIGHBOURS:
+            ii, jj = i + di, j + dj
+            if 0 <= ii < n_values and 0 <= jj < n_betas:
+                near |= set(points[ii * n_betas + jj].gaits)
+        missing = near - set(pt.gaits)
+        starts = [x for x in cfg.paper_starts if classify_gait(x, pt.beta) in missing]
+        out.append([x for x in starts
+                    if all(abs(w.start - x) > cfg.merge_rad for w in pt.walks)])  # fmt: skip
+    return out
+
+
+def marked_if_left(walk: AtlasWalk, point: AtlasPoint) -> AtlasWalk:
+    """`walk` with `left_gait` set where it did not settle but has left the gait it started in
+    (`classify_gait` at the cell's beta) for one the cell holds: the question it asked, "does
+    that gait live here, reached from its paper start?", is answered no, and wherever it
+    settles among the gait it is in now, the cell's region stays."""
+    if walk.settled or walk.final is None:
+        return walk
+    now = classify_gait(walk.final, point.beta)
+    if now == classify_gait(walk.start, point.beta) or now not in point.gaits:
+        return walk
+    return walk.model_copy(update={"left_gait": True})
+
+
+def walk_neighbours(
+    decided: Sequence[AtlasPoint],
+    cells: Sequence[tuple[AtlasPoint, DriftSurface, RunTemplate]],
+    n_betas: int,
+    *,
+    cache: ResultCache,
+    backend: Backend,
+    params: ModelParams,
+    config: WalkConfig | None = None,
+    chunk_size: int = 8,
+    progress: bool | str = True,
+    stats: RunStats | None = None,
+    executor: Executor = execute_chunk,
+) -> list[AtlasPoint]:
+    """The cells `walk_cells` decided (`decided`, value-major, beside their surface-only
+    `cells`), each also walked from the paper's start of every gait a neighbour holds and it
+    lacks (`neighbour_starts`), round after round until no cell needs another such walk.
+
+    Why. A cell is walked only where its surface leaves a span open; one whose surface reads a
+    single gait with nothing open is not. There a narrow pair (the tripod's near 2.95) can be
+    missed by the probes: the same slope atlas on two probe lengths read 5 of 91 cells
+    differently, each time a walk from a paper's start settling on a state the other surface
+    had closed (docs/REPRODUCTION.md). A gait that lives next door is the one worth looking
+    for; each round walks at most the two paper starts per cell, so the rounds end."""
+    cfg = config or WalkConfig()
+    points = list(decided)
+    brackets = [stable_brackets(surface, pt.beta) for pt, surface, _ in cells]
+    while True:
+        todo = [(k, x) for k, xs in enumerate(neighbour_starts(points, n_betas, cfg)) for x in xs]
+        if not todo:
+            return points
+        plan = [(k, x, run_task(walk_spec(points[k].beta, x, cfg, cells[k][2]), params))
+                for k, x in todo]  # fmt: skip
+        results, st = run_tasks([t for _, _, t in plan], cache, backend, chunk_size, progress,
+                                executor)  # fmt: skip
+        if stats is not None:
+            stats.add(st)
+        new: dict[int, list[AtlasWalk]] = {}
+        for k, x, t in plan:
+            walk = read_walk(x, results[t.key], cfg.duration_s)
+            new.setdefault(k, []).append(marked_if_left(walk, points[k]))
+        for k, walks in new.items():
+            points[k] = decide(cells[k][0], [*points[k].walks, *walks], brackets[k])

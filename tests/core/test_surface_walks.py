@@ -17,6 +17,8 @@ from sim_core.paper.surface_walks import (
     certain_gaits,
     could_hold,
     decide,
+    marked_if_left,
+    neighbour_starts,
     open_spans,
     read_walk,
     spans_at,
@@ -137,3 +139,68 @@ def test_the_toy_atlas_walks_where_its_coarse_surface_hides_the_tripod(tmp_path:
     assert walked.sim_s == plain.sim_s + sum(w.sim_s for w in p.walks)
     assert walked.config.walks == WalkConfig() and plain.config.walks is None
     assert "walks" not in plain.model_dump()["config"]  # an atlas not walked says nothing
+
+
+def test_a_cell_is_walked_from_the_paper_start_of_a_gait_its_neighbour_holds() -> None:
+    # a 2 x 2 grid (value-major): only (value 3, beta 0.66) holds the tripod
+    cfg = WalkConfig()
+    meta = _cell([1.8], unresolved=0)
+
+    def at(beta: float, value: float, stable: list[float]) -> AtlasPoint:
+        gaits = [classify_gait(x, beta) for x in stable]
+        return meta.model_copy(update={"beta": beta, "value": value, "stable": stable,
+                                       "gaits": gaits})  # fmt: skip
+
+    grid = [at(0.64, 2.0, [1.8]), at(0.66, 2.0, [1.8]), at(0.64, 3.0, [1.8]),
+            at(0.66, 3.0, [1.8, 2.95])]  # fmt: skip
+    tripod_start = next(x for x in cfg.paper_starts if classify_gait(x, 0.64) == "tripod")
+    assert neighbour_starts(grid, 2, cfg) == [[], [tripod_start], [tripod_start], []]
+    # a cell that has walked from there already is not walked again
+    walked = grid[1].model_copy(update={"walks": [_walk(tripod_start, 1.8)]})
+    assert neighbour_starts([grid[0], walked, *grid[2:]], 2, cfg)[1] == []
+
+
+def test_the_toy_atlas_walks_beside_a_neighbour_and_keeps_what_the_walk_finds(
+    tmp_path: Path,
+) -> None:
+    # the toy at beta 0.63 holds the tripod only (its metachronal pair folded at 0.645), at
+    # 0.6575 both, each resolved on a fine grid: 0.63 is walked from the metachronal start
+    # because its neighbour holds that gait, and the walk slides to the tripod
+    cfg = SurfaceConfig(d31_grid=tuple(round(1.5 + 0.05 * k, 2) for k in range(37)))
+    kw = {"cache": ResultCache(tmp_path), "config": cfg, "refine": False, "progress": False}
+    lone = surface_atlas("mass", [0.63, 0.6575], [3.0], executor=fake_execute,
+                         walks=WalkConfig(), neighbour_walks=False, **kw)  # type: ignore[arg-type]  # fmt: skip
+    atlas = surface_atlas("mass", [0.63, 0.6575], [3.0], executor=fake_execute,
+                          walks=WalkConfig(), **kw)  # type: ignore[arg-type]  # fmt: skip
+    low, mid = atlas.points
+    assert lone.points[0].walks == [] and lone.points[0].region == "tripod only"
+    assert mid.region == "both" and mid.walks == []
+    meta_start = next(
+        x for x in WalkConfig().paper_starts if classify_gait(x, 0.63) == "metachronal"
+    )
+    assert [w.start for w in low.walks] == [meta_start] and low.walks[0].settled
+    assert low.region == "tripod only" and low.checked and not low.undecided
+    assert atlas.config.neighbour_walks and not lone.config.neighbour_walks
+    assert atlas.sim_s == lone.sim_s + low.walks[0].sim_s
+    assert atlas.model_dump()["config"]["neighbour_walks"] is True
+    assert "neighbour_walks" not in lone.model_dump()["config"]  # as atlases before it
+
+
+def test_an_unsettled_neighbour_walk_that_left_its_gait_for_a_held_one_decides_nothing() -> None:
+    # a metachronal-only cell walked from the tripod's start: still drifting at 40 s, but
+    # already in the metachronal it holds, it cannot change the region; still drifting inside
+    # the tripod, or into a gait the cell lacks, it leaves the cell undecided
+    cell = _cell([1.8], unresolved=0)
+    assert cell.gaits == ["metachronal"]
+    left = marked_if_left(_walk(3.0, 1.95, settled=False), cell)
+    assert left.left_gait and not left.settled
+    assert not cell.model_copy(update={"walks": [left], "checked": True}).undecided
+    inside = marked_if_left(_walk(3.0, 2.97, settled=False), cell)
+    assert not inside.left_gait
+    assert cell.model_copy(update={"walks": [inside], "checked": True}).undecided
+    # a cell with no stable state: a walk from the tripod's start drifting in the
+    # metachronal's range may still settle there and change the region
+    empty = _cell([], unresolved=0)
+    assert not marked_if_left(_walk(3.0, 2.3, settled=False), empty).left_gait
+    settled = _walk(3.0, 1.8)
+    assert marked_if_left(settled, cell) is settled
