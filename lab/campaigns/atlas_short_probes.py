@@ -26,11 +26,8 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from sim_core.contract import SHORT_PROBES
-from sim_core.contract.surface import SurfaceAtlas, WalkConfig
-from sim_core.paper.surface_atlas import surface_atlas
-from sim_core.runs.backends import RunStats, get_backend
-from sim_core.runs.cache import ResultCache
+from sim_core import ResultCache, RunStats, WalkConfig, get_backend, surface_atlas
+from sim_core.contract import SHORT_PROBES, SurfaceAtlas
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout
 FIGURES = ROOT / "docs" / "figures"
