@@ -14,7 +14,7 @@ compared with the committed `docs/figures/surface_atlas_<axis>_constraint.json` 
 Prints the wall time, simulated seconds, walks, and every cell whose region differs; writes
 docs/data/atlas_short_probes_<axis>.json. Run alone on the machine (a study owns the CPU).
 The committed data (2026-12-03) compared the atlases as they were before the neighbour walks
-(`surface_walks.walk_neighbours`), which that comparison led to; both sides ran without them.
+(`surface_walks.neighbour_rounds`), which that comparison led to; both sides ran without them.
 A rerun today runs both sides with them (the committed atlases and `surface_atlas`'s default).
 """
 

@@ -116,7 +116,7 @@ class SurfaceAtlasConfig(SurfaceConfig):
     refine: bool = True
     walks: WalkConfig | None = None
     # whether each cell was also walked from the paper's start of every gait a neighbouring
-    # cell holds and it lacks (`surface_walks.walk_neighbours`); left out of the file when
+    # cell holds and it lacks (`surface_walks.neighbour_rounds`); left out of the file when
     # not, as atlases written before it were
     neighbour_walks: bool = False
 
@@ -257,7 +257,7 @@ class AtlasWalk(_Model):
     settled: bool
     why: str  # why not settled ("" if settled), or the run's failure
     sim_s: float  # simulated seconds it took (it stops early where settled)
-    # a neighbour walk (`surface_walks.walk_neighbours`) that did not settle but has left the
+    # a neighbour walk (`surface_walks.neighbour_rounds`) that did not settle but has left the
     # gait it started in for one its cell holds already: wherever it settles there, the region
     # stays, so it does not leave the cell undecided
     left_gait: bool = False

@@ -37,7 +37,7 @@ from sim_core.model.gait import classify_gait
 from sim_core.model.params import ModelParams
 from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.surface import drift_surfaces
-from sim_core.paper.surface_walks import walk_cells, walk_neighbours, window_zeros
+from sim_core.paper.surface_walks import walk_cells, window_zeros
 from sim_core.runs.backends import Backend, Executor, InlineBackend, RunStats
 from sim_core.runs.cache import ResultCache
 from sim_core.runs.tasks import execute_chunk
@@ -94,7 +94,7 @@ def surface_atlas(
     cell where an unresolved zero could change the region is decided by settled free walks
     (`surface_walks.walk_cells`: all cells' walks in one batch, through the same cache); with
     `neighbour_walks` too, each cell is then walked from the paper's start of every gait a
-    neighbouring cell holds and it lacks (`surface_walks.walk_neighbours`)."""
+    neighbouring cell holds and it lacks (`surface_walks.neighbour_rounds`)."""
     if axis not in AXIS_PARAM:
         raise ValueError(f"unknown atlas axis {axis!r}; choose from {sorted(AXIS_PARAM)}")
     if cache is None:
@@ -139,14 +139,8 @@ def surface_atlas(
             chunk_size=cfg.chunk_size, progress=f"{label} walks" if progress else False,
             stats=stats, executor=executor,
             on_progress=share(split, 0.95 if neighbour_walks else 1.0),
+            n_betas=len(betas) if neighbour_walks else None,
         )  # fmt: skip
-    if walks is not None and neighbour_walks:
-        points = walk_neighbours(
-            points, cells, len(betas), cache=cache, backend=backend or InlineBackend(),
-            params=p, config=walks, chunk_size=cfg.chunk_size, stats=stats, executor=executor,
-            progress=f"{label} neighbour walks" if progress else False,
-        )  # fmt: skip
-    if walks is not None:
         walk_s = sum(w.sim_s for pt in points for w in pt.walks)
     return SurfaceAtlas(
         axis=axis,

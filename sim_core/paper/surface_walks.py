@@ -42,7 +42,7 @@ from sim_core.paper.analysis import PAPER_WINDOW
 from sim_core.paper.finder_runs import cluster_finals
 from sim_core.runs.backends import Backend, Executor, RunStats, run_tasks
 from sim_core.runs.cache import ResultCache
-from sim_core.runs.tasks import Task, execute_chunk, run_task
+from sim_core.runs.tasks import execute_chunk, run_task
 
 # How finely a span's Delta31 is scanned for the gaits it could hold (`classify_gait`'s
 # borders move by ~0.02 rad per 0.01 of beta; 0.01 rad cannot step over a gait).
@@ -194,27 +194,39 @@ def walk_cells(
     stats: RunStats | None = None,
     on_progress: Callable[[float], None] | None = None,
     executor: Executor = execute_chunk,
+    n_betas: int | None = None,
 ) -> list[AtlasPoint]:
     """Each (cell, its surface, its run template) decided: the
     walks of every cell that has an open span go to the backend as one batch; a cell with none
-    comes back checked, unchanged."""
+    comes back checked, unchanged (`on_progress` hears that batch). With `n_betas` (the cells
+    are a value-major grid of that many betas), each cell is then also walked from the paper's
+    start of every gait a neighbour holds and it lacks, round after round (`neighbour_rounds`).
+    """
     cfg = config or WalkConfig()
-    plans: list[list[tuple[float, Task]]] = []
     brackets = [stable_brackets(surface, pt.beta) for pt, surface, _ in cells]
-    for pt, surface, template in cells:
-        b = pt.beta
-        spans = open_spans(b, certain_gaits(surface, b), spans_at(surface, b))
-        starts = walk_starts(spans, cfg)
-        plans.append([(x, run_task(walk_spec(b, x, cfg, template), params)) for x in starts])
-    tasks = [t for plan in plans for _, t in plan]
-    results, st = run_tasks(tasks, cache, backend, chunk_size, progress, executor, on_progress)
-    if stats is not None:
-        for name in ("tasks", "computed", "cached", "compute_s"):
-            setattr(stats, name, getattr(stats, name) + getattr(st, name))
-    return [
-        decide(pt, [read_walk(x, results[t.key], cfg.duration_s) for x, t in plan], br)
-        for (pt, _, _), plan, br in zip(cells, plans, brackets, strict=True)
-    ]
+
+    def walked(todo: Sequence[tuple[int, float]], hear: Callable[[float], None] | None = None
+               ) -> dict[int, list[AtlasWalk]]:  # fmt: skip
+        """The walks from (cell index, start), read, by cell; through the cache, in one batch."""
+        plan = [(k, x, run_task(walk_spec(cells[k][0].beta, x, cfg, cells[k][2]), params))
+                for k, x in todo]  # fmt: skip
+        tasks = [t for _, _, t in plan]
+        results, st = run_tasks(tasks, cache, backend, chunk_size, progress, executor, hear)
+        if stats is not None:
+            stats.add(st)
+        out: dict[int, list[AtlasWalk]] = {k: [] for k in range(len(cells))}
+        for k, x, t in plan:
+            out[k].append(read_walk(x, results[t.key], cfg.duration_s))
+        return out
+
+    spans = [open_spans(pt.beta, certain_gaits(s, pt.beta), spans_at(s, pt.beta))
+             for pt, s, _ in cells]  # fmt: skip
+    first = walked([(k, x) for k, sp in enumerate(spans) for x in walk_starts(sp, cfg)],
+                   on_progress)  # fmt: skip
+    points = [decide(pt, first[k], brackets[k]) for k, (pt, _, _) in enumerate(cells)]
+    if n_betas is None:
+        return points
+    return neighbour_rounds(points, cells, brackets, n_betas, cfg, walked)
 
 
 # The four cells beside a cell of an atlas's (value, beta) grid.
@@ -256,23 +268,18 @@ def marked_if_left(walk: AtlasWalk, point: AtlasPoint) -> AtlasWalk:
     return walk.model_copy(update={"left_gait": True})
 
 
-def walk_neighbours(
-    decided: Sequence[AtlasPoint],
+def neighbour_rounds(
+    points: list[AtlasPoint],
     cells: Sequence[tuple[AtlasPoint, DriftSurface, RunTemplate]],
+    brackets: Sequence[list[tuple[float, float] | None]],
     n_betas: int,
-    *,
-    cache: ResultCache,
-    backend: Backend,
-    params: ModelParams,
-    config: WalkConfig | None = None,
-    chunk_size: int = 8,
-    progress: bool | str = True,
-    stats: RunStats | None = None,
-    executor: Executor = execute_chunk,
+    cfg: WalkConfig,
+    walked: Callable[[Sequence[tuple[int, float]]], dict[int, list[AtlasWalk]]],
 ) -> list[AtlasPoint]:
-    """The cells `walk_cells` decided (`decided`, value-major, beside their surface-only
-    `cells`), each also walked from the paper's start of every gait a neighbour holds and it
-    lacks (`neighbour_starts`), round after round until no cell needs another such walk.
+    """The decided cells (`points`, value-major, beside their surface-only `cells`), each also
+    walked (`walked`: cell index and start -> its walks) from the paper's start of every gait a
+    neighbour holds and it lacks (`neighbour_starts`), round after round until no cell needs
+    another such walk.
 
     Why. A cell is walked only where its surface leaves a span open; one whose surface reads a
     single gait with nothing open is not. There a narrow pair (the tripod's near 2.95) can be
@@ -280,22 +287,12 @@ def walk_neighbours(
     differently, each time a walk from a paper's start settling on a state the other surface
     had closed (docs/REPRODUCTION.md). A gait that lives next door is the one worth looking
     for; each round walks at most the two paper starts per cell, so the rounds end."""
-    cfg = config or WalkConfig()
-    points = list(decided)
-    brackets = [stable_brackets(surface, pt.beta) for pt, surface, _ in cells]
+    points = list(points)
     while True:
         todo = [(k, x) for k, xs in enumerate(neighbour_starts(points, n_betas, cfg)) for x in xs]
         if not todo:
             return points
-        plan = [(k, x, run_task(walk_spec(points[k].beta, x, cfg, cells[k][2]), params))
-                for k, x in todo]  # fmt: skip
-        results, st = run_tasks([t for _, _, t in plan], cache, backend, chunk_size, progress,
-                                executor)  # fmt: skip
-        if stats is not None:
-            stats.add(st)
-        new: dict[int, list[AtlasWalk]] = {}
-        for k, x, t in plan:
-            walk = read_walk(x, results[t.key], cfg.duration_s)
-            new.setdefault(k, []).append(marked_if_left(walk, points[k]))
-        for k, walks in new.items():
-            points[k] = decide(cells[k][0], [*points[k].walks, *walks], brackets[k])
+        for k, walks in walked(todo).items():
+            if walks:
+                new = [marked_if_left(w, points[k]) for w in walks]
+                points[k] = decide(cells[k][0], [*points[k].walks, *new], brackets[k])
