@@ -26,13 +26,13 @@ from sim_core import (
     run_task,
     run_tasks,
 )
-from sim_core.contract import SurfaceAtlas, settling
-from sim_core.contract.finder import CLUSTER_TOL
-from sim_core.contract.template import RunTemplate
+from sim_core.contract import RunTemplate, SurfaceAtlas, settling
 
 ROOT = Path(__file__).resolve().parents[2]  # the checkout
 FIGURES = ROOT / "docs" / "figures"
 SAME_RAD = 0.05  # the dt/2 check's tolerance (docs: the four checks)
+# finals this close are one state: the walks' merge distance (the finder's CLUSTER_TOL)
+ONE_STATE_RAD = WalkConfig().merge_rad
 
 
 def walk_only_states() -> list[dict[str, Any]]:
@@ -48,7 +48,7 @@ def walk_only_states() -> list[dict[str, Any]]:
                     if source != "walk":
                         continue
                     start = next(w.start for w in pt.walks if w.settled and w.final is not None
-                                 and abs(w.final - x) <= CLUSTER_TOL)  # fmt: skip
+                                 and abs(w.final - x) <= ONE_STATE_RAD)  # fmt: skip
                     out.append({"axis": axis, "param": atlas.param, "ground": ground,
                                 "beta": pt.beta, "value": pt.value, "state": x,
                                 "start": start})  # fmt: skip
