@@ -77,15 +77,16 @@ class SurfaceJobs:
         self._surfaces: dict[Key, DriftSurface] = {}
         self.version = 0  # bumps whenever a job's state or a surface changes: a redraw key
 
-    def view(self, want: Conditions, model: ModelChoice | None = None) -> JobView | None:
-        """The latest job for `want`'s conditions and `model` (None: none submitted)."""
+    def state(
+        self, want: Conditions, model: ModelChoice | None = None
+    ) -> tuple[list[DriftSurface], JobView | None]:
+        """The surfaces computed in this session (latest first) and the latest job for
+        `want`'s conditions and `model` (None: none submitted), read under one lock: read
+        apart, a job that finishes between the two reads looks finished without its surface,
+        and the panel offers to compute it again."""
         with self._lock:
-            return self._views.get(_key(want, model_of(want, model)))
-
-    def surfaces(self) -> list[DriftSurface]:
-        """The surfaces computed in this session, latest first."""
-        with self._lock:
-            return list(reversed(self._surfaces.values()))
+            surfaces = list(reversed(self._surfaces.values()))
+            return surfaces, self._views.get(_key(want, model_of(want, model)))
 
     def submit(self, api_url: str, want: Conditions, model: ModelChoice | None = None) -> bool:
         """POST the surface of `want` with `model`'s parameters (None: the defaults) and follow

@@ -86,14 +86,14 @@ def pick_surface(
     def mine(s: DriftSurface) -> bool:
         return of_surface(s).matches(want) and same_model(s, m)
 
-    for s in jobs.surfaces():
+    done, view = jobs.state(want, m)
+    for s in done:
         if mine(s):
             return Pick(s, "", ("job", want.key, jobs.version), False)
     read = files.read()
     for w, found, _ in read:
         if found is not None and mine(found):
             return Pick(found, "", (str(w.path), w.version, want.key), False)
-    view = jobs.view(want, m)
     key = ("none", want.key, jobs.version, tuple(w.version for w, _, _ in read), m.words())
     label = want.label() + (f" (model: {m.words()})" if m.changed() else "")
     if view is not None and not view.finished:

@@ -303,7 +303,7 @@ def test_the_surface_button_asks_for_the_walks_model_parameters(fake_api: str) -
         mine = _surface("surface_penalty.json").model_copy(update={"params": model.changed()})
         _FakeApi.surface = json.loads(mine.model_dump_json())
         _FakeApi.release.set()
-        _poll(app.surface_jobs.surfaces, bool, "the job's surface kept")
+        _poll(lambda: app.surface_jobs.state(PAPER)[0], bool, "the job's surface kept")
         app.charts.draw()
         assert not app.panels.surface_compute.visible and 'data-n-cells="0"' not in (
             app.panels.surface.content
